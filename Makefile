@@ -1,0 +1,38 @@
+# stiction — one entry point for people and CI. `make demo` and `make test` each set up
+# everything they need (a virtual environment in .venv with the package built in release mode).
+VENV   := .venv
+PY     := $(VENV)/bin/python
+OUT    := out
+EXAMPLE ?= examples/msl/CoupledClutches.toml
+
+.PHONY: setup demo test test-rust test-python lint bench clean
+
+setup:
+	@test -x $(PY) || python3 -m venv $(VENV)
+	@$(PY) -m pip install --quiet --upgrade pip maturin
+	@VIRTUAL_ENV=$(CURDIR)/$(VENV) $(VENV)/bin/maturin develop --release --extras test --quiet
+
+demo: setup
+	@mkdir -p $(OUT)
+	$(VENV)/bin/stiction simulate $(EXAMPLE) -o $(OUT)/$(basename $(notdir $(EXAMPLE))).csv \
+		--plot $(OUT)/$(basename $(notdir $(EXAMPLE))).png
+
+test: setup test-rust test-python
+
+test-rust:
+	cargo test --release -p stiction-core
+
+test-python:
+	$(PY) -m pytest -q
+
+lint: setup
+	cargo fmt --all --check
+	cargo clippy --release --all-targets -- -D warnings
+	$(VENV)/bin/ruff check python tests
+	$(VENV)/bin/ruff format --check python tests
+
+bench: setup
+	$(VENV)/bin/stiction bench
+
+clean:
+	rm -rf $(VENV) $(OUT) target

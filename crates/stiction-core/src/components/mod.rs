@@ -1,0 +1,139 @@
+//! The component library. Each family lives in its own module; a component declares its ports
+//! (with MSL's conditional `support` and `heatPort`) and, once the ports are resolved to nodes,
+//! contributes masses, force laws, constraints, friction elements, start values and the output
+//! variables it reports under its MSL names. Adding a component = one file + one registry line.
+
+pub mod compliant;
+pub mod friction;
+pub mod gears;
+pub mod inertia;
+pub mod sources;
+
+use std::path::Path;
+
+use crate::error::{ModelError, ModelResult};
+use crate::model::{ComponentSpec, Params};
+use crate::signals;
+use crate::system::Builder;
+use crate::thermal;
+
+/// The ports a component has once its conditional connectors are decided.
+#[derive(Debug, Default, Clone)]
+pub struct Ports {
+    pub mech: Vec<&'static str>,
+    /// Mechanical ports that are rigidly one (an Inertia's two flanges, a Brake's shaft).
+    pub joins: Vec<(&'static str, &'static str)>,
+    /// Mechanical ports held at a fixed angle (Fixed's flange).
+    pub ground: Vec<(&'static str, f64)>,
+    pub signal_in: Vec<&'static str>,
+    pub signal_out: Vec<&'static str>,
+    pub heat: Vec<&'static str>,
+}
+
+impl Ports {
+    pub fn kind_of(&self, port: &str) -> Option<PortKind> {
+        if self.mech.contains(&port) {
+            Some(PortKind::Mechanical)
+        } else if self.signal_in.contains(&port) {
+            Some(PortKind::SignalIn)
+        } else if self.signal_out.contains(&port) {
+            Some(PortKind::SignalOut)
+        } else if self.heat.contains(&port) {
+            Some(PortKind::Heat)
+        } else {
+            None
+        }
+    }
+
+    pub fn all(&self) -> Vec<&'static str> {
+        let mut all = self.mech.clone();
+        all.extend(&self.signal_in);
+        all.extend(&self.signal_out);
+        all.extend(&self.heat);
+        all
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PortKind {
+    Mechanical,
+    SignalIn,
+    SignalOut,
+    Heat,
+}
+
+impl PortKind {
+    pub fn describe(self) -> &'static str {
+        match self {
+            PortKind::Mechanical => "a flange",
+            PortKind::SignalIn => "a signal input",
+            PortKind::SignalOut => "a signal output",
+            PortKind::Heat => "a heat port",
+        }
+    }
+}
+
+/// What every component does.
+pub trait Component {
+    fn ports(&self) -> Ports;
+    /// Contributes to the system; called once the ports are resolved to nodes.
+    fn build(&self, b: &mut Builder) -> ModelResult<()>;
+    /// Time instants where this component's equations change (time events).
+    fn time_events(&self) -> Vec<f64> {
+        Vec::new()
+    }
+}
+
+/// Builds a component from its parameters.
+pub type Constructor = fn(&Params) -> ModelResult<Box<dyn Component>>;
+
+/// Type name → constructor and the parameter names it accepts (for the Python front end).
+pub fn registry() -> Vec<(&'static str, Constructor)> {
+    let mut r: Vec<(&'static str, Constructor)> = Vec::new();
+    r.extend(inertia::REGISTRY);
+    r.extend(compliant::REGISTRY);
+    r.extend(gears::REGISTRY);
+    r.extend(sources::REGISTRY);
+    r.extend(friction::REGISTRY);
+    r.extend(signals::REGISTRY);
+    r.extend(thermal::REGISTRY);
+    r
+}
+
+/// Builds one component from its specification, validating every parameter.
+pub fn create(spec: &ComponentSpec, base_dir: &Path) -> ModelResult<Box<dyn Component>> {
+    let registry = registry();
+    let Some((_, make)) = registry.iter().find(|(name, _)| *name == spec.type_name) else {
+        let mut names: Vec<&str> = registry.iter().map(|(n, _)| *n).collect();
+        names.sort();
+        return Err(ModelError::Component {
+            component: spec.name.clone(),
+            message: format!(
+                "unknown component type '{}' (known: {})",
+                spec.type_name,
+                names.join(", ")
+            ),
+        });
+    };
+    let params = Params::new(spec, base_dir);
+    let component = make(&params)?;
+    params.finish(&[])?;
+    Ok(component)
+}
+
+/// For each component type: its parameter names and all its ports (conditional ones included).
+pub fn schema() -> Vec<(&'static str, Vec<String>, Vec<&'static str>)> {
+    registry()
+        .into_iter()
+        .filter_map(|(name, make)| {
+            let spec = ComponentSpec {
+                name: "x".into(),
+                type_name: name.into(),
+                params: toml::Table::new(),
+            };
+            let params = Params::schema(&spec);
+            let component = make(&params).ok()?;
+            Some((name, params.names(), component.ports().all()))
+        })
+        .collect()
+}

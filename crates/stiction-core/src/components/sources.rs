@@ -1,0 +1,344 @@
+//! Rotational sources (spec §6.1): a torque on `flange` with the reaction on `support`
+//! (implicitly grounded unless `useSupport`), and `ConstantSpeed`, a prescribed speed.
+
+use super::{Component, Constructor, Ports};
+use crate::error::ModelResult;
+use crate::model::{InitValue, Params};
+use crate::signals::reached;
+use crate::system::{Builder, EnergyRole, ForceLaw, LawCtx, Out, Rel};
+
+#[derive(Clone, Copy)]
+enum Kind {
+    /// Input signal `tau`.
+    Input(usize),
+    Constant(f64),
+    Step {
+        step: f64,
+        offset: f64,
+        start: f64,
+    },
+    Linear {
+        tau_nominal: f64,
+        direction: bool,
+        w_nominal: f64,
+    },
+    Quadratic {
+        tau_nominal: f64,
+        direction: bool,
+        w_nominal: f64,
+    },
+    Sign {
+        tau_nominal: f64,
+        reg: Reg,
+        w0: f64,
+    },
+    Inverse {
+        tau_nominal: f64,
+        direction: bool,
+        w_nominal: f64,
+        w0: f64,
+    },
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Reg {
+    Exp,
+    Sine,
+    Linear,
+    CoSine,
+}
+
+/// The accelerating torque `tau` of the source; the element torque along `flange − support` is −tau.
+struct SourceLaw(Kind);
+
+impl SourceLaw {
+    fn accelerating(&self, x: &LawCtx) -> f64 {
+        let w = x.w_rel;
+        match self.0 {
+            Kind::Input(slot) => x.signals[slot],
+            Kind::Constant(tau) => tau,
+            Kind::Step {
+                step,
+                offset,
+                start,
+            } => {
+                offset
+                    + if reached(x.t, start, x.left) {
+                        step
+                    } else {
+                        0.0
+                    }
+            }
+            Kind::Linear {
+                tau_nominal,
+                direction,
+                w_nominal,
+            } => {
+                if direction {
+                    tau_nominal * (w / w_nominal).abs()
+                } else {
+                    tau_nominal * w / w_nominal
+                }
+            }
+            Kind::Quadratic {
+                tau_nominal,
+                direction,
+                w_nominal,
+            } => {
+                if direction {
+                    tau_nominal * (w / w_nominal).powi(2)
+                } else {
+                    // smooth(1, …): no event at w = 0
+                    tau_nominal * w * w.abs() / (w_nominal * w_nominal)
+                }
+            }
+            Kind::Sign {
+                tau_nominal,
+                reg,
+                w0,
+            } => {
+                let outside = x.relations.first().copied().unwrap_or(false); // |w| >= w0
+                tau_nominal
+                    * match reg {
+                        Reg::Exp => 2.0 / (1.0 + (-w / (0.01 * w0)).exp()) - 1.0,
+                        _ if outside => w.signum(),
+                        Reg::Sine => (std::f64::consts::FRAC_PI_2 * w / w0).sin(),
+                        Reg::Linear => w / w0,
+                        Reg::CoSine => {
+                            w.signum() * (1.0 - (std::f64::consts::FRAC_PI_2 * w / w0).cos())
+                        }
+                    }
+            }
+            Kind::Inverse {
+                tau_nominal,
+                direction,
+                w_nominal,
+                w0,
+            } => {
+                let inside = x.relations.first().copied().unwrap_or(false); // |w| < w0
+                match (direction, inside) {
+                    (true, true) => tau_nominal * w_nominal / w0,
+                    (true, false) => tau_nominal * w_nominal / w.abs(),
+                    (false, true) => tau_nominal * w / w0,
+                    (false, false) => tau_nominal * w_nominal / w,
+                }
+            }
+        }
+    }
+}
+
+impl ForceLaw for SourceLaw {
+    fn tau(&self, x: &LawCtx) -> f64 {
+        -self.accelerating(x)
+    }
+    fn role(&self) -> EnergyRole {
+        EnergyRole::Source
+    }
+    fn relation_count(&self) -> usize {
+        match self.0 {
+            Kind::Sign { reg, .. } if reg != Reg::Exp => 1,
+            Kind::Inverse { .. } => 1,
+            _ => 0,
+        }
+    }
+    fn relation_values(&self, x: &LawCtx, z: &mut [f64]) {
+        match self.0 {
+            Kind::Sign { w0, .. } => z[0] = x.w_rel.abs() - w0,
+            Kind::Inverse { w0, .. } => z[0] = w0 - x.w_rel.abs(),
+            _ => {}
+        }
+    }
+    fn relation_label(&self, _i: usize) -> &'static str {
+        "|w| crossed w0"
+    }
+}
+
+struct TorqueSource {
+    kind: Kind,
+    use_support: bool,
+    input: bool,
+    events: Vec<f64>,
+}
+
+fn with_support(use_support: bool, first: &'static str) -> Vec<&'static str> {
+    let mut mech = vec![first];
+    if use_support {
+        mech.push("support");
+    }
+    mech
+}
+
+impl Component for TorqueSource {
+    fn ports(&self) -> Ports {
+        Ports {
+            mech: with_support(self.use_support, "flange"),
+            signal_in: if self.input { vec!["tau"] } else { vec![] },
+            ..Ports::default()
+        }
+    }
+
+    fn build(&self, b: &mut Builder) -> ModelResult<()> {
+        let (nf, ns) = (b.node("flange")?, b.node("support")?);
+        let rel = Rel::of(&[(nf, 1.0), (ns, -1.0)]);
+        let kind = match self.kind {
+            Kind::Input(_) => Kind::Input(b.signal_in("tau")?),
+            k => k,
+        };
+        let law = b.add_law(rel.clone(), Box::new(SourceLaw(kind)));
+        b.output("tau", Out::LawTau(law, -1.0));
+        b.output("phi", Out::Angle(rel.clone()));
+        b.output("w", Out::Speed(rel));
+        b.flange("flange", nf, Some(Out::LawTau(law, 1.0)))?;
+        if self.use_support {
+            b.flange("support", ns, Some(Out::LawTau(law, -1.0)))?;
+        }
+        Ok(())
+    }
+
+    fn time_events(&self) -> Vec<f64> {
+        self.events.clone()
+    }
+}
+
+fn source(
+    p: &Params,
+    kind: Kind,
+    input: bool,
+    events: Vec<f64>,
+) -> ModelResult<Box<dyn Component>> {
+    Ok(Box::new(TorqueSource {
+        kind,
+        use_support: p.boolean("useSupport", false)?,
+        input,
+        events,
+    }))
+}
+
+fn torque(p: &Params) -> ModelResult<Box<dyn Component>> {
+    source(p, Kind::Input(0), true, vec![])
+}
+
+fn constant_torque(p: &Params) -> ModelResult<Box<dyn Component>> {
+    source(
+        p,
+        Kind::Constant(p.required("tau_constant")?),
+        false,
+        vec![],
+    )
+}
+
+fn torque_step(p: &Params) -> ModelResult<Box<dyn Component>> {
+    let start = p.real("startTime", 0.0)?;
+    let kind = Kind::Step {
+        step: p.real("stepTorque", 1.0)?,
+        offset: p.real("offsetTorque", 0.0)?,
+        start,
+    };
+    source(p, kind, false, vec![start])
+}
+
+fn w_nominal(p: &Params) -> ModelResult<f64> {
+    p.positive("w_nominal", p.required("w_nominal")?)
+}
+
+fn linear(p: &Params) -> ModelResult<Box<dyn Component>> {
+    let kind = Kind::Linear {
+        tau_nominal: p.required("tau_nominal")?,
+        direction: p.boolean("TorqueDirection", true)?,
+        w_nominal: w_nominal(p)?,
+    };
+    source(p, kind, false, vec![])
+}
+
+fn quadratic(p: &Params) -> ModelResult<Box<dyn Component>> {
+    let kind = Kind::Quadratic {
+        tau_nominal: p.required("tau_nominal")?,
+        direction: p.boolean("TorqueDirection", true)?,
+        w_nominal: w_nominal(p)?,
+    };
+    source(p, kind, false, vec![])
+}
+
+fn sign(p: &Params) -> ModelResult<Box<dyn Component>> {
+    let reg = match p
+        .choice("reg", &["Exp", "Sine", "Linear", "CoSine"], "Exp")?
+        .as_str()
+    {
+        "Sine" => Reg::Sine,
+        "Linear" => Reg::Linear,
+        "CoSine" => Reg::CoSine,
+        _ => Reg::Exp,
+    };
+    let kind = Kind::Sign {
+        tau_nominal: p.required("tau_nominal")?,
+        reg,
+        w0: p.positive("w0", p.real("w0", 0.1)?)?,
+    };
+    source(p, kind, false, vec![])
+}
+
+fn inverse(p: &Params) -> ModelResult<Box<dyn Component>> {
+    let kind = Kind::Inverse {
+        tau_nominal: p.required("tau_nominal")?,
+        direction: p.boolean("TorqueDirection", true)?,
+        w_nominal: w_nominal(p)?,
+        w0: p.positive("w0", p.real("w0", 0.1)?)?,
+    };
+    source(p, kind, false, vec![])
+}
+
+/// Prescribed speed `w = w_fixed` relative to the support: a permanent acceleration constraint
+/// whose multiplier is the torque the source must deliver.
+struct ConstantSpeed {
+    w_fixed: f64,
+    phi: InitValue,
+    use_support: bool,
+}
+
+impl Component for ConstantSpeed {
+    fn ports(&self) -> Ports {
+        Ports {
+            mech: with_support(self.use_support, "flange"),
+            ..Ports::default()
+        }
+    }
+
+    fn build(&self, b: &mut Builder) -> ModelResult<()> {
+        let (nf, ns) = (b.node("flange")?, b.node("support")?);
+        let rel = Rel::of(&[(nf, 1.0), (ns, -1.0)]);
+        let k = b.add_constraint(rel.clone(), true)?;
+        let fixed_speed = InitValue {
+            start: self.w_fixed,
+            fixed: true,
+        };
+        b.init_speed(rel.clone(), fixed_speed, "w");
+        b.init_angle(rel.clone(), self.phi, "phi");
+        b.output("tau", Out::ConstraintTau(k, -1.0));
+        b.output("phi", Out::Angle(rel.clone()));
+        b.output("w", Out::Speed(rel));
+        b.flange("flange", nf, Some(Out::ConstraintTau(k, 1.0)))?;
+        if self.use_support {
+            b.flange("support", ns, Some(Out::ConstraintTau(k, -1.0)))?;
+        }
+        Ok(())
+    }
+}
+
+fn constant_speed(p: &Params) -> ModelResult<Box<dyn Component>> {
+    Ok(Box::new(ConstantSpeed {
+        w_fixed: p.required("w_fixed")?,
+        phi: p.init("phi", 0.0)?,
+        use_support: p.boolean("useSupport", false)?,
+    }))
+}
+
+pub const REGISTRY: &[(&str, Constructor)] = &[
+    ("Torque", torque),
+    ("ConstantTorque", constant_torque),
+    ("TorqueStep", torque_step),
+    ("LinearSpeedDependentTorque", linear),
+    ("QuadraticSpeedDependentTorque", quadratic),
+    ("SignTorque", sign),
+    ("InverseSpeedDependentTorque", inverse),
+    ("ConstantSpeed", constant_speed),
+];

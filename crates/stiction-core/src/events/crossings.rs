@@ -1,0 +1,88 @@
+//! Zero-crossing indicators. Each is arranged so that the event happens when it goes from ≤ 0 to
+//! above 0. Only the relations that can change something in the current discrete state are watched,
+//! so a locked or free element never fires events from noise in its relative speed.
+
+use crate::components::friction::logic::{BACKWARD, FORWARD, STUCK};
+use crate::system::eval::{DiscreteState, Workspace};
+use crate::system::System;
+
+/// Three per friction element (engagement, and two mode-dependent ones), one per law relation.
+pub fn indicator_count(sys: &System) -> usize {
+    3 * sys.frictions.len() + sys.relation_count
+}
+
+const NEVER: f64 = -1.0;
+
+pub fn indicators(sys: &System, disc: &DiscreteState, ws: &Workspace, z: &mut [f64]) {
+    for (k, st) in disc.friction.iter().enumerate() {
+        let v = &ws.friction[k];
+        let slot = &mut z[3 * k..3 * k + 3];
+        // free = (fn <= 0)
+        slot[0] = if st.free { v.fn_ } else { -v.fn_ };
+        let (a, b) = if st.free {
+            (NEVER, NEVER)
+        } else if st.locked {
+            (v.sa - v.tau0_max, -v.sa - v.tau0_max)
+        } else if st.pre.mode == FORWARD {
+            (-v.w, NEVER)
+        } else if st.pre.mode == BACKWARD {
+            (v.w, NEVER)
+        } else if st.pre.mode == STUCK && st.pre.start_forward {
+            (v.w, v.tau0 - v.sa)
+        } else if st.pre.mode == STUCK && st.pre.start_backward {
+            (-v.w, v.sa + v.tau0)
+        } else {
+            (NEVER, NEVER)
+        };
+        slot[1] = a;
+        slot[2] = b;
+    }
+    let base = 3 * sys.frictions.len();
+    let mut scratch = [0.0; 4];
+    for (k, law) in sys.laws.iter().enumerate() {
+        let count = law.law.relation_count();
+        if count == 0 {
+            continue;
+        }
+        law.law
+            .relation_values(&ws.law_ctx(sys, disc, k), &mut scratch[..count]);
+        for r in 0..count {
+            let frozen = disc.relations[law.relation_base + r];
+            z[base + law.relation_base + r] = if frozen { -scratch[r] } else { scratch[r] };
+        }
+    }
+}
+
+/// What crossing indicator `i` means, for the event log.
+pub fn indicator_label(sys: &System, disc: &DiscreteState, i: usize) -> String {
+    let nf = sys.frictions.len();
+    if i < 3 * nf {
+        let (k, slot) = (i / 3, i % 3);
+        let st = &disc.friction[k];
+        let name = &sys.frictions[k].name;
+        let what = match slot {
+            0 if st.free => "normal force became positive (engages)",
+            0 => "normal force reached 0 (released)",
+            1 if st.locked => "torque exceeded the static limit forward (sa > tau0_max)",
+            2 if st.locked => "torque exceeded the static limit backward (sa < -tau0_max)",
+            1 if st.pre.mode == FORWARD => "forward slip speed reached 0",
+            1 if st.pre.mode == BACKWARD => "backward slip speed reached 0",
+            1 if st.pre.start_forward => "started sliding forward (w > 0)",
+            1 => "started sliding backward (w < 0)",
+            _ => "start torque fell below the sliding torque (hysteresis)",
+        };
+        return format!("{name}: {what}");
+    }
+    let r = i - 3 * nf;
+    for law in &sys.laws {
+        let count = law.law.relation_count();
+        if r >= law.relation_base && r < law.relation_base + count {
+            return format!(
+                "{}: {}",
+                law.owner,
+                law.law.relation_label(r - law.relation_base)
+            );
+        }
+    }
+    "relation".into()
+}

@@ -1,0 +1,18 @@
+//! stiction-core: rotational drivetrains with exact Coulomb friction, as the Modelica Standard
+//! Library defines it (state events, no smoothing). Pure Rust; the Python bindings are elsewhere.
+
+pub mod components;
+pub mod error;
+pub mod events;
+pub mod model;
+pub mod result;
+pub mod signals;
+pub mod solver;
+pub mod system;
+pub mod table;
+pub mod thermal;
+
+pub use error::{ModelError, SimError};
+pub use model::ModelSpec;
+pub use result::SimResult;
+pub use solver::simulate;

@@ -1,0 +1,8 @@
+//! What the user describes: the model file (TOML), its components, their parameters and the
+//! connections, read and validated into plain data before anything is assembled.
+
+mod params;
+mod spec;
+
+pub use params::{InitValue, Params};
+pub use spec::{ComponentSpec, Experiment, ModelSpec, PortRef};

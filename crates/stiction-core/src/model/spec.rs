@@ -1,0 +1,253 @@
+//! The model file format (design.md §4): `name`, `[experiment]`, `[components]`, `connect`.
+
+use std::path::PathBuf;
+
+use crate::error::{ModelError, ModelResult};
+
+/// One component as written: its instance name, its type and its raw parameter values.
+#[derive(Debug, Clone)]
+pub struct ComponentSpec {
+    pub name: String,
+    pub type_name: String,
+    pub params: toml::Table,
+}
+
+/// `comp.port` (a port path may itself contain dots, e.g. `J1.flange_a`).
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct PortRef {
+    pub component: String,
+    pub port: String,
+}
+
+impl PortRef {
+    pub fn parse(text: &str) -> ModelResult<Self> {
+        match text.split_once('.') {
+            Some((c, p)) if !c.is_empty() && !p.is_empty() => Ok(Self {
+                component: c.to_string(),
+                port: p.to_string(),
+            }),
+            _ => Err(ModelError::Connection {
+                connection: format!("'{text}'"),
+                message: "a port is written 'component.port'".into(),
+            }),
+        }
+    }
+}
+
+impl std::fmt::Display for PortRef {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}.{}", self.component, self.port)
+    }
+}
+
+/// Simulation settings, MSL names. `Interval` is the output grid, `Tolerance` the solver's.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Experiment {
+    pub start_time: f64,
+    pub stop_time: f64,
+    pub interval: f64,
+    pub tolerance: f64,
+    pub solver: String,
+}
+
+impl Default for Experiment {
+    fn default() -> Self {
+        Self {
+            start_time: 0.0,
+            stop_time: 1.0,
+            interval: 0.002,
+            tolerance: 1e-6,
+            solver: "tsit45".into(),
+        }
+    }
+}
+
+impl Experiment {
+    /// Applies one `StartTime`/`StopTime`/`Interval`/`Tolerance` override.
+    pub fn set(&mut self, key: &str, value: f64) -> ModelResult<()> {
+        match key {
+            "StartTime" => self.start_time = value,
+            "StopTime" => self.stop_time = value,
+            "Interval" => self.interval = value,
+            "Tolerance" => self.tolerance = value,
+            _ => {
+                return Err(ModelError::File(format!(
+                    "experiment: unknown setting '{key}' (StartTime, StopTime, Interval, Tolerance, Solver)"
+                )))
+            }
+        }
+        Ok(())
+    }
+
+    pub fn validate(&self) -> ModelResult<()> {
+        let bad =
+            |what: &str, why: &str| Err(ModelError::File(format!("experiment: {what} {why}")));
+        for (name, v) in [
+            ("StartTime", self.start_time),
+            ("StopTime", self.stop_time),
+            ("Interval", self.interval),
+            ("Tolerance", self.tolerance),
+        ] {
+            if !v.is_finite() {
+                return bad(name, "must be a finite number");
+            }
+        }
+        if self.stop_time <= self.start_time {
+            return bad("StopTime", "must be greater than StartTime");
+        }
+        if self.interval <= 0.0 {
+            return bad("Interval", "must be positive");
+        }
+        if (self.stop_time - self.start_time) / self.interval > 5e7 {
+            return bad("Interval", "gives more than 5e7 output points");
+        }
+        if !(self.tolerance > 0.0 && self.tolerance < 1.0) {
+            return bad("Tolerance", "must be in (0, 1)");
+        }
+        if !["tsit45", "bdf", "esdirk34"].contains(&self.solver.as_str()) {
+            return bad(
+                "Solver",
+                "must be one of \"tsit45\" (default, non-stiff), \"bdf\", \"esdirk34\" (stiff)",
+            );
+        }
+        Ok(())
+    }
+}
+
+/// A whole model as read from a file or built in Python.
+#[derive(Debug, Clone)]
+pub struct ModelSpec {
+    pub name: String,
+    pub experiment: Experiment,
+    pub components: Vec<ComponentSpec>,
+    pub connections: Vec<(PortRef, PortRef)>,
+    /// Folder that relative file names in parameters (time tables) are resolved against.
+    pub base_dir: PathBuf,
+}
+
+impl ModelSpec {
+    pub fn from_toml(text: &str, base_dir: impl Into<PathBuf>) -> ModelResult<Self> {
+        let doc: toml::Table = text.parse().map_err(|e: toml::de::Error| {
+            ModelError::File(format!("model file is not valid TOML: {e}"))
+        })?;
+        let mut spec = ModelSpec {
+            name: "model".into(),
+            experiment: Experiment::default(),
+            components: Vec::new(),
+            connections: Vec::new(),
+            base_dir: base_dir.into(),
+        };
+        let mut connect: Option<&toml::Value> = None;
+        for (key, value) in &doc {
+            match key.as_str() {
+                "name" => {
+                    spec.name = value
+                        .as_str()
+                        .ok_or_else(|| ModelError::File("'name' must be a string".into()))?
+                        .to_string()
+                }
+                "experiment" => spec.experiment = read_experiment(value)?,
+                "components" => {
+                    let table = value
+                        .as_table()
+                        .ok_or_else(|| ModelError::File("'components' must be a table".into()))?;
+                    for (name, comp) in table {
+                        // `connect = [...]` written after `[components]` lands here in TOML.
+                        if name == "connect" && comp.is_array() {
+                            connect = Some(comp);
+                            continue;
+                        }
+                        spec.components.push(read_component(name, comp)?);
+                    }
+                }
+                "connect" => connect = Some(value),
+                other => {
+                    return Err(ModelError::File(format!(
+                        "unknown top-level key '{other}' (expected name, experiment, components, connect)"
+                    )))
+                }
+            }
+        }
+        if let Some(list) = connect {
+            spec.connections = read_connections(list)?;
+        }
+        spec.experiment.validate()?;
+        Ok(spec)
+    }
+}
+
+fn read_experiment(value: &toml::Value) -> ModelResult<Experiment> {
+    let table = value
+        .as_table()
+        .ok_or_else(|| ModelError::File("'experiment' must be a table".into()))?;
+    let mut exp = Experiment::default();
+    for (key, v) in table {
+        if key == "Solver" {
+            exp.solver = v
+                .as_str()
+                .ok_or_else(|| ModelError::File("experiment: Solver must be a string".into()))?
+                .to_string();
+            continue;
+        }
+        let number = v
+            .as_float()
+            .or_else(|| v.as_integer().map(|i| i as f64))
+            .ok_or_else(|| ModelError::File(format!("experiment: {key} must be a number")))?;
+        exp.set(key, number)?;
+    }
+    Ok(exp)
+}
+
+fn read_component(name: &str, value: &toml::Value) -> ModelResult<ComponentSpec> {
+    let err = |message: &str| ModelError::Component {
+        component: name.to_string(),
+        message: message.to_string(),
+    };
+    if !is_identifier(name) {
+        return Err(err(
+            "a component name must be an identifier (letters, digits, _)",
+        ));
+    }
+    let table = value
+        .as_table()
+        .ok_or_else(|| err("must be a table like { type = \"Inertia\", J = 1.0 }"))?;
+    let type_name = table
+        .get("type")
+        .and_then(|t| t.as_str())
+        .ok_or_else(|| err("missing 'type' (e.g. type = \"Inertia\")"))?
+        .to_string();
+    let mut params = table.clone();
+    params.remove("type");
+    Ok(ComponentSpec {
+        name: name.to_string(),
+        type_name,
+        params,
+    })
+}
+
+fn read_connections(value: &toml::Value) -> ModelResult<Vec<(PortRef, PortRef)>> {
+    let bad = || {
+        ModelError::File(
+            "'connect' must be a list of pairs like [\"J.flange_b\", \"brake.flange_a\"]".into(),
+        )
+    };
+    let list = value.as_array().ok_or_else(bad)?;
+    list.iter()
+        .map(|pair| {
+            let pair = pair.as_array().ok_or_else(bad)?;
+            match pair.as_slice() {
+                [a, b] => Ok((
+                    PortRef::parse(a.as_str().ok_or_else(bad)?)?,
+                    PortRef::parse(b.as_str().ok_or_else(bad)?)?,
+                )),
+                _ => Err(bad()),
+            }
+        })
+        .collect()
+}
+
+pub(crate) fn is_identifier(name: &str) -> bool {
+    let mut chars = name.chars();
+    matches!(chars.next(), Some(c) if c.is_ascii_alphabetic() || c == '_')
+        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
+}

@@ -1,0 +1,136 @@
+//! A time table (MSL CombiTimeTable, one output column, linear interpolation): a measured
+//! normal-force or torque profile given inline or as a two-column CSV file.
+
+use super::Block;
+use crate::components::{Component, Ports};
+use crate::error::ModelResult;
+use crate::model::Params;
+use crate::system::{Builder, Out};
+
+#[derive(Clone)]
+struct TimeTable {
+    t: Vec<f64>,
+    y: Vec<f64>,
+    offset: f64,
+    start_time: f64,
+    hold: bool,
+}
+
+impl Block for TimeTable {
+    fn eval(&self, t: f64, left: bool, _u: &[f64]) -> f64 {
+        let n = self.t.len();
+        let s = t - self.start_time;
+        if n == 1 {
+            return self.offset + self.y[0];
+        }
+        if self.hold && s <= self.t[0] {
+            return self.offset + self.y[0];
+        }
+        if self.hold && s >= self.t[n - 1] {
+            return self.offset + self.y[n - 1];
+        }
+        // Interval with t_i <= s < t_{i+1}; at a breakpoint the left limit uses the interval before.
+        let k = if left {
+            self.t.partition_point(|&ti| ti < s)
+        } else {
+            self.t.partition_point(|&ti| ti <= s)
+        };
+        let i = k.clamp(1, n - 1) - 1;
+        let (t0, t1, y0, y1) = (self.t[i], self.t[i + 1], self.y[i], self.y[i + 1]);
+        self.offset + y0 + (y1 - y0) * (s - t0) / (t1 - t0)
+    }
+}
+
+impl Component for TimeTable {
+    fn ports(&self) -> Ports {
+        Ports {
+            signal_out: vec!["y"],
+            ..Ports::default()
+        }
+    }
+
+    fn build(&self, b: &mut Builder) -> ModelResult<()> {
+        let output = b.signal_out("y")?;
+        b.output("y", Out::Signal(output));
+        b.add_block(Box::new(self.clone()), vec![], output);
+        Ok(())
+    }
+
+    /// Breakpoints are kinks: restarting the integrator there keeps it accurate.
+    fn time_events(&self) -> Vec<f64> {
+        self.t.iter().map(|ti| ti + self.start_time).collect()
+    }
+}
+
+pub fn time_table(p: &Params) -> ModelResult<Box<dyn Component>> {
+    if p.has("file") && p.has("table") {
+        return Err(p.error("table", "give either 'table' or 'file', not both"));
+    }
+    let file = p.string("file")?;
+    let rows = match file {
+        Some(name) => {
+            let path = p.base_dir.join(&name);
+            let text = std::fs::read_to_string(&path)
+                .map_err(|e| p.error("file", format!("cannot read '{}': {e}", path.display())))?;
+            parse_csv(&text).map_err(|m| p.error("file", format!("'{}': {m}", path.display())))?
+        }
+        None => p.matrix("table", 2, &[&[0.0, 0.0]])?,
+    };
+    for pair in rows.windows(2) {
+        if pair[1][0] <= pair[0][0] {
+            return Err(p.error(
+                if p.has("file") { "file" } else { "table" },
+                format!(
+                    "time must be strictly increasing, but {} is followed by {}",
+                    pair[0][0], pair[1][0]
+                ),
+            ));
+        }
+    }
+    let extrapolation = p.choice(
+        "extrapolation",
+        &["LastTwoPoints", "HoldLastPoint"],
+        "LastTwoPoints",
+    )?;
+    Ok(Box::new(TimeTable {
+        t: rows.iter().map(|r| r[0]).collect(),
+        y: rows.iter().map(|r| r[1]).collect(),
+        offset: p.real("offset", 0.0)?,
+        start_time: p.real("startTime", 0.0)?,
+        hold: extrapolation == "HoldLastPoint",
+    }))
+}
+
+/// Two numeric columns separated by commas, semicolons or blanks; a non-numeric first line is a
+/// header. Hand-written: the csv crate would bring serde for two columns of numbers.
+fn parse_csv(text: &str) -> Result<Vec<Vec<f64>>, String> {
+    let mut rows = Vec::new();
+    for (number, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let cells: Vec<&str> = line
+            .split(|c: char| c == ',' || c == ';' || c.is_whitespace())
+            .filter(|c| !c.is_empty())
+            .collect();
+        let values: Result<Vec<f64>, _> = cells
+            .iter()
+            .map(|c| c.trim_matches('"').parse::<f64>())
+            .collect();
+        match values {
+            Ok(v) if v.len() >= 2 && v.iter().all(|x| x.is_finite()) => rows.push(vec![v[0], v[1]]),
+            Err(_) if rows.is_empty() => continue, // header
+            _ => {
+                return Err(format!(
+                    "line {}: expected two numbers (time, value)",
+                    number + 1
+                ))
+            }
+        }
+    }
+    if rows.is_empty() {
+        return Err("no data rows".into());
+    }
+    Ok(rows)
+}

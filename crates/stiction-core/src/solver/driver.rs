@@ -1,0 +1,463 @@
+//! The simulation run. diffsol integrates each continuous phase step by step; after every step
+//! the zero-crossing indicators are checked at its end, and a crossing is located on diffsol's
+//! dense output by Illinois regula falsi that always returns the instant just *after* the
+//! crossing (so the event iteration sees the relation already changed, as Modelica requires).
+//! diffsol's own root finder is not used: it reports any sign change to a tolerance we do not
+//! control, while MSL semantics need the directional, frozen-relation crossings below.
+
+use std::cell::RefCell;
+use std::rc::Rc;
+use std::time::Instant;
+
+use diffsol::{
+    NalgebraLU, NalgebraMat, NalgebraVec, NonLinearOp, OdeBuilder, OdeEquations, OdeSolverMethod,
+    OdeSolverStopReason, Vector, VectorCommon,
+};
+
+use super::initial_state;
+use crate::components::friction::logic::UNKNOWN;
+use crate::components::friction::FrictionState;
+use crate::error::SimError;
+use crate::events::{indicator_count, indicator_label, indicators, iterate, ModeCache, ModeChange};
+use crate::result::{EventRecord, Recorder, SimResult, Stats};
+use crate::system::eval::{derivative, evaluate, DiscreteState, Workspace};
+use crate::system::kkt::ModeMatrix;
+use crate::system::System;
+
+type M = NalgebraMat<f64>;
+type V = NalgebraVec<f64>;
+type LS = NalgebraLU<f64>;
+
+/// What the right-hand side reads: the frozen discrete state, its factored mode matrix and the
+/// workspace. Changed only between steps, at events.
+struct Phase {
+    disc: DiscreteState,
+    mm: Rc<ModeMatrix>,
+    ws: Workspace,
+    rhs_calls: usize,
+    probe: Vec<f64>,
+    f0: Vec<f64>,
+}
+
+fn numerical(time: f64, e: impl std::fmt::Display) -> SimError {
+    SimError::Numerical {
+        time,
+        message: format!("integrator: {e}"),
+    }
+}
+
+pub fn run(sys: Rc<System>) -> Result<SimResult, SimError> {
+    let started = Instant::now();
+    let exp = sys.experiment.clone();
+    let t0 = exp.start_time;
+    let x0 = initial_state(&sys)?;
+    let mut cache = ModeCache::default();
+    let mut disc = DiscreteState {
+        friction: vec![FrictionState::INITIAL; sys.frictions.len()],
+        relations: vec![false; sys.relation_count],
+    };
+    let mut ws = Workspace::new(&sys);
+    // MSL initialization (initial() = true), then the event it triggers at t0.
+    iterate(&sys, &mut cache, &mut disc, t0, &x0, true, &mut ws)?;
+    iterate(&sys, &mut cache, &mut disc, t0, &x0, false, &mut ws)?;
+    let mut log: Vec<EventRecord> = disc
+        .friction
+        .iter()
+        .zip(&sys.frictions)
+        .map(|(st, fe)| EventRecord {
+            time: t0,
+            component: fe.name.clone(),
+            old_mode: UNKNOWN,
+            new_mode: st.pre.mode,
+            cause: "initialization".into(),
+        })
+        .collect();
+
+    let mm = cache.get(&sys, &disc.locked_set(), t0)?;
+    let n = sys.state_len();
+    let phase = Rc::new(RefCell::new(Phase {
+        disc,
+        mm,
+        ws,
+        rhs_calls: 0,
+        probe: vec![0.0; n],
+        f0: vec![0.0; n],
+    }));
+
+    let (ph, sy) = (phase.clone(), sys.clone());
+    let rhs = move |x: &[f64], _p: &[f64], t: f64, y: &mut [f64]| {
+        let mut guard = ph.borrow_mut();
+        let Phase {
+            disc,
+            mm,
+            ws,
+            rhs_calls,
+            ..
+        } = &mut *guard;
+        *rhs_calls += 1;
+        evaluate(&sy, mm, disc, t, x, false, ws);
+        derivative(&sy, ws, y);
+    };
+    // Jacobian-vector products for the implicit methods, by forward differences.
+    let (ph, sy) = (phase.clone(), sys.clone());
+    let jac_vec = move |x: &[f64], _p: &[f64], t: f64, v: &[f64], y: &mut [f64]| {
+        let mut guard = ph.borrow_mut();
+        let Phase {
+            disc,
+            mm,
+            ws,
+            rhs_calls,
+            probe,
+            f0,
+        } = &mut *guard;
+        let vnorm = v.iter().map(|a| a * a).sum::<f64>().sqrt();
+        if vnorm == 0.0 {
+            y.fill(0.0);
+            return;
+        }
+        let xnorm = x.iter().map(|a| a * a).sum::<f64>().sqrt();
+        let eps = f64::EPSILON.sqrt() * (1.0 + xnorm) / vnorm;
+        *rhs_calls += 2;
+        evaluate(&sy, mm, disc, t, x, false, ws);
+        derivative(&sy, ws, f0);
+        for i in 0..x.len() {
+            probe[i] = x[i] + eps * v[i];
+        }
+        evaluate(&sy, mm, disc, t, probe, false, ws);
+        derivative(&sy, ws, y);
+        for i in 0..y.len() {
+            y[i] = (y[i] - f0[i]) / eps;
+        }
+    };
+    let x_init = x0.clone();
+    let problem = OdeBuilder::<M>::new()
+        .t0(t0)
+        .rtol(exp.tolerance)
+        .atol([exp.tolerance])
+        .rhs_implicit(rhs, jac_vec)
+        .init(
+            move |_p: &[f64], _t: f64, y: &mut [f64]| y.copy_from_slice(&x_init),
+            n,
+        )
+        .build()
+        .map_err(|e| numerical(t0, e))?;
+
+    let mut driver = Driver {
+        sys: sys.clone(),
+        phase,
+        cache,
+        recorder: Recorder::new(&sys),
+        log: std::mem::take(&mut log),
+        z_prev: vec![0.0; indicator_count(&sys)],
+        z: vec![0.0; indicator_count(&sys)],
+        x: x0,
+        grid_k: 1,
+        stats: Stats::default(),
+        implicit: exp.solver != "tsit45",
+    };
+    let solver_stats = match exp.solver.as_str() {
+        "bdf" => driver.drive(problem.bdf::<LS>().map_err(|e| numerical(t0, e))?, 1)?,
+        "esdirk34" => driver.drive(problem.esdirk34::<LS>().map_err(|e| numerical(t0, e))?, 3)?,
+        _ => driver.drive(problem.tsit45().map_err(|e| numerical(t0, e))?, 4)?,
+    };
+    let mut stats = driver.stats;
+    stats.steps = solver_stats.0;
+    stats.rejected_steps = solver_stats.1;
+    stats.rhs_evals = driver.phase.borrow().rhs_calls;
+    stats.factorizations = driver.cache.factorizations;
+    stats.wall_ms = started.elapsed().as_secs_f64() * 1e3;
+    Ok(SimResult {
+        names: driver.recorder.names,
+        data: driver.recorder.data,
+        events: driver.log,
+        stats,
+    })
+}
+
+struct Driver {
+    sys: Rc<System>,
+    phase: Rc<RefCell<Phase>>,
+    cache: ModeCache,
+    recorder: Recorder,
+    log: Vec<EventRecord>,
+    z_prev: Vec<f64>,
+    z: Vec<f64>,
+    /// State buffer (interpolated or current).
+    x: Vec<f64>,
+    grid_k: usize,
+    stats: Stats,
+    implicit: bool,
+}
+
+impl Driver {
+    fn grid_time(&self, k: usize) -> f64 {
+        let e = &self.sys.experiment;
+        (e.start_time + k as f64 * e.interval).min(e.stop_time)
+    }
+
+    fn grid_len(&self) -> usize {
+        let e = &self.sys.experiment;
+        ((e.stop_time - e.start_time) / e.interval - 1e-9).ceil() as usize
+    }
+
+    /// Evaluates at (t, self.x) in the current discrete state; fills `z` if asked.
+    fn evaluate_here(&mut self, t: f64, left: bool, with_indicators: bool) {
+        let mut guard = self.phase.borrow_mut();
+        let Phase { disc, mm, ws, .. } = &mut *guard;
+        evaluate(&self.sys, mm, disc, t, &self.x, left, ws);
+        if with_indicators {
+            indicators(&self.sys, disc, ws, &mut self.z);
+        }
+    }
+
+    fn record_here(&mut self, t: f64, left: bool) {
+        self.evaluate_here(t, left, false);
+        let guard = self.phase.borrow();
+        self.recorder.record(&self.sys, &guard.ws, &guard.disc);
+    }
+
+    fn load<'a, Eqn, S>(&mut self, solver: &S, t: f64) -> Result<(), SimError>
+    where
+        Eqn: OdeEquations<T = f64, V = V, C = diffsol::NalgebraContext> + 'a,
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let mut y = V::zeros(self.x.len(), *solver.state().y.context());
+        solver
+            .interpolate_inplace(t, &mut y)
+            .map_err(|e| numerical(t, e))?;
+        self.x.copy_from_slice(y.inner().as_slice());
+        Ok(())
+    }
+
+    /// Records the grid points in (last recorded, limit] (or up to but excluding `limit`).
+    fn emit_grid<'a, Eqn, S>(
+        &mut self,
+        solver: &S,
+        limit: f64,
+        inclusive: bool,
+        t_step_end: f64,
+    ) -> Result<(), SimError>
+    where
+        Eqn: OdeEquations<T = f64, V = V, C = diffsol::NalgebraContext> + 'a,
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let eps = 1e-12 * limit.abs().max(1.0);
+        while self.grid_k <= self.grid_len() {
+            let tg = self.grid_time(self.grid_k);
+            let due = if inclusive {
+                tg <= limit + eps
+            } else {
+                tg < limit - eps
+            };
+            if !due {
+                break;
+            }
+            self.load(solver, tg.min(t_step_end))?;
+            self.record_here(tg, false);
+            self.grid_k += 1;
+        }
+        Ok(())
+    }
+
+    /// Skips grid points that coincide with an event (the two event rows stand for them).
+    fn skip_grid_at(&mut self, t: f64) {
+        let eps = 1e-12 * t.abs().max(1.0);
+        while self.grid_k <= self.grid_len() && (self.grid_time(self.grid_k) - t).abs() <= eps {
+            self.grid_k += 1;
+        }
+    }
+
+    /// The indicator `i` at time t on the dense output of the last step.
+    fn indicator_at<'a, Eqn, S>(&mut self, solver: &S, t: f64, i: usize) -> Result<f64, SimError>
+    where
+        Eqn: OdeEquations<T = f64, V = V, C = diffsol::NalgebraContext> + 'a,
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        self.load(solver, t)?;
+        self.evaluate_here(t, false, true);
+        Ok(self.z[i])
+    }
+
+    /// Earliest instant in (a, b] at which one of `candidates` becomes > 0: Illinois regula falsi
+    /// on each, keeping the bracket so the returned time lies just after the crossing.
+    fn locate<'a, Eqn, S>(
+        &mut self,
+        solver: &S,
+        a: f64,
+        b: f64,
+        candidates: &[(usize, f64, f64)],
+    ) -> Result<(f64, usize), SimError>
+    where
+        Eqn: OdeEquations<T = f64, V = V, C = diffsol::NalgebraContext> + 'a,
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let tol = 4.0 * f64::EPSILON * b.abs().max(1.0) + 1e-15;
+        let mut best = (b, candidates[0].0);
+        for (n, &(i, za0, zb0)) in candidates.iter().enumerate() {
+            let (mut ta, mut za) = (a, za0);
+            let (mut tb, mut zb) = (best.0, zb0);
+            if n > 0 && tb < b {
+                zb = self.indicator_at(solver, tb, i)?;
+                if zb <= 0.0 {
+                    continue; // crosses after the best found so far
+                }
+            }
+            let mut side = 0;
+            for iteration in 0..200 {
+                if tb - ta <= tol {
+                    break;
+                }
+                let mut tm = if iteration % 4 == 3 || zb == za {
+                    0.5 * (ta + tb)
+                } else {
+                    (ta * zb - tb * za) / (zb - za)
+                };
+                if !(tm > ta && tm < tb) {
+                    tm = 0.5 * (ta + tb);
+                }
+                let zm = self.indicator_at(solver, tm, i)?;
+                if zm > 0.0 {
+                    tb = tm;
+                    zb = zm;
+                    if side == -1 {
+                        za *= 0.5;
+                    }
+                    side = -1;
+                } else {
+                    ta = tm;
+                    za = zm;
+                    if side == 1 {
+                        zb *= 0.5;
+                    }
+                    side = 1;
+                }
+            }
+            if tb < best.0 || n == 0 {
+                best = (tb, i);
+            }
+        }
+        Ok(best)
+    }
+
+    /// Left row, event iteration, right row, log; leaves the new discrete state in the phase.
+    fn handle_event(&mut self, t: f64, time_event: bool, cause: &str) -> Result<(), SimError> {
+        self.skip_grid_at(t);
+        self.record_here(t, time_event);
+        let changes: Vec<ModeChange> = {
+            let mut guard = self.phase.borrow_mut();
+            let Phase { disc, ws, .. } = &mut *guard;
+            iterate(&self.sys, &mut self.cache, disc, t, &self.x, false, ws)?
+        };
+        let locked = self.phase.borrow().disc.locked_set();
+        let mm = self.cache.get(&self.sys, &locked, t)?;
+        self.phase.borrow_mut().mm = mm;
+        self.record_here(t, false);
+        for c in changes {
+            self.log.push(EventRecord {
+                time: c.time,
+                component: c.component,
+                old_mode: c.old_mode,
+                new_mode: c.new_mode,
+                cause: cause.to_string(),
+            });
+        }
+        if time_event {
+            self.stats.time_events += 1;
+        } else {
+            self.stats.state_events += 1;
+        }
+        self.evaluate_here(t, false, true);
+        self.z_prev.copy_from_slice(&self.z);
+        Ok(())
+    }
+
+    /// Restarts the integrator at (t, self.x) after an event.
+    fn restart<'a, Eqn, S>(&mut self, solver: &mut S, t: f64, order: usize) -> Result<(), SimError>
+    where
+        Eqn: OdeEquations<T = f64, V = V, C = diffsol::NalgebraContext> + 'a,
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let now = solver.state().t;
+        if (now - t).abs() > 1e-12 * t.abs().max(1.0) {
+            solver.state_mut_back(t).map_err(|e| numerical(t, e))?;
+        }
+        let problem = solver.problem();
+        {
+            let mut state = solver.state_mut();
+            *state.t = t;
+            state.y.inner_mut().as_mut_slice().copy_from_slice(&self.x);
+            problem.eqn.rhs().call_inplace(state.y, t, state.dy);
+            state.set_step_size(problem.h0, &problem.atol, problem.rtol, &problem.eqn, order);
+        }
+        if self.implicit {
+            // the Jacobian belongs to the old mode
+            let _ = solver.checkpoint();
+        }
+        Ok(())
+    }
+
+    fn drive<'a, Eqn, S>(&mut self, mut solver: S, order: usize) -> Result<(usize, usize), SimError>
+    where
+        Eqn: OdeEquations<T = f64, V = V, C = diffsol::NalgebraContext> + 'a,
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let exp = self.sys.experiment.clone();
+        let t_end = exp.stop_time;
+        let time_events = self.sys.time_events.clone();
+        let mut next_te = 0;
+        let mut t_prev = exp.start_time;
+        self.record_here(t_prev, false);
+        self.evaluate_here(t_prev, false, true);
+        self.z_prev.copy_from_slice(&self.z);
+        let mut stop = time_events.first().copied().unwrap_or(t_end);
+        solver
+            .set_stop_time(stop)
+            .map_err(|e| numerical(t_prev, e))?;
+        let mut candidates: Vec<(usize, f64, f64)> = Vec::new();
+        loop {
+            let reason = solver.step().map_err(|e| numerical(t_prev, e))?;
+            let t_now = solver.state().t;
+            self.x.copy_from_slice(solver.state().y.inner().as_slice());
+            // At a time event the signals jump; the crossings are judged on the left limit.
+            let at_time_event =
+                next_te < time_events.len() && (t_now - stop).abs() <= 1e-12 * stop.abs().max(1.0);
+            self.evaluate_here(t_now, at_time_event, true);
+            candidates.clear();
+            for (i, (&zp, &zn)) in self.z_prev.iter().zip(&self.z).enumerate() {
+                if zp <= 0.0 && zn > 0.0 {
+                    candidates.push((i, zp, zn));
+                }
+            }
+            if !candidates.is_empty() {
+                let (t_e, i) = self.locate(&solver, t_prev, t_now, &candidates)?;
+                let cause = indicator_label(&self.sys, &self.phase.borrow().disc, i);
+                self.emit_grid(&solver, t_e, false, t_now)?;
+                self.load(&solver, t_e)?;
+                self.handle_event(t_e, false, &cause)?;
+                self.restart(&mut solver, t_e, order)?;
+                if stop > t_e {
+                    solver.set_stop_time(stop).map_err(|e| numerical(t_e, e))?;
+                }
+                t_prev = t_e;
+                continue;
+            }
+            self.emit_grid(&solver, t_now, true, t_now)?;
+            self.z_prev.copy_from_slice(&self.z);
+            t_prev = t_now;
+            if matches!(reason, OdeSolverStopReason::TstopReached) || t_now >= stop {
+                if next_te >= time_events.len() {
+                    break; // reached StopTime
+                }
+                self.handle_event(stop, true, "time event")?;
+                self.restart(&mut solver, stop, order)?;
+                next_te += 1;
+                stop = time_events.get(next_te).copied().unwrap_or(t_end);
+                solver
+                    .set_stop_time(stop)
+                    .map_err(|e| numerical(t_now, e))?;
+            }
+        }
+        let s = solver.get_statistics();
+        Ok((s.number_of_steps, s.number_of_error_test_failures))
+    }
+}

@@ -1,0 +1,596 @@
+//! Assembly: from the model's components and connections to the `System`. Validates every
+//! connection, joins flanges into nodes (union–find), resolves signal and heat ports, and lets
+//! each component contribute through the `Builder`.
+
+use std::collections::HashMap;
+
+use super::flange::FlangeBuilder;
+use super::outputs::EnergyVar;
+use super::{InitEq, LawElem, NodeRef, Out, Rel, System};
+use crate::components::friction::FrictionElem;
+use crate::components::{self, Component, PortKind, Ports};
+use crate::error::{ModelError, ModelResult};
+use crate::model::{InitValue, ModelSpec, PortRef};
+use crate::signals::{Block, BlockElem, SignalGraph};
+use crate::system::ForceLaw;
+use crate::thermal::{Capacity, Link, NodeKind, ThermalNet};
+
+/// Names no component may take: they hold system-wide outputs.
+const RESERVED: &[&str] = &["system", "time"];
+
+struct PortInfo {
+    component: usize,
+    name: &'static str,
+    kind: PortKind,
+}
+
+/// What a component sees while it contributes to the system.
+pub struct Builder {
+    comp: usize,
+    names: Vec<String>,
+    ports: Vec<PortInfo>,
+    index: HashMap<(usize, &'static str), usize>,
+    mech_node: Vec<Option<NodeRef>>,
+    signal_slot: Vec<Option<usize>>,
+    heat_node: Vec<Option<usize>>,
+    sys: System,
+    flanges: FlangeBuilder,
+    fixed_temperature: Vec<Option<f64>>,
+    capacitors: Vec<Capacity>,
+}
+
+impl Builder {
+    pub fn name(&self) -> &str {
+        &self.names[self.comp]
+    }
+
+    pub fn error(&self, message: impl Into<String>) -> ModelError {
+        ModelError::Component {
+            component: self.names[self.comp].clone(),
+            message: message.into(),
+        }
+    }
+
+    fn port(&self, port: &str) -> Option<usize> {
+        self.index
+            .iter()
+            .find(|((c, p), _)| *c == self.comp && *p == port)
+            .map(|(_, &i)| i)
+    }
+
+    fn port_index(&self, port: &str) -> ModelResult<usize> {
+        self.port(port)
+            .ok_or_else(|| self.error(format!("internal: port '{port}' not declared")))
+    }
+
+    /// The node of a mechanical port; an undeclared `support` is the implicit ground (MSL
+    /// `useSupport = false`: `phi_support = 0`).
+    pub fn node(&self, port: &str) -> ModelResult<NodeRef> {
+        match self.port(port) {
+            Some(i) => Ok(self.mech_node[i].expect("mechanical port has a node")),
+            None if port == "support" => Ok(NodeRef::Ground(0.0)),
+            None => Err(self.error(format!("internal: flange '{port}' not declared"))),
+        }
+    }
+
+    pub fn add_mass(&mut self, node: NodeRef, j: f64) {
+        if let NodeRef::Node(i) = node {
+            self.sys.mass[i] += j;
+        }
+    }
+
+    pub fn add_law(&mut self, rel: Rel, law: Box<dyn ForceLaw>) -> usize {
+        let relation_base = self.sys.relation_count;
+        self.sys.relation_count += law.relation_count();
+        self.sys.laws.push(LawElem {
+            owner: self.name().to_string(),
+            rel,
+            law,
+            relation_base,
+            heat_node: None,
+        });
+        self.sys.laws.len() - 1
+    }
+
+    pub fn set_law_heat(&mut self, law: usize, node: usize) {
+        self.sys.laws[law].heat_node = Some(node);
+    }
+
+    pub fn add_constraint(&mut self, rel: Rel, does_work: bool) -> ModelResult<usize> {
+        if rel.is_zero() {
+            return Err(self.error(
+                "its flanges are rigidly connected to each other or to ground on both sides",
+            ));
+        }
+        self.sys.constraints.push(super::Constraint {
+            owner: self.name().to_string(),
+            rel,
+            does_work,
+        });
+        Ok(self.sys.constraints.len() - 1)
+    }
+
+    pub fn add_friction(&mut self, f: FrictionElem) -> usize {
+        self.sys.frictions.push(f);
+        self.sys.frictions.len() - 1
+    }
+
+    pub fn signal_in(&self, port: &str) -> ModelResult<usize> {
+        let i = self.port_index(port)?;
+        self.signal_slot[i].ok_or_else(|| ModelError::Component {
+            component: self.name().to_string(),
+            message: format!(
+                "port '{port}': signal input is not connected (connect a signal source to it)"
+            ),
+        })
+    }
+
+    pub fn signal_out(&self, port: &str) -> ModelResult<usize> {
+        let i = self.port_index(port)?;
+        Ok(self.signal_slot[i].expect("outputs have slots"))
+    }
+
+    pub fn add_block(&mut self, block: Box<dyn Block>, inputs: Vec<usize>, output: usize) {
+        self.sys.signals.blocks.push(BlockElem {
+            owner: self.name().to_string(),
+            block,
+            inputs,
+            output,
+        });
+    }
+
+    pub fn heat_node(&self, port: &str) -> ModelResult<usize> {
+        let i = self.port_index(port)?;
+        Ok(self.heat_node[i].expect("heat port has a node"))
+    }
+
+    pub fn add_heat_capacity(&mut self, node: usize, c: f64, init: InitValue) {
+        self.capacitors.push(Capacity { node, c, init });
+    }
+
+    pub fn fix_temperature(&mut self, node: usize, t: f64) -> ModelResult<()> {
+        match self.fixed_temperature[node] {
+            Some(other) if other != t => Err(self.error(format!(
+                "port 'port': connected to another FixedTemperature of {other} K"
+            ))),
+            _ => {
+                self.fixed_temperature[node] = Some(t);
+                Ok(())
+            }
+        }
+    }
+
+    pub fn add_heat_link(&mut self, link: Link) -> usize {
+        self.sys.thermal.links.push(link);
+        self.sys.thermal.links.len() - 1
+    }
+
+    pub fn init_angle(&mut self, rel: Rel, value: InitValue, variable: &str) {
+        let variable = format!("{}.{variable}", self.name());
+        self.sys.init_phi.push(InitEq {
+            rel,
+            value,
+            variable,
+        });
+    }
+
+    pub fn init_speed(&mut self, rel: Rel, value: InitValue, variable: &str) {
+        let variable = format!("{}.{variable}", self.name());
+        self.sys.init_w.push(InitEq {
+            rel,
+            value,
+            variable,
+        });
+    }
+
+    /// Reports a variable under `component.name`.
+    pub fn output(&mut self, name: &str, out: Out) {
+        let full = format!("{}.{name}", self.name());
+        self.sys.outputs.push((full, out));
+    }
+
+    /// Reports the angle and cut torque of a flange, and says how its torque is known.
+    pub fn flange(&mut self, port: &str, node: NodeRef, tau: Option<Out>) -> ModelResult<()> {
+        let i = self.port_index(port)?;
+        self.output(&format!("{port}.phi"), Out::Angle(Rel::of(&[(node, 1.0)])));
+        self.output(&format!("{port}.tau"), Out::FlangeTau(i));
+        if let Some(tau) = tau {
+            self.flanges.known(i, tau);
+        }
+        Ok(())
+    }
+
+    /// Flanges whose torques add up to `total` (an Inertia: `J·a`; a Brake: `tau`), or are free
+    /// (a Fixed flange takes whatever the connection needs).
+    pub fn flange_group(&mut self, ports: &[&str], total: Option<Out>) -> ModelResult<()> {
+        let idx = ports
+            .iter()
+            .map(|p| self.port_index(p))
+            .collect::<ModelResult<Vec<_>>>()?;
+        self.flanges.group(idx, total);
+        Ok(())
+    }
+}
+
+/// Union–find over port indices.
+struct Sets(Vec<usize>);
+
+impl Sets {
+    fn new(n: usize) -> Self {
+        Sets((0..n).collect())
+    }
+    fn find(&mut self, i: usize) -> usize {
+        let mut r = i;
+        while self.0[r] != r {
+            r = self.0[r];
+        }
+        let mut j = i;
+        while self.0[j] != r {
+            let next = self.0[j];
+            self.0[j] = r;
+            j = next;
+        }
+        r
+    }
+    fn union(&mut self, a: usize, b: usize) {
+        let (ra, rb) = (self.find(a), self.find(b));
+        if ra != rb {
+            self.0[rb] = ra;
+        }
+    }
+}
+
+pub fn assemble(spec: &ModelSpec) -> ModelResult<System> {
+    let mut comps: Vec<Box<dyn Component>> = Vec::new();
+    let mut names: Vec<String> = Vec::new();
+    for c in &spec.components {
+        if RESERVED.contains(&c.name.as_str()) {
+            return Err(ModelError::Component {
+                component: c.name.clone(),
+                message: "this name is reserved for system-wide results".into(),
+            });
+        }
+        if names.contains(&c.name) {
+            return Err(ModelError::Component {
+                component: c.name.clone(),
+                message: "defined twice".into(),
+            });
+        }
+        comps.push(components::create(c, &spec.base_dir)?);
+        names.push(c.name.clone());
+    }
+    let types: Vec<String> = spec
+        .components
+        .iter()
+        .map(|c| c.type_name.clone())
+        .collect();
+    let port_decls: Vec<Ports> = comps.iter().map(|c| c.ports()).collect();
+
+    let mut ports = Vec::new();
+    let mut index = HashMap::new();
+    for (ci, decl) in port_decls.iter().enumerate() {
+        for name in decl.all() {
+            let kind = decl.kind_of(name).expect("declared");
+            index.insert((ci, name), ports.len());
+            ports.push(PortInfo {
+                component: ci,
+                name,
+                kind,
+            });
+        }
+    }
+
+    // Connections: check each end, then join flanges / heat ports, wire signals.
+    let n = ports.len();
+    let mut mech_sets = Sets::new(n);
+    let mut cut_sets = Sets::new(n); // explicit connections only: the torque balances
+    let mut heat_sets = Sets::new(n);
+    let mut signal_source: Vec<Option<usize>> = vec![None; n];
+    let resolve = |r: &PortRef, conn: &str| -> ModelResult<usize> {
+        let ci = names
+            .iter()
+            .position(|nm| *nm == r.component)
+            .ok_or_else(|| ModelError::Connection {
+                connection: conn.to_string(),
+                message: format!(
+                    "unknown component '{}' (components: {})",
+                    r.component,
+                    names.join(", ")
+                ),
+            })?;
+        let decl = &port_decls[ci];
+        match decl.all().iter().find(|p| **p == r.port) {
+            Some(p) => Ok(index[&(ci, *p)]),
+            None => {
+                let hint = match r.port.as_str() {
+                    "support" => " (set useSupport = true to enable it)",
+                    "heatPort" => " (set useHeatPort = true to enable it)",
+                    _ => "",
+                };
+                Err(ModelError::Connection {
+                    connection: conn.to_string(),
+                    message: format!(
+                        "component '{}' ({}) has no port '{}'{hint}; its ports: {}",
+                        r.component,
+                        types[ci],
+                        r.port,
+                        decl.all().join(", ")
+                    ),
+                })
+            }
+        }
+    };
+    for (a, b) in &spec.connections {
+        let conn = format!("{a} — {b}");
+        let (ia, ib) = (resolve(a, &conn)?, resolve(b, &conn)?);
+        let (ka, kb) = (ports[ia].kind, ports[ib].kind);
+        let err = |message: String| {
+            Err(ModelError::Connection {
+                connection: conn.clone(),
+                message,
+            })
+        };
+        match (ka, kb) {
+            (PortKind::Mechanical, PortKind::Mechanical) => {
+                mech_sets.union(ia, ib);
+                cut_sets.union(ia, ib);
+            }
+            (PortKind::Heat, PortKind::Heat) => heat_sets.union(ia, ib),
+            (PortKind::SignalOut, PortKind::SignalIn)
+            | (PortKind::SignalIn, PortKind::SignalOut) => {
+                let (out, inp) = if ka == PortKind::SignalOut {
+                    (ia, ib)
+                } else {
+                    (ib, ia)
+                };
+                if signal_source[inp].is_some() {
+                    return err(format!(
+                        "signal input '{}.{}' is already connected to another output",
+                        names[ports[inp].component], ports[inp].name
+                    ));
+                }
+                signal_source[inp] = Some(out);
+            }
+            (PortKind::SignalIn, PortKind::SignalIn) => {
+                return err("connects two signal inputs; one end must be an output (y)".into())
+            }
+            (PortKind::SignalOut, PortKind::SignalOut) => {
+                return err("connects two signal outputs".into())
+            }
+            _ => {
+                return err(format!(
+                    "cannot connect {} ('{a}') to {} ('{b}')",
+                    ka.describe(),
+                    kb.describe()
+                ))
+            }
+        }
+    }
+    for (ci, decl) in port_decls.iter().enumerate() {
+        for (x, y) in &decl.joins {
+            mech_sets.union(index[&(ci, *x)], index[&(ci, *y)]);
+        }
+    }
+
+    // Nodes: one per rigid set of flanges, unless the set is held by a Fixed.
+    let mut ground_of: HashMap<usize, (f64, String)> = HashMap::new();
+    for (ci, decl) in port_decls.iter().enumerate() {
+        for (p, phi0) in &decl.ground {
+            let root = mech_sets.find(index[&(ci, *p)]);
+            if let Some((other, by)) = ground_of.get(&root) {
+                if other != phi0 {
+                    return Err(ModelError::Parameter {
+                        component: names[ci].clone(),
+                        type_name: types[ci].clone(),
+                        parameter: "phi0".into(),
+                        message: format!("the flange is rigidly connected to '{by}', fixed at a different angle {other}"),
+                    });
+                }
+            }
+            ground_of.insert(root, (*phi0, names[ci].clone()));
+        }
+    }
+    let mut node_of_root: HashMap<usize, usize> = HashMap::new();
+    let mut node_ports: Vec<Vec<String>> = Vec::new();
+    let mut mech_node = vec![None; n];
+    for (i, p) in ports.iter().enumerate() {
+        if p.kind != PortKind::Mechanical {
+            continue;
+        }
+        let root = mech_sets.find(i);
+        let label = format!("{}.{}", names[p.component], p.name);
+        mech_node[i] = Some(match ground_of.get(&root) {
+            Some((phi0, _)) => NodeRef::Ground(*phi0),
+            None => {
+                let node = *node_of_root.entry(root).or_insert_with(|| {
+                    node_ports.push(Vec::new());
+                    node_ports.len() - 1
+                });
+                node_ports[node].push(label);
+                NodeRef::Node(node)
+            }
+        });
+    }
+
+    // Signal slots: one per output; inputs read their source's slot.
+    let mut signal_slot = vec![None; n];
+    let mut slots = 0;
+    for (i, p) in ports.iter().enumerate() {
+        if p.kind == PortKind::SignalOut {
+            signal_slot[i] = Some(slots);
+            slots += 1;
+        }
+    }
+    for i in 0..n {
+        if let Some(src) = signal_source[i] {
+            signal_slot[i] = signal_slot[src];
+        }
+    }
+
+    // Heat nodes.
+    let mut heat_of_root: HashMap<usize, usize> = HashMap::new();
+    let mut heat_node = vec![None; n];
+    let mut heat_ports: Vec<Vec<String>> = Vec::new();
+    for (i, p) in ports.iter().enumerate() {
+        if p.kind != PortKind::Heat {
+            continue;
+        }
+        let root = heat_sets.find(i);
+        let node = *heat_of_root.entry(root).or_insert_with(|| {
+            heat_ports.push(Vec::new());
+            heat_ports.len() - 1
+        });
+        heat_ports[node].push(format!("{}.{}", names[p.component], p.name));
+        heat_node[i] = Some(node);
+    }
+
+    let nodes = node_ports.len();
+    let heat_nodes = heat_ports.len();
+    let mut b = Builder {
+        comp: 0,
+        names: names.clone(),
+        ports,
+        index,
+        mech_node,
+        signal_slot,
+        heat_node,
+        sys: System {
+            name: spec.name.clone(),
+            experiment: spec.experiment.clone(),
+            nodes,
+            mass: vec![0.0; nodes],
+            node_ports,
+            laws: Vec::new(),
+            relation_count: 0,
+            constraints: Vec::new(),
+            frictions: Vec::new(),
+            signals: SignalGraph {
+                slots,
+                blocks: Vec::new(),
+            },
+            thermal: ThermalNet {
+                nodes: heat_nodes,
+                node_ports: heat_ports,
+                ..ThermalNet::default()
+            },
+            init_phi: Vec::new(),
+            init_w: Vec::new(),
+            outputs: Vec::new(),
+            flange_torques: Default::default(),
+            time_events: Vec::new(),
+        },
+        flanges: FlangeBuilder::default(),
+        fixed_temperature: vec![None; heat_nodes],
+        capacitors: Vec::new(),
+    };
+    for (ci, comp) in comps.iter().enumerate() {
+        b.comp = ci;
+        comp.build(&mut b)?;
+    }
+    let exp = &spec.experiment;
+    let mut events: Vec<f64> = comps
+        .iter()
+        .flat_map(|c| c.time_events())
+        .filter(|&t| t > exp.start_time && t < exp.stop_time)
+        .collect();
+    events.sort_by(f64::total_cmp);
+    events.dedup();
+    b.sys.time_events = events;
+
+    for (name, var) in [
+        ("system.kineticEnergy", EnergyVar::Kinetic),
+        ("system.potentialEnergy", EnergyVar::Potential),
+        ("system.dissipatedEnergy", EnergyVar::Dissipated),
+        ("system.sourceWork", EnergyVar::Work),
+    ] {
+        b.sys.outputs.push((name.to_string(), Out::Energy(var)));
+    }
+    order_signals(&mut b.sys.signals)?;
+    finish_thermal(&mut b)?;
+    let cut_roots: Vec<Option<usize>> = (0..n)
+        .map(|i| (b.ports[i].kind == PortKind::Mechanical).then(|| cut_sets.find(i)))
+        .collect();
+    b.sys.flange_torques = b.flanges.finish(&cut_roots);
+    Ok(b.sys)
+}
+
+/// Orders blocks so that every block comes after the blocks it reads; a loop is an error.
+fn order_signals(graph: &mut SignalGraph) -> ModelResult<()> {
+    let mut pending: Vec<BlockElem> = std::mem::take(&mut graph.blocks);
+    let mut ready = vec![false; graph.slots];
+    let mut ordered = Vec::with_capacity(pending.len());
+    while !pending.is_empty() {
+        let before = pending.len();
+        let mut k = 0;
+        while k < pending.len() {
+            if pending[k].inputs.iter().all(|&s| ready[s]) {
+                let block = pending.remove(k);
+                ready[block.output] = true;
+                ordered.push(block);
+            } else {
+                k += 1;
+            }
+        }
+        if pending.len() == before {
+            return Err(ModelError::Component {
+                component: pending[0].owner.clone(),
+                message: "its inputs form an algebraic loop of signal blocks".into(),
+            });
+        }
+    }
+    graph.blocks = ordered;
+    Ok(())
+}
+
+/// Decides what holds each heat node's temperature.
+fn finish_thermal(b: &mut Builder) -> ModelResult<()> {
+    let net = &mut b.sys.thermal;
+    let mut cap_of_node: Vec<Option<usize>> = vec![None; net.nodes];
+    for cap in &b.capacitors {
+        match cap_of_node[cap.node] {
+            Some(k) => {
+                let merged: &mut Capacity = &mut net.capacities[k];
+                merged.c += cap.c;
+                if cap.init.fixed && !merged.init.fixed {
+                    merged.init = cap.init;
+                }
+            }
+            None => {
+                cap_of_node[cap.node] = Some(net.capacities.len());
+                net.capacities.push(cap.clone());
+            }
+        }
+    }
+    let mut linked = vec![false; net.nodes];
+    for l in &net.links {
+        linked[l.a] = true;
+        linked[l.b] = true;
+    }
+    for node in 0..net.nodes {
+        let kind = match (b.fixed_temperature[node], cap_of_node[node]) {
+            (Some(t), _) => NodeKind::Fixed(t),
+            (None, Some(k)) => NodeKind::Capacitive(k),
+            (None, None) => {
+                if !linked[node] {
+                    return Err(ModelError::Component {
+                        component: net.node_ports[node][0].split('.').next().unwrap_or("").to_string(),
+                        message: format!(
+                            "heat port '{}' has nowhere to send its heat: connect it to a HeatCapacitor, a conductor or a FixedTemperature (or set useHeatPort = false)",
+                            net.node_ports[node].join(", ")
+                        ),
+                    });
+                }
+                net.algebraic.push(node);
+                NodeKind::Algebraic(net.algebraic.len() - 1)
+            }
+        };
+        net.kind.push(kind);
+    }
+    // A fixed temperature wins over capacitors on the same node: drop those capacities.
+    net.capacities
+        .retain(|c| b.fixed_temperature[c.node].is_none());
+    for (k, cap) in net.capacities.iter().enumerate() {
+        net.kind[cap.node] = NodeKind::Capacitive(k);
+    }
+    Ok(())
+}

@@ -1,0 +1,267 @@
+//! One evaluation of the hybrid system at (t, x) for a given discrete state: signals, torques of
+//! the force laws and of sliding friction, the per-mode linear solve, friction quantities (`sa`,
+//! `tau0_max`, …), heat flows and the state derivatives. The integrator, the zero-crossing
+//! functions, the event iteration and the result rows all read this one workspace.
+
+use nalgebra::DVector;
+
+use super::kkt::ModeMatrix;
+use super::{EnergyRole, LawCtx, System};
+use crate::components::friction::logic;
+use crate::components::friction::FrictionState;
+
+/// Discrete state between events: friction states and the frozen relations of force laws.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DiscreteState {
+    pub friction: Vec<FrictionState>,
+    pub relations: Vec<bool>,
+}
+
+impl DiscreteState {
+    pub fn locked_set(&self) -> Vec<bool> {
+        self.friction.iter().map(|f| f.locked).collect()
+    }
+}
+
+#[derive(Debug, Clone, Copy, Default)]
+pub struct FrictionValues {
+    pub phi: f64,
+    pub w: f64,
+    pub a: f64,
+    pub fn_: f64,
+    pub tau0: f64,
+    pub tau0_max: f64,
+    pub tau: f64,
+    pub mu: f64,
+    pub sa: f64,
+    pub loss: f64,
+}
+
+/// Everything known at one instant. Allocated once per run and reused.
+pub struct Workspace {
+    pub t: f64,
+    pub left: bool,
+    pub phi: Vec<f64>,
+    pub w: Vec<f64>,
+    pub a: Vec<f64>,
+    pub signals: Vec<f64>,
+    pub law_phi: Vec<f64>,
+    pub law_w: Vec<f64>,
+    pub law_tau: Vec<f64>,
+    pub constraint_tau: Vec<f64>,
+    pub friction: Vec<FrictionValues>,
+    pub heat_in: Vec<f64>,
+    pub temps: Vec<f64>,
+    pub heat_net: Vec<f64>,
+    /// Kinetic, potential, dissipated energy and work of the sources.
+    pub energy: [f64; 4],
+    /// Rates of the last two: dissipated power and source power.
+    pub rates: (f64, f64),
+    rhs: DVector<f64>,
+    pub rhs_evals: usize,
+}
+
+impl Workspace {
+    pub fn new(sys: &System) -> Self {
+        let n = sys.nodes;
+        Self {
+            t: 0.0,
+            left: false,
+            phi: vec![0.0; n],
+            w: vec![0.0; n],
+            a: vec![0.0; n],
+            signals: vec![0.0; sys.signals.slots],
+            law_phi: vec![0.0; sys.laws.len()],
+            law_w: vec![0.0; sys.laws.len()],
+            law_tau: vec![0.0; sys.laws.len()],
+            constraint_tau: vec![0.0; sys.constraints.len()],
+            friction: vec![FrictionValues::default(); sys.frictions.len()],
+            heat_in: vec![0.0; sys.thermal.nodes],
+            temps: vec![0.0; sys.thermal.nodes],
+            heat_net: vec![0.0; sys.thermal.nodes],
+            energy: [0.0; 4],
+            rates: (0.0, 0.0),
+            rhs: DVector::zeros(n + sys.constraints.len() + sys.frictions.len()),
+            rhs_evals: 0,
+        }
+    }
+
+    pub fn law_ctx<'a>(&'a self, sys: &System, disc: &'a DiscreteState, k: usize) -> LawCtx<'a> {
+        let law = &sys.laws[k];
+        let base = law.relation_base;
+        LawCtx {
+            t: self.t,
+            left: self.left,
+            phi_rel: self.law_phi[k],
+            w_rel: self.law_w[k],
+            signals: &self.signals,
+            relations: &disc.relations[base..base + law.law.relation_count()],
+        }
+    }
+}
+
+/// Offsets of the parts of the continuous state vector.
+pub struct Layout {
+    pub nodes: usize,
+    pub caps: usize,
+}
+
+impl Layout {
+    pub fn of(sys: &System) -> Self {
+        Self {
+            nodes: sys.nodes,
+            caps: sys.thermal.capacities.len(),
+        }
+    }
+    pub fn w(&self) -> usize {
+        self.nodes
+    }
+    pub fn temps(&self) -> usize {
+        2 * self.nodes
+    }
+    pub fn loss(&self) -> usize {
+        2 * self.nodes + self.caps
+    }
+    pub fn work(&self) -> usize {
+        self.loss() + 1
+    }
+}
+
+/// Evaluates everything at (t, x) in discrete state `disc`, whose locked set `mm` was factored for.
+pub fn evaluate(
+    sys: &System,
+    mm: &ModeMatrix,
+    disc: &DiscreteState,
+    t: f64,
+    x: &[f64],
+    left: bool,
+    ws: &mut Workspace,
+) {
+    let lay = Layout::of(sys);
+    let n = sys.nodes;
+    ws.t = t;
+    ws.left = left;
+    ws.rhs_evals += 1;
+    ws.phi.copy_from_slice(&x[..n]);
+    ws.w.copy_from_slice(&x[n..2 * n]);
+    sys.signals.eval(t, left, &mut ws.signals);
+
+    // Generalized forces of laws and sliding friction.
+    let m = sys.constraints.len();
+    let size = n + m + mm.locked.len();
+    let mut rhs = std::mem::replace(&mut ws.rhs, DVector::zeros(0));
+    if rhs.len() != size {
+        rhs = DVector::zeros(size);
+    }
+    rhs.fill(0.0);
+    let f = rhs.as_mut_slice();
+    for (k, law) in sys.laws.iter().enumerate() {
+        ws.law_phi[k] = law.rel.angle(&ws.phi);
+        ws.law_w[k] = law.rel.dot(&ws.w);
+        let tau = law.law.tau(&ws.law_ctx(sys, disc, k));
+        ws.law_tau[k] = tau;
+        law.rel.apply(tau, &mut f[..n]);
+    }
+    for (k, fe) in sys.frictions.iter().enumerate() {
+        let st = &disc.friction[k];
+        let v = &mut ws.friction[k];
+        v.phi = fe.rel.angle(&ws.phi);
+        v.w = fe.rel.dot(&ws.w);
+        v.fn_ = fe.normal_force(ws.signals[fe.input]);
+        (v.tau0, v.tau0_max) = fe.limits(v.fn_);
+        let (mu, tau) = fe.sliding(
+            v.w,
+            v.fn_,
+            st.pre.mode,
+            st.pre.start_forward,
+            st.pre.start_backward,
+        );
+        v.mu = mu;
+        v.tau = if st.free { 0.0 } else { tau };
+        if !st.locked {
+            fe.rel.apply(v.tau, &mut f[..n]);
+        }
+    }
+    mm.solve(&mut rhs);
+    ws.a.copy_from_slice(&rhs.as_slice()[..n]);
+    ws.constraint_tau.copy_from_slice(&rhs.as_slice()[n..n + m]);
+    for (r, &k) in mm.locked.iter().enumerate() {
+        ws.friction[k].tau = rhs[n + m + r];
+    }
+    ws.rhs = rhs;
+
+    for (k, fe) in sys.frictions.iter().enumerate() {
+        let st = &disc.friction[k];
+        let v = &mut ws.friction[k];
+        v.a = fe.rel.dot(&ws.a);
+        v.sa = if st.locked {
+            v.tau
+        } else if st.free {
+            v.a
+        } else {
+            v.a + logic::accel_offset(
+                false,
+                st.pre.mode,
+                st.pre.start_forward,
+                st.pre.start_backward,
+                v.tau0_max,
+            )
+        };
+        v.loss = v.tau * v.w;
+    }
+
+    // Heat and energy.
+    ws.heat_in.iter_mut().for_each(|q| *q = 0.0);
+    let (mut loss, mut work, mut potential) = (0.0, 0.0, 0.0);
+    for (k, law) in sys.laws.iter().enumerate() {
+        let ctx = ws.law_ctx(sys, disc, k);
+        let p = law.law.loss_power(&ctx, ws.law_tau[k]);
+        match law.law.role() {
+            EnergyRole::Source => work -= ws.law_tau[k] * ws.law_w[k],
+            _ => {
+                loss += p;
+                potential += law.law.potential(&ctx);
+            }
+        }
+        if let Some(node) = law.heat_node {
+            ws.heat_in[node] += p;
+        }
+    }
+    for (k, fe) in sys.frictions.iter().enumerate() {
+        loss += ws.friction[k].loss;
+        if let Some(node) = fe.heat_node {
+            ws.heat_in[node] += ws.friction[k].loss;
+        }
+    }
+    for (c, tau) in sys.constraints.iter().zip(&ws.constraint_tau) {
+        if c.does_work {
+            work -= tau * c.rel.dot(&ws.w);
+        }
+    }
+    let kinetic: f64 = (0..n).map(|i| 0.5 * sys.mass[i] * ws.w[i] * ws.w[i]).sum();
+    ws.energy = [kinetic, potential, x[lay.loss()], x[lay.work()]];
+    if sys.thermal.nodes > 0 {
+        sys.thermal.temperatures(
+            &x[lay.temps()..lay.loss()],
+            &ws.signals,
+            &ws.heat_in,
+            &mut ws.temps,
+        );
+        sys.thermal
+            .net_inflow(&ws.temps, &ws.signals, &ws.heat_in, &mut ws.heat_net);
+    }
+    ws.rates = (loss, work);
+}
+
+/// The state derivative after `evaluate`.
+pub fn derivative(sys: &System, ws: &Workspace, dx: &mut [f64]) {
+    let lay = Layout::of(sys);
+    let n = sys.nodes;
+    dx[..n].copy_from_slice(&ws.w);
+    dx[n..2 * n].copy_from_slice(&ws.a);
+    for (k, cap) in sys.thermal.capacities.iter().enumerate() {
+        dx[lay.temps() + k] = ws.heat_net[cap.node] / cap.c;
+    }
+    dx[lay.loss()] = ws.rates.0;
+    dx[lay.work()] = ws.rates.1;
+}

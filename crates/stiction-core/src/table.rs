@@ -1,0 +1,94 @@
+//! One-dimensional tables as MSL's CombiTable1D uses them for friction characteristics:
+//! linear segments, linear extrapolation through the first/last two points (spec §4.1).
+//! Written by hand because it is ten lines and must reproduce MSL's extrapolation exactly.
+
+use crate::error::ModelResult;
+use crate::model::Params;
+
+#[derive(Debug, Clone)]
+pub struct Table1D {
+    x: Vec<f64>,
+    y: Vec<f64>,
+}
+
+impl Table1D {
+    /// Reads a `[:, 2]` table parameter and checks that its abscissa strictly increases.
+    pub fn from_param(p: &Params, name: &str, default: &[&[f64]]) -> ModelResult<Self> {
+        let rows = p.matrix(name, 2, default)?;
+        Self::from_rows(p, name, &rows, 1)
+    }
+
+    /// Builds a table from `rows[:, 0]` against `rows[:, column]`.
+    pub fn from_rows(
+        p: &Params,
+        name: &str,
+        rows: &[Vec<f64>],
+        column: usize,
+    ) -> ModelResult<Self> {
+        for pair in rows.windows(2) {
+            if pair[1][0] <= pair[0][0] {
+                return Err(p.error(
+                    name,
+                    format!(
+                        "first column must be strictly increasing, but {} is followed by {}",
+                        pair[0][0], pair[1][0]
+                    ),
+                ));
+            }
+        }
+        Ok(Self {
+            x: rows.iter().map(|r| r[0]).collect(),
+            y: rows.iter().map(|r| r[column]).collect(),
+        })
+    }
+
+    pub fn eval(&self, u: f64) -> f64 {
+        let n = self.x.len();
+        if n == 1 {
+            return self.y[0];
+        }
+        // Interval i with x[i] <= u < x[i+1]; the first/last interval extrapolates.
+        let i = match self.x.partition_point(|&xi| xi <= u) {
+            0 => 0,
+            k if k >= n => n - 2,
+            k => k - 1,
+        };
+        let (x0, x1, y0, y1) = (self.x[i], self.x[i + 1], self.y[i], self.y[i + 1]);
+        y0 + (y1 - y0) * (u - x0) / (x1 - x0)
+    }
+
+    pub fn abscissa(&self) -> &[f64] {
+        &self.x
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn table(rows: &[(f64, f64)]) -> Table1D {
+        Table1D {
+            x: rows.iter().map(|r| r.0).collect(),
+            y: rows.iter().map(|r| r.1).collect(),
+        }
+    }
+
+    #[test]
+    fn single_row_is_constant() {
+        let t = table(&[(0.0, 0.5)]);
+        assert_eq!(t.eval(-3.0), 0.5);
+        assert_eq!(t.eval(7.0), 0.5);
+    }
+
+    #[test]
+    fn interpolates_and_extrapolates_linearly() {
+        let t = table(&[(0.0, 0.8), (1.0, 0.7)]);
+        assert!((t.eval(0.5) - 0.75).abs() < 1e-15);
+        assert!((t.eval(3.0) - 0.5).abs() < 1e-15); // beyond the last point, no clamping
+        assert!((t.eval(-1.0) - 0.9).abs() < 1e-15);
+        let t = table(&[(0.0, 1.0), (1.0, 2.0), (3.0, 0.0)]);
+        assert!((t.eval(1.0) - 2.0).abs() < 1e-15);
+        assert!((t.eval(2.0) - 1.0).abs() < 1e-15);
+        assert!((t.eval(4.0) + 1.0).abs() < 1e-15);
+    }
+}

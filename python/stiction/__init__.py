@@ -1,0 +1,110 @@
+"""stiction: rotational drivetrains with exact Coulomb friction, MSL semantics.
+
+Build a model from components (``Model``, ``Inertia``, ``Brake`` …) or load a TOML
+model file, run it (``Model.simulate`` → ``Result``), and check results against MSL
+references (``compare``).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from .compare import CompareReport, compare
+from .components import (
+    Add,
+    Brake,
+    Clutch,
+    Component,
+    Constant,
+    ConstantSpeed,
+    ConstantTorque,
+    Convection,
+    Damper,
+    Feedback,
+    Fixed,
+    FixedTemperature,
+    Gain,
+    HeatCapacitor,
+    IdealGear,
+    Inertia,
+    InverseSpeedDependentTorque,
+    LinearSpeedDependentTorque,
+    Product,
+    QuadraticSpeedDependentTorque,
+    Ramp,
+    SignTorque,
+    Sine,
+    Spring,
+    SpringDamper,
+    Step,
+    ThermalConductor,
+    TimeTable,
+    Torque,
+    TorqueStep,
+)
+from .errors import ModelError
+from .model import Model
+from .result import Event, Result
+
+try:
+    from importlib.metadata import PackageNotFoundError, version
+
+    __version__ = version("stiction")
+except PackageNotFoundError:  # running from a source tree without installing
+    __version__ = "0+unknown"
+
+__all__ = [
+    "Add",
+    "Brake",
+    "Clutch",
+    "CompareReport",
+    "Component",
+    "Constant",
+    "ConstantSpeed",
+    "ConstantTorque",
+    "Convection",
+    "Damper",
+    "Event",
+    "Feedback",
+    "Fixed",
+    "FixedTemperature",
+    "Gain",
+    "HeatCapacitor",
+    "IdealGear",
+    "Inertia",
+    "InverseSpeedDependentTorque",
+    "LinearSpeedDependentTorque",
+    "Model",
+    "ModelError",
+    "Product",
+    "QuadraticSpeedDependentTorque",
+    "Ramp",
+    "Result",
+    "SignTorque",
+    "Sine",
+    "Spring",
+    "SpringDamper",
+    "Step",
+    "ThermalConductor",
+    "TimeTable",
+    "Torque",
+    "TorqueStep",
+    "compare",
+]
+
+
+def __getattr__(name: str) -> Any:
+    """Make factories on demand for engine types without a class here.
+
+    For example ``st.OneWayClutch`` when the engine knows that type.
+    """
+    from .components import factory
+
+    if name.startswith(
+        "_"
+    ):  # submodule imports (e.g. `from . import _core`) must not land here
+        raise AttributeError(f"module 'stiction' has no attribute {name!r}")
+    try:
+        return factory(name)
+    except AttributeError:
+        raise AttributeError(f"module 'stiction' has no attribute {name!r}") from None

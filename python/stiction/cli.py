@@ -1,0 +1,236 @@
+"""The ``stiction`` command: simulate, check, compare against references, benchmark.
+
+User mistakes (a bad model, a missing file, malformed TOML) and engine failures end in
+one ``error: …`` line on stderr and exit code 2, never a traceback; a failed comparison
+exits with 1.
+"""
+
+from __future__ import annotations
+
+import functools
+import sys
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any, NoReturn, TypeVar
+
+import click
+
+from . import __version__
+from .errors import ModelError
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+# MSL examples of a source checkout (repo/examples/msl): `bench` runs these by default.
+EXAMPLES_DIR = Path(__file__).resolve().parents[2] / "examples" / "msl"
+DEFAULT_BENCH = ("CoupledClutches", "Friction")
+
+
+def _fail(message: str) -> NoReturn:
+    click.echo(f"error: {' '.join(message.split())}", err=True)
+    sys.exit(2)
+
+
+def _in_file(path: Path, exc: ModelError) -> ModelError:
+    """Prefix an engine error with the model file it concerns."""
+    message = str(exc)
+    return exc if message.startswith(str(path)) else ModelError(f"{path}: {message}")
+
+
+def _friendly_errors(func: F) -> F:
+    """Turn expected failures into one line on stderr and exit code 2."""
+
+    @functools.wraps(func)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        try:
+            return func(*args, **kwargs)
+        except ModelError as exc:
+            _fail(str(exc))
+        except OSError as exc:
+            if exc.strerror and exc.filename:
+                _fail(f"{exc.strerror}: {exc.filename}")
+            _fail(str(exc))
+        except KeyError as exc:
+            _fail(str(exc.args[0]) if exc.args else "unknown name")
+        except ValueError as exc:  # malformed TOML or CSV
+            _fail(str(exc))
+        except RuntimeError as exc:  # the engine gave up (e.g. an event iteration)
+            _fail(f"simulation failed: {exc}")
+        except ImportError as exc:
+            _fail(
+                f"the compiled engine is not available ({exc}); build it with maturin"
+            )
+
+    return wrapper  # type: ignore[return-value]
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(__version__, prog_name="stiction", message="%(prog)s %(version)s")
+def main() -> None:
+    """Simulate rotational drivetrains with exact Coulomb friction (MSL semantics)."""
+
+
+def _experiment_options(func: F) -> F:
+    for key in reversed(("StartTime", "StopTime", "Interval", "Tolerance")):
+        func = click.option(
+            f"--{key}",
+            key,
+            type=float,
+            default=None,
+            help=f"Override the experiment's {key}.",
+        )(func)
+    return func
+
+
+@main.command()
+@click.argument("model_file", type=click.Path(dir_okay=False, path_type=Path))
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False, path_type=Path),
+    help="Write the result as an MSL-style CSV.",
+)
+@click.option(
+    "--plot",
+    "plot_file",
+    type=click.Path(dir_okay=False, path_type=Path),
+    help="Save a plot (PNG).",
+)
+@click.option(
+    "--signals",
+    default=None,
+    help="Signals to plot: a,b,c (one axes each); join with + to share axes: a+b,c.",
+)
+@_experiment_options
+@_friendly_errors
+def simulate(
+    model_file: Path,
+    output: Path | None,
+    plot_file: Path | None,
+    signals: str | None,
+    **experiment: float | None,
+) -> None:
+    """Run MODEL_FILE and print a summary."""
+    from .model import Model
+
+    model = Model.load(model_file)
+    try:
+        result = model.simulate(**experiment)
+    except ModelError as exc:
+        raise _in_file(model_file, exc) from None
+    if output is not None:
+        result.to_csv(output)
+    if plot_file is not None:
+        groups = (
+            [g.split("+") for g in signals.split(",") if g.strip()] if signals else []
+        )
+        groups = [[n.strip() for n in g if n.strip()] for g in groups]
+        result.plot(*groups, path=plot_file)
+    click.echo(result.summary())
+    if output is not None:
+        click.echo(f"wrote {output}")
+    if plot_file is not None:
+        click.echo(f"wrote {plot_file}")
+
+
+@main.command()
+@click.argument("model_file", type=click.Path(dir_okay=False, path_type=Path))
+@_friendly_errors
+def check(model_file: Path) -> None:
+    """Validate MODEL_FILE without running it."""
+    from .model import Model
+
+    model = Model.load(model_file)
+    try:
+        model.check()
+    except ModelError as exc:
+        raise _in_file(model_file, exc) from None
+    click.echo(
+        f"ok: {model.name} ({len(model.components)} components, "
+        f"{len(model.connections)} connections)"
+    )
+
+
+@main.command(name="compare")
+@click.argument("result_csv", type=click.Path(dir_okay=False, path_type=Path))
+@click.argument("reference_csv", type=click.Path(dir_okay=False, path_type=Path))
+@click.option(
+    "--tolerance",
+    type=float,
+    default=2e-3,
+    show_default=True,
+    help="Relative tube size, in y (of the signal range) and in t (of the time span).",
+)
+@click.option(
+    "--signals",
+    "signals_file",
+    type=click.Path(dir_okay=False, path_type=Path),
+    help="Signal list (one name per line, time first). Default: REFERENCE.signals.txt "
+    "next to the reference if it exists, else every reference column.",
+)
+@_friendly_errors
+def compare_cmd(
+    result_csv: Path, reference_csv: Path, tolerance: float, signals_file: Path | None
+) -> None:
+    """Check RESULT_CSV against REFERENCE_CSV (MSL tube method); exit 1 on failure."""
+    from .compare import compare
+
+    if signals_file is None:
+        sibling = reference_csv.with_suffix(".signals.txt")
+        if sibling.is_file():
+            signals_file = sibling
+    report = compare(
+        result_csv, reference_csv, tolerance=tolerance, signals=signals_file
+    )
+    click.echo(str(report))
+    failed = len(report.failed)
+    source = f", signals from {signals_file}" if signals_file else ""
+    passed = len(report) - failed
+    click.echo(
+        f"{passed}/{len(report)} signals passed (tolerance {tolerance:g}{source})"
+    )
+    if not report.passed:
+        sys.exit(1)
+
+
+@main.command()
+@click.argument(
+    "model_files", nargs=-1, type=click.Path(dir_okay=False, path_type=Path)
+)
+@click.option(
+    "--repeat",
+    type=click.IntRange(min=1),
+    default=50,
+    show_default=True,
+    help="Timed runs per model.",
+)
+@click.option(
+    "--warmup",
+    type=click.IntRange(min=0),
+    default=3,
+    show_default=True,
+    help="Untimed runs before timing.",
+)
+@_friendly_errors
+def bench(model_files: tuple[Path, ...], repeat: int, warmup: int) -> None:
+    """Time whole runs of MODEL_FILES (default: MSL CoupledClutches and Friction)."""
+    from .bench import bench as run_bench
+    from .model import Model
+
+    files = list(model_files) or [EXAMPLES_DIR / f"{n}.toml" for n in DEFAULT_BENCH]
+    if not model_files and not all(f.is_file() for f in files):
+        _fail(
+            f"no MODEL files given and the default examples are not in {EXAMPLES_DIR}"
+        )
+    click.echo(
+        f"{'model':<24} {'median ms':>10} {'min ms':>10} "
+        f"{'steps':>7} {'rhs evals':>10} {'events':>7}"
+    )
+    for path in files:
+        try:
+            row = run_bench(Model.load(path), repeat=repeat, warmup=warmup)
+        except ModelError as exc:
+            raise _in_file(path, exc) from None
+        click.echo(
+            f"{row.model:<24} {row.median_ms:>10.3f} {row.min_ms:>10.3f} "
+            f"{row.steps:>7} {row.rhs_evals:>10} {row.events:>7}"
+        )

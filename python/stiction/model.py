@@ -1,0 +1,221 @@
+"""``Model``: components and connections, checked as they are added, and run.
+
+The model is plain data (it serialises to the TOML model file and back). Checks that
+need the engine's catalogue of types, parameters and ports run when the compiled module
+is present; everything else (names, connection syntax) is checked here regardless.
+Simulation hands the TOML text to the engine, so a model built in Python and one loaded
+from a file run identically.
+"""
+
+from __future__ import annotations
+
+import difflib
+import os
+import re
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+from . import modelfile
+from .components import FACTORIES, Component, component_types
+from .errors import ModelError
+from .result import Result
+
+__all__ = ["Model"]
+
+_IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+
+
+def _did_you_mean(word: str, choices: list[str]) -> str:
+    close = difflib.get_close_matches(word, choices, n=3)
+    return f" (did you mean {', '.join(repr(c) for c in close)}?)" if close else ""
+
+
+class Model:
+    """A drivetrain: named components, connections of their ports, an experiment."""
+
+    def __init__(self, name: str, base_dir: str | os.PathLike[str] = ".") -> None:
+        if not isinstance(name, str) or not name:
+            raise ModelError(f"model name must be a non-empty string, got {name!r}")
+        self.name = name
+        self.components: dict[str, Component] = {}
+        self.connections: list[tuple[str, str]] = []
+        self.experiment: dict[str, Any] = {}
+        # Relative file names in parameters (a TimeTable CSV …) are relative to this.
+        self.base_dir = Path(base_dir)
+
+    # --- building ---------------------------------------------------------------------
+    def add(self, name: str, component: Component) -> Model:
+        """Add a component under a unique identifier-like name; returns the model."""
+        if not isinstance(name, str) or not _IDENTIFIER.fullmatch(name):
+            raise ModelError(
+                f"component name {name!r} is not a valid identifier "
+                "(letters, digits, '_')"
+            )
+        if not isinstance(component, Component):
+            raise ModelError(
+                f"component '{name}': expected a Component such as st.Inertia(J=1.0), "
+                f"got {component!r}"
+            )
+        if name in self.components:
+            raise ModelError(
+                f"component '{name}': a component of that name already exists"
+            )
+        known = component_types()
+        if known is not None:
+            if component.type not in known:
+                raise ModelError(
+                    f"component '{name}' ({component.type}): unknown component type"
+                    f"{_did_you_mean(component.type, list(known))}"
+                )
+            allowed = known[component.type].get("parameters", [])
+            for param in component.params:
+                if param not in allowed:
+                    raise ModelError(
+                        f"component '{name}' ({component.type}): parameter '{param}': "
+                        f"unknown parameter{_did_you_mean(param, allowed)}"
+                    )
+        self.components[name] = component
+        return self
+
+    def _check_end(self, end: str) -> None:
+        if not isinstance(end, str) or end.count(".") < 1:
+            raise ModelError(f'connection end {end!r} must be "component.port"')
+        comp_name, port = end.split(".", 1)
+        if comp_name not in self.components:
+            raise ModelError(
+                f"connection end '{end}': unknown component '{comp_name}'"
+                f"{_did_you_mean(comp_name, list(self.components))}"
+            )
+        if not port:
+            raise ModelError(f"connection end '{end}': missing port name after '.'")
+        known = component_types()
+        comp_type = self.components[comp_name].type
+        if known is not None and comp_type in known:
+            ports = known[comp_type].get("ports", [])
+            if port not in ports:
+                raise ModelError(
+                    f"component '{comp_name}' ({comp_type}): port '{port}': "
+                    f"unknown port{_did_you_mean(port, ports)}; "
+                    f"ports are {', '.join(ports) or 'none'}"
+                )
+
+    def connect(self, a: str, b: str) -> Model:
+        """Connect two ports given as "component.port"; returns the model."""
+        self._check_end(a)
+        self._check_end(b)
+        if a == b:
+            raise ModelError(
+                f"connection '{a}' - '{b}': a port cannot be connected to itself"
+            )
+        if (a, b) in self.connections or (b, a) in self.connections:
+            raise ModelError(f"connection '{a}' - '{b}': already connected")
+        self.connections.append((a, b))
+        return self
+
+    def __getitem__(self, name: str) -> Component:
+        return self.components[name]
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Model):
+            return NotImplemented
+        return (
+            self.name == other.name
+            and self.components == other.components
+            and self.connections == other.connections
+            and self.experiment == other.experiment
+        )
+
+    __hash__ = None  # type: ignore[assignment]  # mutable
+
+    def __repr__(self) -> str:
+        return (
+            f"<Model {self.name!r}: {len(self.components)} components, "
+            f"{len(self.connections)} connections>"
+        )
+
+    # --- files ------------------------------------------------------------------------
+    def to_toml(self) -> str:
+        """The model as model-file text (what ``save`` writes and the engine reads)."""
+        return modelfile.dumps(
+            self.name,
+            self.experiment,
+            ((n, c.type, c.params) for n, c in self.components.items()),
+            self.connections,
+        )
+
+    def save(self, path: str | os.PathLike[str]) -> None:
+        """Write the model file; relative file parameters stay relative to it."""
+        Path(path).write_text(self.to_toml(), encoding="utf-8")
+
+    @classmethod
+    def loads(
+        cls,
+        text: str,
+        base_dir: str | os.PathLike[str] = ".",
+        *,
+        source: str = "model",
+        default_name: str = "model",
+    ) -> Model:
+        """Build a model from model-file text, checked as if built in Python."""
+        data = modelfile.parse(text, source)
+        model = cls(data.name or default_name, base_dir=base_dir)
+        model.experiment.update(data.experiment)
+        for comp_name, comp_type, params in data.components:
+            make = FACTORIES.get(comp_type)
+            try:
+                comp = make(**params) if make else Component(comp_type, params)
+            except ModelError as exc:
+                detail = str(exc).removeprefix(f"{comp_type}: ")
+                raise ModelError(
+                    f"component '{comp_name}' ({comp_type}): {detail}"
+                ) from None
+            model.add(comp_name, comp)
+        for a, b in data.connections:
+            model.connect(a, b)
+        return model
+
+    @classmethod
+    def load(cls, path: str | os.PathLike[str]) -> Model:
+        """Read a model file; its folder becomes the base of relative file names."""
+        path = Path(path)
+        text = path.read_text(encoding="utf-8")
+        try:
+            return cls.loads(
+                text,
+                base_dir=path.resolve().parent,
+                source=str(path),
+                default_name=path.stem,
+            )
+        except ModelError as exc:
+            message = str(exc)
+            if not message.startswith(str(path)):
+                message = f"{path}: {message}"
+            raise ModelError(message) from None
+
+    # --- running ----------------------------------------------------------------------
+    def check(self) -> None:
+        """Let the engine validate the whole model without running it."""
+        from . import _core
+
+        _core.check(self.to_toml(), str(self.base_dir))
+
+    def simulate(
+        self,
+        StartTime: float | None = None,  # MSL experiment names, hence capitalised
+        StopTime: float | None = None,
+        Interval: float | None = None,
+        Tolerance: float | None = None,
+    ) -> Result:
+        """Run the model; arguments override its experiment settings for this run."""
+        from . import _core
+
+        given: Mapping[str, float | None] = {
+            "StartTime": StartTime,
+            "StopTime": StopTime,
+            "Interval": Interval,
+            "Tolerance": Tolerance,
+        }
+        overrides = {k: float(v) for k, v in given.items() if v is not None}
+        raw = _core.simulate(self.to_toml(), str(self.base_dir), overrides)
+        return Result.from_core(raw, name=self.name)

@@ -1,0 +1,181 @@
+"""The TOML model file: parsing it into plain data and writing it back.
+
+Only syntax and shape live here (which keys exist, what kind of value each holds);
+whether a component type, parameter or port exists is checked by ``Model``, with the
+engine's catalogue. The writer puts ``name`` and ``connect`` at the top (before any
+table, as TOML requires for top-level keys) and one inline table per component, the
+layout a person would write.
+"""
+
+from __future__ import annotations
+
+import difflib
+import re
+import tomllib
+from collections.abc import Iterable, Mapping
+from typing import Any, NamedTuple
+
+import tomli_w
+
+from .errors import ModelError
+
+__all__ = ["EXPERIMENT_KEYS", "ModelData", "dumps", "parse"]
+
+EXPERIMENT_KEYS = ("StartTime", "StopTime", "Interval", "Tolerance", "Solver")
+_TOP_KEYS = ("name", "connect", "experiment", "components")
+_BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
+_INLINE_MAX = (
+    110  # longer components are written as [components.<name>] sections instead
+)
+
+
+class ModelData(NamedTuple):
+    """A model file's content, shape-checked but not yet checked against the engine."""
+
+    name: str | None
+    experiment: dict[str, Any]
+    components: list[tuple[str, str, dict[str, Any]]]  # (name, type, parameters)
+    connections: list[tuple[str, str]]
+
+
+def _suggest(word: str, choices: Iterable[str]) -> str:
+    close = difflib.get_close_matches(word, list(choices), n=1)
+    return f" (did you mean '{close[0]}'?)" if close else ""
+
+
+def _connections(value: Any, where: str) -> list[tuple[str, str]]:
+    if not isinstance(value, list):
+        raise ModelError(
+            f'{where}: \'connect\' must be an array of ["a.port", "b.port"] pairs'
+        )
+    pairs = []
+    for i, pair in enumerate(value):
+        if (
+            not isinstance(pair, list)
+            or len(pair) != 2
+            or not all(isinstance(end, str) for end in pair)
+        ):
+            raise ModelError(
+                f'{where}: connect[{i}] must be a pair of "component.port" strings, '
+                f"got {pair!r}"
+            )
+        pairs.append((pair[0], pair[1]))
+    return pairs
+
+
+def parse(text: str, source: str = "model") -> ModelData:
+    """Parse model-file text; ``source`` (usually the path) prefixes error messages."""
+    try:
+        doc = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ModelError(f"{source}: invalid TOML: {exc}") from None
+
+    for key in doc:
+        if key not in _TOP_KEYS:
+            raise ModelError(
+                f"{source}: unknown top-level key '{key}'{_suggest(key, _TOP_KEYS)}; "
+                f"expected {', '.join(_TOP_KEYS)}"
+            )
+    name = doc.get("name")
+    if name is not None and not isinstance(name, str):
+        raise ModelError(f"{source}: 'name' must be a string, got {name!r}")
+
+    experiment = doc.get("experiment", {})
+    if not isinstance(experiment, dict):
+        raise ModelError(f"{source}: 'experiment' must be a table")
+    for key, value in experiment.items():
+        if key not in EXPERIMENT_KEYS:
+            raise ModelError(
+                f"{source}: experiment: unknown setting '{key}'"
+                f"{_suggest(key, EXPERIMENT_KEYS)}"
+            )
+        wanted = str if key == "Solver" else (int, float)
+        if isinstance(value, bool) or not isinstance(value, wanted):
+            raise ModelError(
+                f"{source}: experiment: '{key}' has the wrong kind of value {value!r}"
+            )
+
+    connections = _connections(doc["connect"], source) if "connect" in doc else []
+    components: list[tuple[str, str, dict[str, Any]]] = []
+    table = doc.get("components", {})
+    if not isinstance(table, dict):
+        raise ModelError(f"{source}: 'components' must be a table")
+    for comp_name, entry in table.items():
+        if comp_name == "connect" and isinstance(entry, list):
+            # `connect = [...]` written after [components] lands here; accept it.
+            connections.extend(_connections(entry, source))
+            continue
+        if not isinstance(entry, dict):
+            raise ModelError(
+                f"{source}: component '{comp_name}': expected a table like "
+                f'{{ type = "Inertia", J = 1.0 }}, got {entry!r}'
+            )
+        params = dict(entry)
+        comp_type = params.pop("type", None)
+        if not isinstance(comp_type, str):
+            raise ModelError(
+                f"{source}: component '{comp_name}': missing 'type' (a string)"
+            )
+        components.append((comp_name, comp_type, params))
+    return ModelData(name, dict(experiment), components, connections)
+
+
+# --- writing --------------------------------------------------------------------------
+def _key(key: str) -> str:
+    return key if _BARE_KEY.fullmatch(key) else _scalar(key)
+
+
+def _scalar(value: Any) -> str:
+    # tomli-w knows the exact TOML spelling of strings (escapes) and floats (inf, nan).
+    return tomli_w.dumps({"v": value})[len("v = ") : -1]
+
+
+def _value(value: Any, multiline: bool = False) -> str:
+    if isinstance(value, Mapping):
+        if not value:
+            return "{}"
+        return (
+            "{ "
+            + ", ".join(f"{_key(k)} = {_value(v)}" for k, v in value.items())
+            + " }"
+        )
+    if isinstance(value, (list, tuple)):
+        items = [_value(v) for v in value]
+        if multiline and items:
+            return "[\n" + "".join(f"  {item},\n" for item in items) + "]"
+        return "[" + ", ".join(items) + "]"
+    return _scalar(value)
+
+
+def dumps(
+    name: str,
+    experiment: Mapping[str, Any],
+    components: Iterable[tuple[str, str, Mapping[str, Any]]],
+    connections: Iterable[tuple[str, str]],
+) -> str:
+    """Write a model file; it parses back to the same data."""
+    lines = [f"name = {_scalar(name)}"]
+    pairs = list(connections)
+    if pairs:
+        lines.append("connect = [")
+        lines.extend(f"  [{_scalar(a)}, {_scalar(b)}]," for a, b in pairs)
+        lines.append("]")
+    else:
+        lines.append("connect = []")
+    if experiment:
+        lines += ["", "[experiment]"]
+        lines.extend(f"{_key(k)} = {_value(v)}" for k, v in experiment.items())
+
+    comps = [(n, {"type": t, **dict(p)}) for n, t, p in components]
+    inline = [f"{_key(n)} = {_value(entry)}" for n, entry in comps]
+    if all(len(line) <= _INLINE_MAX for line in inline):
+        width = max((len(_key(n)) for n, _ in comps), default=0)
+        lines += ["", "[components]"]
+        lines.extend(f"{_key(n):<{width}} = {_value(entry)}" for n, entry in comps)
+    else:  # long tables: one section per component keeps the file readable
+        for comp_name, entry in comps:
+            lines += ["", f"[components.{_key(comp_name)}]"]
+            lines.extend(
+                f"{_key(k)} = {_value(v, multiline=True)}" for k, v in entry.items()
+            )
+    return "\n".join(lines) + "\n"

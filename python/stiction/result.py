@@ -1,0 +1,185 @@
+"""``Result``: the trajectories of one run, by MSL variable name, and the event log.
+
+It knows nothing of the engine: it is built from the plain dict the engine returns (or
+from arrays), so it can be tested, saved and compared without the compiled module.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import os
+from collections.abc import Iterable, Mapping, Sequence
+from typing import TYPE_CHECKING, Any, NamedTuple
+
+import numpy as np
+
+from . import csvio
+
+if TYPE_CHECKING:
+    import pandas
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+__all__ = ["Event", "Result"]
+
+# Signal kinds worth showing first in a summary, most telling first.
+_MAIN_SUFFIXES = ("w", "w_rel", "mode", "tau", "phi", "phi_rel", "T", "y")
+
+
+class Event(NamedTuple):
+    """One mode change of one component at an event instant, and why it happened."""
+
+    time: float
+    component: str
+    old_mode: int
+    new_mode: int
+    cause: str
+
+
+class Result:
+    """Trajectories on the output grid and both sides of each event, with statistics."""
+
+    def __init__(
+        self,
+        names: Sequence[str],
+        data: Any,
+        events: Iterable[Sequence[Any]] = (),
+        stats: Mapping[str, float | int] | None = None,
+        name: str = "",
+    ) -> None:
+        self.names: list[str] = [str(n) for n in names]
+        self.data: np.ndarray = np.asarray(data, dtype=np.float64)
+        if self.data.ndim != 2 or self.data.shape[1] != len(self.names):
+            raise ValueError(
+                f"data shape {self.data.shape} does not match {len(self.names)} names"
+            )
+        if not self.names or self.names[0] != "time":
+            raise ValueError("the first signal must be 'time'")
+        self.events: list[Event] = [
+            Event(float(t), str(c), int(a), int(b), str(why))
+            for t, c, a, b, why in events
+        ]
+        self.stats: dict[str, float | int] = dict(stats or {})
+        self.name = name
+        self._index = {n: i for i, n in enumerate(self.names)}
+
+    @classmethod
+    def from_core(cls, raw: Mapping[str, Any], name: str = "") -> Result:
+        """Wrap the dict returned by ``stiction._core.simulate``."""
+        return cls(raw["names"], raw["data"], raw["events"], raw["stats"], name=name)
+
+    @classmethod
+    def from_csv(cls, path: str | os.PathLike[str]) -> Result:
+        """Read a result or MSL reference CSV (events and statistics are not in it)."""
+        names, data = csvio.read_csv(path)
+        return cls(names, data)
+
+    # --- access -----------------------------------------------------------------------
+    def __getitem__(self, name: str) -> np.ndarray:
+        try:
+            return self.data[:, self._index[name]]
+        except KeyError:
+            close = difflib.get_close_matches(name, self.names, n=5, cutoff=0.5)
+            hint = (
+                f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
+            )
+            raise KeyError(f"no signal {name!r} in the result{hint}") from None
+
+    def __contains__(self, name: object) -> bool:
+        return name in self._index
+
+    def __len__(self) -> int:
+        return int(self.data.shape[0])
+
+    def __repr__(self) -> str:
+        label = f" {self.name!r}" if self.name else ""
+        return (
+            f"<Result{label}: {len(self.names) - 1} signals, {len(self)} rows, "
+            f"{len(self.events)} events>"
+        )
+
+    @property
+    def time(self) -> np.ndarray:
+        """The time column (event instants appear twice: left then right value)."""
+        return self.data[:, 0]
+
+    # --- export -----------------------------------------------------------------------
+    def to_pandas(self) -> pandas.DataFrame:
+        """The trajectories as a DataFrame with ``time`` as an ordinary column."""
+        import pandas as pd
+
+        return pd.DataFrame(self.data, columns=self.names)
+
+    def to_csv(self, path: str | os.PathLike[str]) -> None:
+        """Write an MSL-style CSV (quoted header, full precision, integer modes)."""
+        csvio.write_csv(path, self.names, self.data)
+
+    def plot(
+        self,
+        *names: str | Sequence[str],
+        path: str | os.PathLike[str] | None = None,
+        ax: Axes | None = None,
+    ) -> Figure:
+        """Plot signals against time, one axes per argument (a name or names)."""
+        from .plotting import plot_result
+
+        groups = [
+            [n] if isinstance(n, str) else list(n) for n in names
+        ] or self._default_groups()
+        for group in groups:
+            for n in group:
+                self[n]  # raises the helpful KeyError before anything is drawn
+        return plot_result(self, groups, path=path, ax=ax)
+
+    # --- text -------------------------------------------------------------------------
+    def main_signals(self, limit: int = 8) -> list[str]:
+        """The most telling signals (speeds, modes, torques …), in column order."""
+
+        def rank(name: str) -> int:
+            suffix = name.rsplit(".", 1)[-1]
+            return (
+                _MAIN_SUFFIXES.index(suffix)
+                if suffix in _MAIN_SUFFIXES
+                else len(_MAIN_SUFFIXES)
+            )
+
+        candidates = [n for n in self.names[1:] if "." in n]
+        chosen = set(sorted(candidates, key=rank)[:limit])
+        return [n for n in self.names if n in chosen]
+
+    def _default_groups(self) -> list[list[str]]:
+        groups: dict[str, list[str]] = {}
+        for n in self.main_signals():
+            groups.setdefault(n.rsplit(".", 1)[-1], []).append(n)
+        return list(groups.values())
+
+    def summary(self) -> str:
+        """Describe the run in a few lines: span, events, final values, statistics."""
+        t = self.time
+        span = f"t = {t[0]:g} … {t[-1]:g} s" if len(t) else "no rows"
+        title = f"{self.name}: " if self.name else ""
+        lines = [f"{title}{span}, {len(self)} rows, {len(self.events)} events"]
+        main = self.main_signals()
+        if main and len(t):
+            lines.append("final values:")
+            width = max(len(n) for n in main)
+            for n in main:
+                v = float(self[n][-1])
+                text = (
+                    str(int(v))
+                    if csvio.is_integer_signal(n) and v.is_integer()
+                    else f"{v:.6g}"
+                )
+                lines.append(f"  {n:<{width}}  {text}")
+        if self.stats:
+            parts = []
+            for key, value in self.stats.items():
+                shown = (
+                    f"{value:.3g}"
+                    if isinstance(value, float) and not math.isnan(value)
+                    else value
+                )
+                parts.append(f"{key}={shown}")
+            lines.append("stats: " + ", ".join(parts))
+        return "\n".join(lines)

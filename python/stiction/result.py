@@ -43,19 +43,27 @@ class Result:
     def __init__(
         self,
         names: Sequence[str],
-        data: Any,
+        data: Any = None,
         events: Iterable[Sequence[Any]] = (),
         stats: Mapping[str, float | int] | None = None,
         name: str = "",
+        source: Any = None,
     ) -> None:
+        """``data`` is the full table, or None when a ``source`` (the engine's raw result,
+        with ``column(name)``, ``table()`` and ``rows``) computes variables on demand."""
         self.names: list[str] = [str(n) for n in names]
-        self.data: np.ndarray = np.asarray(data, dtype=np.float64)
-        if self.data.ndim != 2 or self.data.shape[1] != len(self.names):
-            raise ValueError(
-                f"data shape {self.data.shape} does not match {len(self.names)} names"
-            )
         if not self.names or self.names[0] != "time":
             raise ValueError("the first signal must be 'time'")
+        self._source = source
+        self._data: np.ndarray | None = None
+        self._columns: dict[str, np.ndarray] = {}
+        if data is not None or source is None:
+            table = np.asarray(data, dtype=np.float64)
+            if table.ndim != 2 or table.shape[1] != len(self.names):
+                raise ValueError(
+                    f"data shape {table.shape} does not match {len(self.names)} names"
+                )
+            self._data = table
         self.events: list[Event] = [
             Event(float(t), str(c), int(a), int(b), str(why))
             for t, c, a, b, why in events
@@ -65,9 +73,16 @@ class Result:
         self._index = {n: i for i, n in enumerate(self.names)}
 
     @classmethod
-    def from_core(cls, raw: Mapping[str, Any], name: str = "") -> Result:
-        """Wrap the dict returned by ``stiction._core.simulate``."""
-        return cls(raw["names"], raw["data"], raw["events"], raw["stats"], name=name)
+    def from_core(cls, raw: Any, name: str = "") -> Result:
+        """Wrap the engine's raw result; variables are computed when first read."""
+        return cls(raw.names, None, raw.events, raw.stats, name=name, source=raw)
+
+    @property
+    def data(self) -> np.ndarray:
+        """All variables, one column per name (computed on first use)."""
+        if self._data is None:
+            self._data = np.asarray(self._source.table(), dtype=np.float64)
+        return self._data
 
     @classmethod
     def from_csv(cls, path: str | os.PathLike[str]) -> Result:
@@ -78,7 +93,12 @@ class Result:
     # --- access -----------------------------------------------------------------------
     def __getitem__(self, name: str) -> np.ndarray:
         try:
-            return self.data[:, self._index[name]]
+            column = self._index[name]
+            if self._data is not None:
+                return self._data[:, column]
+            if name not in self._columns:
+                self._columns[name] = np.asarray(self._source.column(name), dtype=np.float64)
+            return self._columns[name]
         except KeyError:
             close = difflib.get_close_matches(name, self.names, n=5, cutoff=0.5)
             hint = (
@@ -90,7 +110,9 @@ class Result:
         return name in self._index
 
     def __len__(self) -> int:
-        return int(self.data.shape[0])
+        if self._data is None:
+            return int(self._source.rows)
+        return int(self._data.shape[0])
 
     def __repr__(self) -> str:
         label = f" {self.name!r}" if self.name else ""
@@ -102,7 +124,7 @@ class Result:
     @property
     def time(self) -> np.ndarray:
         """The time column (event instants appear twice: left then right value)."""
-        return self.data[:, 0]
+        return self["time"]
 
     # --- export -----------------------------------------------------------------------
     def to_pandas(self) -> pandas.DataFrame:

@@ -4,16 +4,16 @@
 use std::collections::HashMap;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-use numpy::{PyArray1, PyArrayMethods};
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::create_exception;
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyKeyError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
-use stiction_core::{ModelError, ModelSpec, SimError, SimResult};
+use pyo3::types::PyDict;
+use stiction_core::{ModelError as CoreModelError, ModelSpec, SimError, SimResult};
 
 create_exception!(
     _core,
-    ModelError_,
+    ModelError,
     PyValueError,
     "The model is invalid; the message names the component and the parameter or port."
 );
@@ -24,8 +24,8 @@ create_exception!(
     "A valid model could not be simulated (singular system, no consistent mode, …)."
 );
 
-fn model_err(e: ModelError) -> PyErr {
-    ModelError_::new_err(e.to_string())
+fn model_err(e: CoreModelError) -> PyErr {
+    ModelError::new_err(e.to_string())
 }
 
 fn sim_err(e: SimError) -> PyErr {
@@ -65,35 +65,68 @@ fn guarded<T>(f: impl FnOnce() -> Result<T, SimError>) -> PyResult<T> {
     }
 }
 
-fn to_python(py: Python<'_>, r: SimResult) -> PyResult<Py<PyDict>> {
-    let out = PyDict::new(py);
-    let cols = r.names.len();
-    let rows = r.rows();
-    let data = PyArray1::from_vec(py, r.data).reshape([rows, cols])?;
-    out.set_item("names", PyList::new(py, &r.names)?)?;
-    out.set_item("data", data)?;
-    let events = PyList::empty(py);
-    for e in &r.events {
-        events.append((
-            e.time,
-            e.component.as_str(),
-            e.old_mode,
-            e.new_mode,
-            e.cause.as_str(),
-        ))?;
+/// The outcome of one run. Variables are computed from the recorded states when first asked for
+/// (see `SimResult`); `table()` gives all of them at once.
+#[pyclass(frozen, module = "stiction._core")]
+struct RawResult(SimResult);
+
+#[pymethods]
+impl RawResult {
+    #[getter]
+    fn names(&self) -> Vec<String> {
+        self.0.names.clone()
     }
-    out.set_item("events", events)?;
-    let stats = PyDict::new(py);
-    stats.set_item("steps", r.stats.steps)?;
-    stats.set_item("rejected_steps", r.stats.rejected_steps)?;
-    stats.set_item("rhs_evals", r.stats.rhs_evals)?;
-    stats.set_item("events", r.stats.state_events + r.stats.time_events)?;
-    stats.set_item("state_events", r.stats.state_events)?;
-    stats.set_item("time_events", r.stats.time_events)?;
-    stats.set_item("factorizations", r.stats.factorizations)?;
-    stats.set_item("wall_ms", r.stats.wall_ms)?;
-    out.set_item("stats", stats)?;
-    Ok(out.unbind())
+
+    #[getter]
+    fn rows(&self) -> usize {
+        self.0.rows()
+    }
+
+    #[getter]
+    fn events(&self) -> Vec<(f64, String, i8, i8, String)> {
+        self.0
+            .events
+            .iter()
+            .map(|e| {
+                (
+                    e.time,
+                    e.component.clone(),
+                    e.old_mode,
+                    e.new_mode,
+                    e.cause.clone(),
+                )
+            })
+            .collect()
+    }
+
+    #[getter]
+    fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let s = &self.0.stats;
+        let d = PyDict::new(py);
+        d.set_item("steps", s.steps)?;
+        d.set_item("rejected_steps", s.rejected_steps)?;
+        d.set_item("rhs_evals", s.rhs_evals)?;
+        d.set_item("events", s.state_events + s.time_events)?;
+        d.set_item("state_events", s.state_events)?;
+        d.set_item("time_events", s.time_events)?;
+        d.set_item("factorizations", s.factorizations)?;
+        d.set_item("wall_ms", s.wall_ms)?;
+        Ok(d)
+    }
+
+    /// One variable over all rows; KeyError for an unknown name.
+    fn column<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let values = py
+            .detach(|| self.0.column(name))
+            .ok_or_else(|| PyKeyError::new_err(name.to_string()))?;
+        Ok(PyArray1::from_vec(py, values))
+    }
+
+    /// All variables as a `rows × len(names)` array.
+    fn table<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let data = py.detach(|| self.0.table().to_vec());
+        PyArray1::from_vec(py, data).reshape([self.0.rows(), self.0.names.len()])
+    }
 }
 
 /// Simulates a model given as TOML text; `overrides` replace `[experiment]` settings.
@@ -104,10 +137,10 @@ fn simulate(
     model_toml: &str,
     base_dir: &str,
     overrides: Option<HashMap<String, f64>>,
-) -> PyResult<Py<PyDict>> {
+) -> PyResult<RawResult> {
     let spec = parse(model_toml, base_dir, &overrides.unwrap_or_default())?;
     let result = py.detach(|| guarded(|| stiction_core::simulate(&spec)))?;
-    to_python(py, result)
+    Ok(RawResult(result))
 }
 
 /// Validates a model (parameters, ports, connections, initial values) without simulating.
@@ -140,7 +173,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add_function(wrap_pyfunction!(component_types, m)?)?;
-    m.add("ModelError", m.py().get_type::<ModelError_>())?;
+    m.add_class::<RawResult>()?;
+    m.add("ModelError", m.py().get_type::<ModelError>())?;
     m.add("SimulationError", m.py().get_type::<SimulationError>())?;
     Ok(())
 }

@@ -69,5 +69,4 @@ fn ideal_gear(p: &Params) -> ModelResult<Box<dyn Component>> {
     }))
 }
 
-pub const REGISTRY: &[(&str, Constructor)] =
-    &[("IdealGear", ideal_gear)];
+pub const REGISTRY: &[(&str, Constructor)] = &[("IdealGear", ideal_gear)];

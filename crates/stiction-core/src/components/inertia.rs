@@ -73,5 +73,4 @@ fn fixed(p: &Params) -> ModelResult<Box<dyn Component>> {
     }))
 }
 
-pub const REGISTRY: &[(&str, Constructor)] =
-    &[("Inertia", inertia), ("Fixed", fixed)];
+pub const REGISTRY: &[(&str, Constructor)] = &[("Inertia", inertia), ("Fixed", fixed)];

@@ -21,7 +21,7 @@ pub const REGISTRY: &[(&str, Constructor)] = &[
 
 /// A block's output as a function of time and its inputs. `left` asks for the left limit at a
 /// time event (the value just before a step), which the result needs for the row before an event.
-pub trait Block {
+pub trait Block: Send + Sync {
     fn eval(&self, t: f64, left: bool, u: &[f64]) -> f64;
 }
 

@@ -37,6 +37,10 @@ impl Block for TimeTable {
         };
         let i = k.clamp(1, n - 1) - 1;
         let (t0, t1, y0, y1) = (self.t[i], self.t[i + 1], self.y[i], self.y[i + 1]);
+        if t1 == t0 {
+            // a jump at the table's first or last point
+            return self.offset + if left { y0 } else { y1 };
+        }
         self.offset + y0 + (y1 - y0) * (s - t0) / (t1 - t0)
     }
 }

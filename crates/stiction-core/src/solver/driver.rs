@@ -7,6 +7,7 @@
 
 use std::cell::RefCell;
 use std::rc::Rc;
+use std::sync::Arc;
 use std::time::Instant;
 
 use diffsol::{
@@ -19,7 +20,7 @@ use crate::components::friction::logic::UNKNOWN;
 use crate::components::friction::FrictionState;
 use crate::error::SimError;
 use crate::events::{indicator_count, indicator_label, indicators, iterate, ModeCache, ModeChange};
-use crate::result::{EventRecord, Recorder, SimResult, Stats};
+use crate::result::{EventRecord, SimResult, Stats, Trajectory};
 use crate::system::eval::{derivative, evaluate, DiscreteState, Workspace};
 use crate::system::kkt::ModeMatrix;
 use crate::system::System;
@@ -32,6 +33,9 @@ type LS = NalgebraLU<f64>;
 /// workspace. Changed only between steps, at events.
 struct Phase {
     disc: DiscreteState,
+    /// The next time event: from there on the right-hand side sees the signals' left limits,
+    /// because Modelica freezes `time >= t0` until the event is handled.
+    next_time_event: f64,
     mm: Rc<ModeMatrix>,
     ws: Workspace,
     rhs_calls: usize,
@@ -46,7 +50,7 @@ fn numerical(time: f64, e: impl std::fmt::Display) -> SimError {
     }
 }
 
-pub fn run(sys: Rc<System>) -> Result<SimResult, SimError> {
+pub fn run(sys: Arc<System>) -> Result<SimResult, SimError> {
     let started = Instant::now();
     let exp = sys.experiment.clone();
     let t0 = exp.start_time;
@@ -76,6 +80,7 @@ pub fn run(sys: Rc<System>) -> Result<SimResult, SimError> {
     let mm = cache.get(&sys, &disc.locked_set(), t0)?;
     let n = sys.state_len();
     let phase = Rc::new(RefCell::new(Phase {
+        next_time_event: sys.time_events.first().copied().unwrap_or(f64::INFINITY),
         disc,
         mm,
         ws,
@@ -109,7 +114,9 @@ pub fn run(sys: Rc<System>) -> Result<SimResult, SimError> {
             rhs_calls,
             probe,
             f0,
+            next_time_event,
         } = &mut *guard;
+        let left = t >= *next_time_event;
         let vnorm = v.iter().map(|a| a * a).sum::<f64>().sqrt();
         if vnorm == 0.0 {
             y.fill(0.0);
@@ -118,12 +125,12 @@ pub fn run(sys: Rc<System>) -> Result<SimResult, SimError> {
         let xnorm = x.iter().map(|a| a * a).sum::<f64>().sqrt();
         let eps = f64::EPSILON.sqrt() * (1.0 + xnorm) / vnorm;
         *rhs_calls += 2;
-        evaluate(&sy, mm, disc, t, x, false, ws);
+        evaluate(&sy, mm, disc, t, x, left, ws);
         derivative(&sy, ws, f0);
         for i in 0..x.len() {
             probe[i] = x[i] + eps * v[i];
         }
-        evaluate(&sy, mm, disc, t, probe, false, ws);
+        evaluate(&sy, mm, disc, t, probe, left, ws);
         derivative(&sy, ws, y);
         for i in 0..y.len() {
             y[i] = (y[i] - f0[i]) / eps;
@@ -146,11 +153,16 @@ pub fn run(sys: Rc<System>) -> Result<SimResult, SimError> {
         sys: sys.clone(),
         phase,
         cache,
-        recorder: Recorder::new(&sys),
+        trajectory: Trajectory {
+            width: n,
+            ..Trajectory::default()
+        },
+        discs: Vec::new(),
         log: std::mem::take(&mut log),
         z_prev: vec![0.0; indicator_count(&sys)],
         z: vec![0.0; indicator_count(&sys)],
         x: x0,
+        dense: None,
         grid_k: 1,
         stats: Stats::default(),
         implicit: exp.solver != "tsit45",
@@ -166,24 +178,29 @@ pub fn run(sys: Rc<System>) -> Result<SimResult, SimError> {
     stats.rhs_evals = driver.phase.borrow().rhs_calls;
     stats.factorizations = driver.cache.factorizations;
     stats.wall_ms = started.elapsed().as_secs_f64() * 1e3;
-    Ok(SimResult {
-        names: driver.recorder.names,
-        data: driver.recorder.data,
-        events: driver.log,
+    Ok(SimResult::new(
+        sys,
+        driver.trajectory,
+        driver.discs,
+        driver.log,
         stats,
-    })
+    ))
 }
 
 struct Driver {
-    sys: Rc<System>,
+    sys: Arc<System>,
     phase: Rc<RefCell<Phase>>,
     cache: ModeCache,
-    recorder: Recorder,
+    trajectory: Trajectory,
+    /// Every discrete state the run went through; rows refer to them by index.
+    discs: Vec<DiscreteState>,
     log: Vec<EventRecord>,
     z_prev: Vec<f64>,
     z: Vec<f64>,
     /// State buffer (interpolated or current).
     x: Vec<f64>,
+    /// diffsol's vector for dense output, reused.
+    dense: Option<V>,
     grid_k: usize,
     stats: Stats,
     implicit: bool,
@@ -211,9 +228,12 @@ impl Driver {
     }
 
     fn record_here(&mut self, t: f64, left: bool) {
-        self.evaluate_here(t, left, false);
         let guard = self.phase.borrow();
-        self.recorder.record(&self.sys, &guard.ws, &guard.disc);
+        if self.discs.last() != Some(&guard.disc) {
+            self.discs.push(guard.disc.clone());
+        }
+        let id = (self.discs.len() - 1) as u32;
+        self.trajectory.push(t, left, id, &self.x);
     }
 
     fn load<'a, Eqn, S>(&mut self, solver: &S, t: f64) -> Result<(), SimError>
@@ -221,9 +241,12 @@ impl Driver {
         Eqn: OdeEquations<T = f64, V = V, C = diffsol::NalgebraContext> + 'a,
         S: OdeSolverMethod<'a, Eqn>,
     {
-        let mut y = V::zeros(self.x.len(), *solver.state().y.context());
+        let n = self.x.len();
+        let y = self
+            .dense
+            .get_or_insert_with(|| V::zeros(n, *solver.state().y.context()));
         solver
-            .interpolate_inplace(t, &mut y)
+            .interpolate_inplace(t, y)
             .map_err(|e| numerical(t, e))?;
         self.x.copy_from_slice(y.inner().as_slice());
         Ok(())
@@ -441,7 +464,9 @@ impl Driver {
                 t_prev = t_e;
                 continue;
             }
-            self.emit_grid(&solver, t_now, true, t_now)?;
+            // A grid point on a time event is replaced by the event's two rows.
+            self.emit_grid(&solver, t_now, !at_time_event, t_now)?;
+            self.x.copy_from_slice(solver.state().y.inner().as_slice());
             self.z_prev.copy_from_slice(&self.z);
             t_prev = t_now;
             if matches!(reason, OdeSolverStopReason::TstopReached) || t_now >= stop {
@@ -449,9 +474,13 @@ impl Driver {
                     break; // reached StopTime
                 }
                 self.handle_event(stop, true, "time event")?;
-                self.restart(&mut solver, stop, order)?;
+                let t_event = stop;
                 next_te += 1;
                 stop = time_events.get(next_te).copied().unwrap_or(t_end);
+                // before the restart: its first derivative is taken right of the event
+                self.phase.borrow_mut().next_time_event =
+                    time_events.get(next_te).copied().unwrap_or(f64::INFINITY);
+                self.restart(&mut solver, t_event, order)?;
                 solver
                     .set_stop_time(stop)
                     .map_err(|e| numerical(t_now, e))?;

@@ -5,7 +5,7 @@
 mod driver;
 mod init;
 
-use std::rc::Rc;
+use std::sync::Arc;
 
 pub use init::initial_state;
 
@@ -17,10 +17,10 @@ use crate::system::{assemble, System};
 /// Assembles and simulates a model with its `[experiment]` settings.
 pub fn simulate(spec: &ModelSpec) -> Result<SimResult, SimError> {
     let sys = assemble(spec)?;
-    run(Rc::new(sys))
+    run(Arc::new(sys))
 }
 
 /// Simulates an assembled system (a sweep assembles once and runs many times).
-pub fn run(sys: Rc<System>) -> Result<SimResult, SimError> {
+pub fn run(sys: Arc<System>) -> Result<SimResult, SimError> {
     driver::run(sys)
 }

@@ -109,20 +109,19 @@ impl FlangeTorques {
         self.ports
     }
 
-    /// Fills `tau[port]` for every mechanical port, given a way to evaluate outputs.
-    pub fn solve(&self, eval: &dyn Fn(&Out) -> f64, tau: &mut [f64]) {
+    /// Fills `tau[port]` for every mechanical port, given a way to evaluate outputs; `rhs` is
+    /// scratch space, so a result row allocates nothing.
+    pub fn solve(&self, eval: &dyn Fn(&Out) -> f64, tau: &mut [f64], rhs: &mut Vec<f64>) {
         for (p, out) in &self.known {
             tau[*p] = eval(out);
         }
-        let rhs: Vec<f64> = self
-            .eq_known
-            .iter()
-            .zip(&self.eq_total)
-            .map(|(known, total)| match total {
+        rhs.resize(self.eq_total.len(), 0.0);
+        for (r, (known, total)) in self.eq_known.iter().zip(&self.eq_total).enumerate() {
+            rhs[r] = match total {
                 Some(out) => eval(out),
                 None => -known.iter().map(|&p| tau[p]).sum::<f64>(),
-            })
-            .collect();
+            };
+        }
         for (k, &p) in self.unknown.iter().enumerate() {
             tau[p] = (0..rhs.len()).map(|r| self.pinv[(k, r)] * rhs[r]).sum();
         }

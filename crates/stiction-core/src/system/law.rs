@@ -26,7 +26,7 @@ pub enum EnergyRole {
     Source,
 }
 
-pub trait ForceLaw {
+pub trait ForceLaw: Send + Sync {
     /// The element torque: the law exerts `−tau·row` on the nodes (for a two-flange element,
     /// `tau = flange_b.tau`; a torque source returns minus its accelerating torque).
     fn tau(&self, c: &LawCtx) -> f64;

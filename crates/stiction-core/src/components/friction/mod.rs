@@ -253,5 +253,4 @@ fn clutch(p: &Params) -> ModelResult<Box<dyn Component>> {
     }))
 }
 
-pub const REGISTRY: &[(&str, Constructor)] =
-    &[("Brake", brake), ("Clutch", clutch)];
+pub const REGISTRY: &[(&str, Constructor)] = &[("Brake", brake), ("Clutch", clutch)];

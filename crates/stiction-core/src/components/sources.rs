@@ -63,7 +63,7 @@ impl SourceLaw {
                 start,
             } => {
                 offset
-                    + if reached(x.t, start, x.left) {
+                    + if reached(x.t, start, x.horizon) {
                         step
                     } else {
                         0.0

@@ -52,6 +52,8 @@ const MAX_PASSES: usize = 50;
 
 /// Solves the discrete equations at (t, x). With `initial`, this is MSL's initialization: one
 /// consistent solution with the start values as `pre()`; otherwise the full event iteration.
+/// Time events before `horizon` have happened (see `signals::reached`).
+#[allow(clippy::too_many_arguments)]
 pub fn iterate(
     sys: &System,
     cache: &mut ModeCache,
@@ -59,6 +61,7 @@ pub fn iterate(
     t: f64,
     x: &[f64],
     initial: bool,
+    horizon: f64,
     ws: &mut Workspace,
 ) -> Result<Vec<ModeChange>, SimError> {
     let before: Vec<i8> = disc.friction.iter().map(|f| f.pre.mode).collect();
@@ -67,7 +70,7 @@ pub fn iterate(
     {
         let locked = disc.locked_set();
         let mm = cache.get(sys, &locked, t)?;
-        evaluate(sys, &mm, disc, t, x, false, ws);
+        evaluate(sys, &mm, disc, t, x, horizon, ws);
         let mut z = [0.0; 4];
         for (k, law) in sys.laws.iter().enumerate() {
             let count = law.law.relation_count();
@@ -90,7 +93,18 @@ pub fn iterate(
             .iter()
             .map(|fe| fe.normal_force(ws.signals[fe.input]) <= 0.0)
             .collect();
-        let flags = solve_mixed(sys, cache, &pre, &free, &disc.relations, t, x, initial, ws)?;
+        let flags = solve_mixed(
+            sys,
+            cache,
+            &pre,
+            &free,
+            &disc.relations,
+            t,
+            x,
+            initial,
+            horizon,
+            ws,
+        )?;
         let new: Vec<Discrete> = (0..nf)
             .map(|k| {
                 let (sf, sb) = flags[k];
@@ -150,6 +164,7 @@ fn solve_mixed(
     t: f64,
     x: &[f64],
     initial: bool,
+    horizon: f64,
     ws: &mut Workspace,
 ) -> Result<Vec<(bool, bool)>, SimError> {
     let nf = sys.frictions.len();
@@ -177,7 +192,7 @@ fn solve_mixed(
             relations: relations.to_vec(),
         };
         let mm = cache.get(sys, &trial.locked_set(), t)?;
-        evaluate(sys, &mm, &trial, t, x, false, ws);
+        evaluate(sys, &mm, &trial, t, x, horizon, ws);
         let next: Vec<(bool, bool)> = (0..nf)
             .map(|k| {
                 let v = &ws.friction[k];

@@ -37,16 +37,17 @@ pub struct Stats {
 #[derive(Debug, Clone, Default)]
 pub struct Trajectory {
     pub t: Vec<f64>,
-    pub left: Vec<bool>,
+    /// The horizon of unhandled time events at each row (the left row of an event has it at t).
+    pub horizon: Vec<f64>,
     pub disc: Vec<u32>,
     pub x: Vec<f64>,
     pub width: usize,
 }
 
 impl Trajectory {
-    pub fn push(&mut self, t: f64, left: bool, disc: u32, x: &[f64]) {
+    pub fn push(&mut self, t: f64, horizon: f64, disc: u32, x: &[f64]) {
         self.t.push(t);
-        self.left.push(left);
+        self.horizon.push(horizon);
         self.disc.push(disc);
         self.x.extend_from_slice(x);
     }
@@ -153,7 +154,7 @@ impl SimResult {
                     .extend(std::iter::repeat_n(f64::NAN, self.names.len() - 1));
                 continue;
             };
-            evaluate(sys, mm, disc, tr.t[r], tr.x(r), tr.left[r], &mut ws);
+            evaluate(sys, mm, disc, tr.t[r], tr.x(r), tr.horizon[r], &mut ws);
             recorder.record(sys, &ws, disc);
         }
         recorder.data

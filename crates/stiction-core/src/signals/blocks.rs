@@ -59,7 +59,7 @@ fn boxed<B: Block + Clone + 'static>(
 #[derive(Clone)]
 struct Constant(f64);
 impl Block for Constant {
-    fn eval(&self, _t: f64, _left: bool, _u: &[f64]) -> f64 {
+    fn eval(&self, _t: f64, _horizon: f64, _u: &[f64]) -> f64 {
         self.0
     }
 }
@@ -76,9 +76,9 @@ struct Step {
     start_time: f64,
 }
 impl Block for Step {
-    fn eval(&self, t: f64, left: bool, _u: &[f64]) -> f64 {
+    fn eval(&self, t: f64, horizon: f64, _u: &[f64]) -> f64 {
         self.offset
-            + if reached(t, self.start_time, left) {
+            + if reached(t, self.start_time, horizon) {
                 self.height
             } else {
                 0.0
@@ -104,12 +104,12 @@ struct Ramp {
     start_time: f64,
 }
 impl Block for Ramp {
-    fn eval(&self, t: f64, left: bool, _u: &[f64]) -> f64 {
+    fn eval(&self, t: f64, horizon: f64, _u: &[f64]) -> f64 {
         let end = self.start_time + self.duration;
         self.offset
-            + if !reached(t, self.start_time, left) {
+            + if !reached(t, self.start_time, horizon) {
                 0.0
-            } else if !reached(t, end, left) {
+            } else if !reached(t, end, horizon) {
                 (t - self.start_time) * self.height / self.duration
             } else {
                 self.height
@@ -138,14 +138,14 @@ struct Sine {
     continuous: bool,
 }
 impl Block for Sine {
-    fn eval(&self, t: f64, left: bool, _u: &[f64]) -> f64 {
+    fn eval(&self, t: f64, horizon: f64, _u: &[f64]) -> f64 {
         let before = if self.continuous {
             self.amplitude * self.phase.sin()
         } else {
             0.0
         };
         self.offset
-            + if reached(t, self.start_time, left) {
+            + if reached(t, self.start_time, horizon) {
                 self.amplitude * (2.0 * PI * self.f * (t - self.start_time) + self.phase).sin()
             } else {
                 before
@@ -169,7 +169,7 @@ pub fn sine(p: &Params) -> ModelResult<Box<dyn Component>> {
 #[derive(Clone)]
 struct Product;
 impl Block for Product {
-    fn eval(&self, _t: f64, _left: bool, u: &[f64]) -> f64 {
+    fn eval(&self, _t: f64, _horizon: f64, u: &[f64]) -> f64 {
         u[0] * u[1]
     }
 }
@@ -181,7 +181,7 @@ pub fn product(_p: &Params) -> ModelResult<Box<dyn Component>> {
 #[derive(Clone)]
 struct Feedback;
 impl Block for Feedback {
-    fn eval(&self, _t: f64, _left: bool, u: &[f64]) -> f64 {
+    fn eval(&self, _t: f64, _horizon: f64, u: &[f64]) -> f64 {
         u[0] - u[1]
     }
 }
@@ -196,7 +196,7 @@ struct Add {
     k2: f64,
 }
 impl Block for Add {
-    fn eval(&self, _t: f64, _left: bool, u: &[f64]) -> f64 {
+    fn eval(&self, _t: f64, _horizon: f64, u: &[f64]) -> f64 {
         self.k1 * u[0] + self.k2 * u[1]
     }
 }
@@ -212,7 +212,7 @@ pub fn add(p: &Params) -> ModelResult<Box<dyn Component>> {
 #[derive(Clone)]
 struct Gain(f64);
 impl Block for Gain {
-    fn eval(&self, _t: f64, _left: bool, u: &[f64]) -> f64 {
+    fn eval(&self, _t: f64, _horizon: f64, u: &[f64]) -> f64 {
         self.0 * u[0]
     }
 }

@@ -19,10 +19,11 @@ pub const REGISTRY: &[(&str, Constructor)] = &[
     ("TimeTable", timetable::time_table),
 ];
 
-/// A block's output as a function of time and its inputs. `left` asks for the left limit at a
-/// time event (the value just before a step), which the result needs for the row before an event.
+/// A block's output as a function of time and its inputs. `horizon` is the first time event not
+/// handled yet: Modelica freezes `time >= t0` between events, so a switch at or after the horizon
+/// has not happened, even where the integrator evaluates a little beyond it.
 pub trait Block: Send + Sync {
-    fn eval(&self, t: f64, left: bool, u: &[f64]) -> f64;
+    fn eval(&self, t: f64, horizon: f64, u: &[f64]) -> f64;
 }
 
 pub struct BlockElem {
@@ -40,23 +41,20 @@ pub struct SignalGraph {
 }
 
 impl SignalGraph {
-    pub fn eval(&self, t: f64, left: bool, values: &mut [f64]) {
+    pub fn eval(&self, t: f64, horizon: f64, values: &mut [f64]) {
         let mut u = [0.0; 4];
         for b in &self.blocks {
             for (k, &slot) in b.inputs.iter().enumerate() {
                 u[k] = values[slot];
             }
-            values[b.output] = b.block.eval(t, left, &u[..b.inputs.len()]);
+            values[b.output] = b.block.eval(t, horizon, &u[..b.inputs.len()]);
         }
     }
 }
 
-/// `t` has reached `t0` (Modelica `time >= t0`); at a time event the left limit says not yet.
+/// Modelica's `time >= t0` with frozen time relations: a switch at `t0` has happened once the
+/// event at `t0` was handled, i.e. when `t0` lies before the horizon of unhandled events.
 #[inline]
-pub fn reached(t: f64, t0: f64, left: bool) -> bool {
-    if left {
-        t > t0
-    } else {
-        t >= t0
-    }
+pub fn reached(t: f64, t0: f64, horizon: f64) -> bool {
+    t >= t0 && t0 < horizon
 }

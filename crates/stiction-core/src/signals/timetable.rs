@@ -17,7 +17,7 @@ struct TimeTable {
 }
 
 impl Block for TimeTable {
-    fn eval(&self, t: f64, left: bool, _u: &[f64]) -> f64 {
+    fn eval(&self, t: f64, horizon: f64, _u: &[f64]) -> f64 {
         let n = self.t.len();
         let s = t - self.start_time;
         if n == 1 {
@@ -29,12 +29,15 @@ impl Block for TimeTable {
         if self.hold && s >= self.t[n - 1] {
             return self.offset + self.y[n - 1];
         }
-        // Interval with t_i <= s < t_{i+1}; at a breakpoint the left limit uses the interval before.
-        let k = if left {
-            self.t.partition_point(|&ti| ti < s)
+        // Interval with t_i <= s < t_{i+1}. Breakpoints are time events: one at or beyond the
+        // horizon has not been passed, so the interval before it continues (left limit).
+        let h = horizon - self.start_time;
+        let k = if s >= h {
+            self.t.partition_point(|&ti| ti < h)
         } else {
             self.t.partition_point(|&ti| ti <= s)
         };
+        let left = s >= h;
         let i = k.clamp(1, n - 1) - 1;
         let (t0, t1, y0, y1) = (self.t[i], self.t[i + 1], self.y[i], self.y[i + 1]);
         if t1 == t0 {
@@ -80,14 +83,20 @@ pub fn time_table(p: &Params) -> ModelResult<Box<dyn Component>> {
         }
         None => p.matrix("table", 2, &[&[0.0, 0.0]])?,
     };
-    for pair in rows.windows(2) {
-        if pair[1][0] <= pair[0][0] {
+    // Time must increase; one repeated time is a jump (as in MSL's CombiTimeTable).
+    let which = if p.has("file") { "file" } else { "table" };
+    for (k, pair) in rows.windows(2).enumerate() {
+        let (a, b) = (pair[0][0], pair[1][0]);
+        if b < a {
             return Err(p.error(
-                if p.has("file") { "file" } else { "table" },
-                format!(
-                    "time must be strictly increasing, but {} is followed by {}",
-                    pair[0][0], pair[1][0]
-                ),
+                which,
+                format!("time must not decrease, but {a} is followed by {b}"),
+            ));
+        }
+        if b == a && k > 0 && rows[k - 1][0] == a {
+            return Err(p.error(
+                which,
+                format!("time {a} appears three times; a jump repeats a time once"),
             ));
         }
     }

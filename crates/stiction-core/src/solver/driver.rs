@@ -33,9 +33,9 @@ type LS = NalgebraLU<f64>;
 /// workspace. Changed only between steps, at events.
 struct Phase {
     disc: DiscreteState,
-    /// The next time event: from there on the right-hand side sees the signals' left limits,
-    /// because Modelica freezes `time >= t0` until the event is handled.
-    next_time_event: f64,
+    /// The first time event not handled yet: signals switch there only once it is handled
+    /// (Modelica freezes `time >= t0` between events), wherever the integrator evaluates.
+    horizon: f64,
     mm: Rc<ModeMatrix>,
     ws: Workspace,
     rhs_calls: usize,
@@ -62,8 +62,27 @@ pub fn run(sys: Arc<System>) -> Result<SimResult, SimError> {
     };
     let mut ws = Workspace::new(&sys);
     // MSL initialization (initial() = true), then the event it triggers at t0.
-    iterate(&sys, &mut cache, &mut disc, t0, &x0, true, &mut ws)?;
-    iterate(&sys, &mut cache, &mut disc, t0, &x0, false, &mut ws)?;
+    let first_horizon = sys.time_events.first().copied().unwrap_or(f64::INFINITY);
+    iterate(
+        &sys,
+        &mut cache,
+        &mut disc,
+        t0,
+        &x0,
+        true,
+        first_horizon,
+        &mut ws,
+    )?;
+    iterate(
+        &sys,
+        &mut cache,
+        &mut disc,
+        t0,
+        &x0,
+        false,
+        first_horizon,
+        &mut ws,
+    )?;
     let mut log: Vec<EventRecord> = disc
         .friction
         .iter()
@@ -80,7 +99,7 @@ pub fn run(sys: Arc<System>) -> Result<SimResult, SimError> {
     let mm = cache.get(&sys, &disc.locked_set(), t0)?;
     let n = sys.state_len();
     let phase = Rc::new(RefCell::new(Phase {
-        next_time_event: sys.time_events.first().copied().unwrap_or(f64::INFINITY),
+        horizon: first_horizon,
         disc,
         mm,
         ws,
@@ -97,10 +116,11 @@ pub fn run(sys: Arc<System>) -> Result<SimResult, SimError> {
             mm,
             ws,
             rhs_calls,
+            horizon,
             ..
         } = &mut *guard;
         *rhs_calls += 1;
-        evaluate(&sy, mm, disc, t, x, false, ws);
+        evaluate(&sy, mm, disc, t, x, *horizon, ws);
         derivative(&sy, ws, y);
     };
     // Jacobian-vector products for the implicit methods, by forward differences.
@@ -114,9 +134,9 @@ pub fn run(sys: Arc<System>) -> Result<SimResult, SimError> {
             rhs_calls,
             probe,
             f0,
-            next_time_event,
+            horizon,
         } = &mut *guard;
-        let left = t >= *next_time_event;
+        let horizon = *horizon;
         let vnorm = v.iter().map(|a| a * a).sum::<f64>().sqrt();
         if vnorm == 0.0 {
             y.fill(0.0);
@@ -125,12 +145,12 @@ pub fn run(sys: Arc<System>) -> Result<SimResult, SimError> {
         let xnorm = x.iter().map(|a| a * a).sum::<f64>().sqrt();
         let eps = f64::EPSILON.sqrt() * (1.0 + xnorm) / vnorm;
         *rhs_calls += 2;
-        evaluate(&sy, mm, disc, t, x, left, ws);
+        evaluate(&sy, mm, disc, t, x, horizon, ws);
         derivative(&sy, ws, f0);
         for i in 0..x.len() {
             probe[i] = x[i] + eps * v[i];
         }
-        evaluate(&sy, mm, disc, t, probe, left, ws);
+        evaluate(&sy, mm, disc, t, probe, horizon, ws);
         derivative(&sy, ws, y);
         for i in 0..y.len() {
             y[i] = (y[i] - f0[i]) / eps;
@@ -218,22 +238,29 @@ impl Driver {
     }
 
     /// Evaluates at (t, self.x) in the current discrete state; fills `z` if asked.
-    fn evaluate_here(&mut self, t: f64, left: bool, with_indicators: bool) {
+    fn evaluate_here(&mut self, t: f64, with_indicators: bool) {
         let mut guard = self.phase.borrow_mut();
-        let Phase { disc, mm, ws, .. } = &mut *guard;
-        evaluate(&self.sys, mm, disc, t, &self.x, left, ws);
+        let Phase {
+            disc,
+            mm,
+            ws,
+            horizon,
+            ..
+        } = &mut *guard;
+        evaluate(&self.sys, mm, disc, t, &self.x, *horizon, ws);
         if with_indicators {
             indicators(&self.sys, disc, ws, &mut self.z);
         }
     }
 
-    fn record_here(&mut self, t: f64, left: bool) {
+    fn record_here(&mut self, t: f64) {
         let guard = self.phase.borrow();
+        let horizon = guard.horizon;
         if self.discs.last() != Some(&guard.disc) {
             self.discs.push(guard.disc.clone());
         }
         let id = (self.discs.len() - 1) as u32;
-        self.trajectory.push(t, left, id, &self.x);
+        self.trajectory.push(t, horizon, id, &self.x);
     }
 
     fn load<'a, Eqn, S>(&mut self, solver: &S, t: f64) -> Result<(), SimError>
@@ -276,7 +303,7 @@ impl Driver {
                 break;
             }
             self.load(solver, tg.min(t_step_end))?;
-            self.record_here(tg, false);
+            self.record_here(tg);
             self.grid_k += 1;
         }
         Ok(())
@@ -297,7 +324,7 @@ impl Driver {
         S: OdeSolverMethod<'a, Eqn>,
     {
         self.load(solver, t)?;
-        self.evaluate_here(t, false, true);
+        self.evaluate_here(t, true);
         Ok(self.z[i])
     }
 
@@ -363,18 +390,35 @@ impl Driver {
     }
 
     /// Left row, event iteration, right row, log; leaves the new discrete state in the phase.
-    fn handle_event(&mut self, t: f64, time_event: bool, cause: &str) -> Result<(), SimError> {
+    /// `horizon` is the first time event still to come once this event is handled.
+    fn handle_event(
+        &mut self,
+        t: f64,
+        horizon: f64,
+        time_event: bool,
+        cause: &str,
+    ) -> Result<(), SimError> {
         self.skip_grid_at(t);
-        self.record_here(t, time_event);
+        self.record_here(t);
+        self.phase.borrow_mut().horizon = horizon;
         let changes: Vec<ModeChange> = {
             let mut guard = self.phase.borrow_mut();
             let Phase { disc, ws, .. } = &mut *guard;
-            iterate(&self.sys, &mut self.cache, disc, t, &self.x, false, ws)?
+            iterate(
+                &self.sys,
+                &mut self.cache,
+                disc,
+                t,
+                &self.x,
+                false,
+                horizon,
+                ws,
+            )?
         };
         let locked = self.phase.borrow().disc.locked_set();
         let mm = self.cache.get(&self.sys, &locked, t)?;
         self.phase.borrow_mut().mm = mm;
-        self.record_here(t, false);
+        self.record_here(t);
         for c in changes {
             self.log.push(EventRecord {
                 time: c.time,
@@ -389,7 +433,7 @@ impl Driver {
         } else {
             self.stats.state_events += 1;
         }
-        self.evaluate_here(t, false, true);
+        self.evaluate_here(t, true);
         self.z_prev.copy_from_slice(&self.z);
         Ok(())
     }
@@ -429,8 +473,8 @@ impl Driver {
         let time_events = self.sys.time_events.clone();
         let mut next_te = 0;
         let mut t_prev = exp.start_time;
-        self.record_here(t_prev, false);
-        self.evaluate_here(t_prev, false, true);
+        self.record_here(t_prev);
+        self.evaluate_here(t_prev, true);
         self.z_prev.copy_from_slice(&self.z);
         let mut stop = time_events.first().copied().unwrap_or(t_end);
         solver
@@ -441,10 +485,10 @@ impl Driver {
             let reason = solver.step().map_err(|e| numerical(t_prev, e))?;
             let t_now = solver.state().t;
             self.x.copy_from_slice(solver.state().y.inner().as_slice());
-            // At a time event the signals jump; the crossings are judged on the left limit.
+            // At a pending time event the signals keep their left limits (the horizon).
             let at_time_event =
                 next_te < time_events.len() && (t_now - stop).abs() <= 1e-12 * stop.abs().max(1.0);
-            self.evaluate_here(t_now, at_time_event, true);
+            self.evaluate_here(t_now, true);
             candidates.clear();
             for (i, (&zp, &zn)) in self.z_prev.iter().zip(&self.z).enumerate() {
                 if zp <= 0.0 && zn > 0.0 {
@@ -456,7 +500,8 @@ impl Driver {
                 let cause = indicator_label(&self.sys, &self.phase.borrow().disc, i);
                 self.emit_grid(&solver, t_e, false, t_now)?;
                 self.load(&solver, t_e)?;
-                self.handle_event(t_e, false, &cause)?;
+                let horizon = self.phase.borrow().horizon;
+                self.handle_event(t_e, horizon, false, &cause)?;
                 self.restart(&mut solver, t_e, order)?;
                 if stop > t_e {
                     solver.set_stop_time(stop).map_err(|e| numerical(t_e, e))?;
@@ -473,13 +518,11 @@ impl Driver {
                 if next_te >= time_events.len() {
                     break; // reached StopTime
                 }
-                self.handle_event(stop, true, "time event")?;
                 let t_event = stop;
                 next_te += 1;
+                let horizon = time_events.get(next_te).copied().unwrap_or(f64::INFINITY);
+                self.handle_event(t_event, horizon, true, "time event")?;
                 stop = time_events.get(next_te).copied().unwrap_or(t_end);
-                // before the restart: its first derivative is taken right of the event
-                self.phase.borrow_mut().next_time_event =
-                    time_events.get(next_te).copied().unwrap_or(f64::INFINITY);
                 self.restart(&mut solver, t_event, order)?;
                 solver
                     .set_stop_time(stop)

@@ -40,7 +40,7 @@ pub struct FrictionValues {
 /// Everything known at one instant. Allocated once per run and reused.
 pub struct Workspace {
     pub t: f64,
-    pub left: bool,
+    pub horizon: f64,
     pub phi: Vec<f64>,
     pub w: Vec<f64>,
     pub a: Vec<f64>,
@@ -66,7 +66,7 @@ impl Workspace {
         let n = sys.nodes;
         Self {
             t: 0.0,
-            left: false,
+            horizon: f64::INFINITY,
             phi: vec![0.0; n],
             w: vec![0.0; n],
             a: vec![0.0; n],
@@ -91,7 +91,7 @@ impl Workspace {
         let base = law.relation_base;
         LawCtx {
             t: self.t,
-            left: self.left,
+            horizon: self.horizon,
             phi_rel: self.law_phi[k],
             w_rel: self.law_w[k],
             signals: &self.signals,
@@ -134,17 +134,17 @@ pub fn evaluate(
     disc: &DiscreteState,
     t: f64,
     x: &[f64],
-    left: bool,
+    horizon: f64,
     ws: &mut Workspace,
 ) {
     let lay = Layout::of(sys);
     let n = sys.nodes;
     ws.t = t;
-    ws.left = left;
+    ws.horizon = horizon;
     ws.rhs_evals += 1;
     ws.phi.copy_from_slice(&x[..n]);
     ws.w.copy_from_slice(&x[n..2 * n]);
-    sys.signals.eval(t, left, &mut ws.signals);
+    sys.signals.eval(t, horizon, &mut ws.signals);
 
     // Generalized forces of laws and sliding friction.
     let m = sys.constraints.len();

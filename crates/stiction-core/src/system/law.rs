@@ -5,8 +5,8 @@
 /// What a law sees when it is evaluated.
 pub struct LawCtx<'a> {
     pub t: f64,
-    /// Evaluate the left limit at a time event (the row just before it).
-    pub left: bool,
+    /// First time event not handled yet (see `signals::reached`).
+    pub horizon: f64,
     pub phi_rel: f64,
     pub w_rel: f64,
     /// All signal values; a law keeps the slots of its own inputs.

@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from click.testing import CliRunner
+
 from stiction.cli import main
 from stiction.compare import compare, read_signal_list, tube
 from stiction.csvio import read_csv
@@ -16,7 +17,6 @@ from stiction.result import Result
 MSL_DIR = Path(__file__).parent / "data" / "msl"
 EXAMPLES = sorted(p.stem for p in MSL_DIR.glob("*.csv"))
 WITH_SIGNALS = [e for e in EXAMPLES if (MSL_DIR / f"{e}.signals.txt").exists()]
-REPO = Path(__file__).resolve().parents[1]
 TOL = 2e-3
 
 
@@ -59,15 +59,11 @@ def test_offset_of_three_tube_heights_fails_and_names_the_signal(example: str) -
     _, y_half = _half_sizes(names, data, target)
     bad = data.copy()
     bad[:, names.index(target)] += 3 * y_half
-    report = compare(
-        (names, bad), (names, data), signals=MSL_DIR / f"{example}.signals.txt"
-    )
+    report = compare((names, bad), (names, data), signals=MSL_DIR / f"{example}.signals.txt")
     assert not report.passed
     assert report.failed == [target]
     verdict = report[target]
-    assert verdict.max_excess == pytest.approx(
-        2.0, rel=1e-6
-    )  # 3Y above, the tube reaches +1Y
+    assert verdict.max_excess == pytest.approx(2.0, rel=1e-6)  # 3Y above, the tube reaches +1Y
     assert verdict.worst_time is not None
     assert f"FAIL {target}  max excess 2×tube at t=" in str(report)
 
@@ -153,9 +149,7 @@ def test_cli_compare_pass_exits_0(tmp_path: Path, cli_runner: CliRunner) -> None
     result = cli_runner.invoke(main, ["compare", str(ref), str(ref)])
     assert result.exit_code == 0, result.output
     assert "PASS inertia3.w" in result.output
-    assert (
-        "signals from" in result.output
-    )  # Friction.signals.txt found next to the reference
+    assert "signals from" in result.output  # Friction.signals.txt found next to the reference
     assert "brake.startForward" not in result.output
 
 
@@ -182,37 +176,15 @@ def test_cli_compare_with_signals_option(tmp_path: Path, cli_runner: CliRunner) 
     signals = tmp_path / "list.txt"
     signals.write_text("time\nJ1.w\n")
     ref = MSL_DIR / "CoupledClutches.csv"
-    result = cli_runner.invoke(
-        main, ["compare", str(ref), str(ref), "--signals", str(signals)]
-    )
+    result = cli_runner.invoke(main, ["compare", str(ref), str(ref), "--signals", str(signals)])
     assert result.exit_code == 0
     assert result.output.splitlines()[0] == "PASS J1.w"
 
 
-def test_cli_compare_missing_file_exits_2_without_traceback(
-    tmp_path: Path, cli_runner: CliRunner
-) -> None:
+def test_cli_compare_missing_file_exits_2_without_traceback(tmp_path: Path, cli_runner: CliRunner) -> None:
     ref = MSL_DIR / "Friction.csv"
     result = cli_runner.invoke(main, ["compare", str(tmp_path / "nope.csv"), str(ref)])
     assert result.exit_code == 2
     assert result.stderr.startswith("error: ")
     assert len(result.stderr.strip().splitlines()) == 1
     assert "Traceback" not in result.output + result.stderr
-
-
-# --- the MSL examples of this repository against their references (needs _core) ---
-@pytest.mark.parametrize("example", EXAMPLES)
-def test_msl_example_matches_reference(example: str) -> None:
-    pytest.importorskip("stiction._core")
-    from stiction import Model
-
-    model_file = REPO / "examples" / "msl" / f"{example}.toml"
-    if not model_file.exists():
-        pytest.skip(f"no model file {model_file.name}")
-    names, data = _load(example)
-    result = Model.load(model_file).simulate(StopTime=float(data[-1, 0]))
-    signals = MSL_DIR / f"{example}.signals.txt"
-    report = compare(
-        result, (names, data), signals=signals if signals.exists() else None
-    )
-    assert report.passed, str(report)

@@ -7,8 +7,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import stiction as st
 from click.testing import CliRunner
+
+import stiction as st
 from stiction.cli import main
 from stiction.csvio import read_csv
 
@@ -41,9 +42,7 @@ def braked_flywheel() -> st.Model:
     m.add("J", st.Inertia(J=2.0, phi={"start": 0.0, "fixed": True}, w=10.0))
     m.add(
         "brake",
-        st.Brake(
-            fn_max=100.0, mu_pos=[[0, 0.5], [10, 0.4]], peak=1.2, useHeatPort=True
-        ),
+        st.Brake(fn_max=100.0, mu_pos=[[0, 0.5], [10, 0.4]], peak=1.2, useHeatPort=True),
     )
     m.add("disc", st.HeatCapacitor(C=500.0, T=293.15))
     m.add("press", st.Step(height=1.0, startTime=0.5))
@@ -65,9 +64,7 @@ def synthetic_result() -> st.Result:
         ]
     )
     events = [(0.5, "clutch", -1, 0, "w_rel crossed zero")]
-    return st.Result(
-        names, data, events, {"steps": 12, "rhs_evals": 30, "events": 1, "wall_ms": 0.4}
-    )
+    return st.Result(names, data, events, {"steps": 12, "rhs_evals": 30, "events": 1, "wall_ms": 0.4})
 
 
 # --- components -----------------------------------------------------------------------
@@ -133,11 +130,7 @@ def test_toml_round_trip() -> None:
     assert again.to_toml() == text
     assert isinstance(again["J"], st.Inertia)
     # `connect` is written at the top level, before any table
-    assert (
-        text.index("connect = [")
-        < text.index("[experiment]")
-        < text.index("[components]")
-    )
+    assert text.index("connect = [") < text.index("[experiment]") < text.index("[components]")
 
 
 def test_connect_under_components_is_accepted() -> None:
@@ -231,10 +224,7 @@ def test_result_csv_round_trip(tmp_path: Path) -> None:
     path = tmp_path / "r.csv"
     r.to_csv(path)
     lines = path.read_text().splitlines()
-    assert (
-        lines[0]
-        == '"time","J1.w","clutch.mode","clutch.startForward","clutch.locked","x"'
-    )
+    assert lines[0] == '"time","J1.w","clutch.mode","clutch.startForward","clutch.locked","x"'
     assert lines[1].split(",")[2:5] == ["-1", "0", "0"]
     assert lines[3].split(",")[2:5] == ["0", "1", "1"]
     names, data = read_csv(path)
@@ -261,7 +251,6 @@ def test_result_plot(tmp_path: Path) -> None:
 
 # --- with the engine ------------------------------------------------------------------
 def test_engine_catalogue_checks_parameters_and_ports() -> None:
-    pytest.importorskip("stiction._core")
     m = st.Model("m")
     with pytest.raises(st.ModelError, match=r"'brake'.*'fn_mx'"):
         m.add("brake", st.Brake(fn_mx=100.0))
@@ -271,7 +260,6 @@ def test_engine_catalogue_checks_parameters_and_ports() -> None:
 
 
 def test_simulate_braked_flywheel(tmp_path: Path) -> None:
-    pytest.importorskip("stiction._core")
     m = braked_flywheel()
     m.check()
     r = m.simulate(StopTime=1.0)
@@ -284,7 +272,6 @@ def test_simulate_braked_flywheel(tmp_path: Path) -> None:
 
 
 def test_cli_simulate_and_check(tmp_path: Path, cli_runner: CliRunner) -> None:
-    pytest.importorskip("stiction._core")
     model_file = tmp_path / "flywheel.toml"
     braked_flywheel().save(model_file)
     result = cli_runner.invoke(main, ["check", str(model_file)])
@@ -296,9 +283,7 @@ def test_cli_simulate_and_check(tmp_path: Path, cli_runner: CliRunner) -> None:
     assert read_csv(out)[0][0] == "time"
 
 
-def test_cli_bad_model_exits_2_without_traceback(
-    tmp_path: Path, cli_runner: CliRunner
-) -> None:
+def test_cli_bad_model_exits_2_without_traceback(tmp_path: Path, cli_runner: CliRunner) -> None:
     bad = tmp_path / "bad.toml"
     bad.write_text("name = 'x'\n[components]\nJ = { J = 1.0 }\n")
     for command in ("check", "simulate"):

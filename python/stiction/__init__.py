@@ -100,9 +100,7 @@ def __getattr__(name: str) -> Any:
     """
     from .components import factory
 
-    if name.startswith(
-        "_"
-    ):  # submodule imports (e.g. `from . import _core`) must not land here
+    if name.startswith("_"):  # submodule imports (e.g. `from . import _core`) must not land here
         raise AttributeError(f"module 'stiction' has no attribute {name!r}")
     try:
         return factory(name)

@@ -10,21 +10,15 @@ class ModelError(ValueError):
 
 class SimulationOutput(TypedDict):
     names: list[str]  # names[0] == "time"
-    data: npt.NDArray[
-        np.float64
-    ]  # shape (rows, len(names)); event instants appear twice
-    events: list[
-        tuple[float, str, int, int, str]
-    ]  # (time, component, old_mode, new_mode, cause)
+    data: npt.NDArray[np.float64]  # shape (rows, len(names)); event instants appear twice
+    events: list[tuple[float, str, int, int, str]]  # (time, component, old_mode, new_mode, cause)
     stats: dict[str, float | int]  # steps, rhs_evals, events, wall_ms
 
 class ComponentType(TypedDict):
     parameters: list[str]
     ports: list[str]
 
-def simulate(
-    model_toml: str, base_dir: str, overrides: dict[str, float]
-) -> SimulationOutput:
+def simulate(model_toml: str, base_dir: str, overrides: dict[str, float]) -> SimulationOutput:
     """Run a model given as model-file text.
 
     ``overrides`` keys: StartTime, StopTime, Interval, Tolerance.

@@ -56,9 +56,7 @@ def _friendly_errors(func: F) -> F:
         except RuntimeError as exc:  # the engine gave up (e.g. an event iteration)
             _fail(f"simulation failed: {exc}")
         except ImportError as exc:
-            _fail(
-                f"the compiled engine is not available ({exc}); build it with maturin"
-            )
+            _fail(f"the compiled engine is not available ({exc}); build it with maturin")
 
     return wrapper  # type: ignore[return-value]
 
@@ -120,9 +118,7 @@ def simulate(
     if output is not None:
         result.to_csv(output)
     if plot_file is not None:
-        groups = (
-            [g.split("+") for g in signals.split(",") if g.strip()] if signals else []
-        )
+        groups = [g.split("+") for g in signals.split(",") if g.strip()] if signals else []
         groups = [[n.strip() for n in g if n.strip()] for g in groups]
         result.plot(*groups, path=plot_file)
     click.echo(result.summary())
@@ -144,10 +140,7 @@ def check(model_file: Path) -> None:
         model.check()
     except ModelError as exc:
         raise _in_file(model_file, exc) from None
-    click.echo(
-        f"ok: {model.name} ({len(model.components)} components, "
-        f"{len(model.connections)} connections)"
-    )
+    click.echo(f"ok: {model.name} ({len(model.components)} components, {len(model.connections)} connections)")
 
 
 @main.command(name="compare")
@@ -168,9 +161,7 @@ def check(model_file: Path) -> None:
     "next to the reference if it exists, else every reference column.",
 )
 @_friendly_errors
-def compare_cmd(
-    result_csv: Path, reference_csv: Path, tolerance: float, signals_file: Path | None
-) -> None:
+def compare_cmd(result_csv: Path, reference_csv: Path, tolerance: float, signals_file: Path | None) -> None:
     """Check RESULT_CSV against REFERENCE_CSV (MSL tube method); exit 1 on failure."""
     from .compare import compare
 
@@ -178,24 +169,18 @@ def compare_cmd(
         sibling = reference_csv.with_suffix(".signals.txt")
         if sibling.is_file():
             signals_file = sibling
-    report = compare(
-        result_csv, reference_csv, tolerance=tolerance, signals=signals_file
-    )
+    report = compare(result_csv, reference_csv, tolerance=tolerance, signals=signals_file)
     click.echo(str(report))
     failed = len(report.failed)
     source = f", signals from {signals_file}" if signals_file else ""
     passed = len(report) - failed
-    click.echo(
-        f"{passed}/{len(report)} signals passed (tolerance {tolerance:g}{source})"
-    )
+    click.echo(f"{passed}/{len(report)} signals passed (tolerance {tolerance:g}{source})")
     if not report.passed:
         sys.exit(1)
 
 
 @main.command()
-@click.argument(
-    "model_files", nargs=-1, type=click.Path(dir_okay=False, path_type=Path)
-)
+@click.argument("model_files", nargs=-1, type=click.Path(dir_okay=False, path_type=Path))
 @click.option(
     "--repeat",
     type=click.IntRange(min=1),
@@ -218,11 +203,9 @@ def bench(model_files: tuple[Path, ...], repeat: int, warmup: int) -> None:
 
     files = list(model_files) or [EXAMPLES_DIR / f"{n}.toml" for n in DEFAULT_BENCH]
     if not model_files and not all(f.is_file() for f in files):
-        _fail(
-            f"no MODEL files given and the default examples are not in {EXAMPLES_DIR}"
-        )
+        _fail(f"no MODEL files given and the default examples are not in {EXAMPLES_DIR}")
     click.echo(
-        f"{'model':<24} {'median ms':>10} {'min ms':>10} "
+        f"{'model':<24} {'median ms':>10} {'min ms':>10} {'+all vars ms':>13} "
         f"{'steps':>7} {'rhs evals':>10} {'events':>7}"
     )
     for path in files:
@@ -231,6 +214,6 @@ def bench(model_files: tuple[Path, ...], repeat: int, warmup: int) -> None:
         except ModelError as exc:
             raise _in_file(path, exc) from None
         click.echo(
-            f"{row.model:<24} {row.median_ms:>10.3f} {row.min_ms:>10.3f} "
+            f"{row.model:<24} {row.median_ms:>10.3f} {row.min_ms:>10.3f} {row.table_ms:>13.3f} "
             f"{row.steps:>7} {row.rhs_evals:>10} {row.events:>7}"
         )

@@ -93,27 +93,15 @@ class CompareReport:
 
 
 # --- the tube -------------------------------------------------------------------------
-def _range_extrema(
-    y: np.ndarray, lo: np.ndarray, hi: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
+def _range_extrema(y: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Give min and max of y[lo:hi] for many ranges at once (sparse table)."""
     n = y.size
     mins, maxs = [y], [y]
     k = 1
     while 2 * k <= n:
-        pad = np.full(
-            2 * k - 1, np.nan
-        )  # keep every level n long; padded cells are never read
-        mins.append(
-            np.concatenate(
-                [np.minimum(mins[-1][: n - k], mins[-1][k:])[: n - 2 * k + 1], pad]
-            )
-        )
-        maxs.append(
-            np.concatenate(
-                [np.maximum(maxs[-1][: n - k], maxs[-1][k:])[: n - 2 * k + 1], pad]
-            )
-        )
+        pad = np.full(2 * k - 1, np.nan)  # keep every level n long; padded cells are never read
+        mins.append(np.concatenate([np.minimum(mins[-1][: n - k], mins[-1][k:])[: n - 2 * k + 1], pad]))
+        maxs.append(np.concatenate([np.maximum(maxs[-1][: n - k], maxs[-1][k:])[: n - 2 * k + 1], pad]))
         k *= 2
     tmin, tmax = np.stack(mins), np.stack(maxs)
     length = hi - lo
@@ -139,16 +127,12 @@ def tube(
         raise ValueError("the reference has no rows")
     x_half = tolerance * float(t_ref[-1] - t_ref[0])
     finite = y_ref[np.isfinite(y_ref)]
-    y_lo, y_hi = (
-        (float(finite.min()), float(finite.max())) if finite.size else (0.0, 0.0)
-    )
+    y_lo, y_hi = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 0.0)
     nominal = 1e-15 * max(1.0, abs(y_lo), abs(y_hi))
     y_half = tolerance * max(y_hi - y_lo, nominal)
 
     start, stop = t - x_half, t + x_half
-    lo = np.searchsorted(
-        t_ref, start, side="left"
-    )  # first reference point in the window
+    lo = np.searchsorted(t_ref, start, side="left")  # first reference point in the window
     hi = np.searchsorted(t_ref, stop, side="right")  # one past the last
     wmin, wmax = _range_extrema(y_ref, lo, hi)
     # The curve at the window ends (interpolated) belongs to the window too.
@@ -169,9 +153,7 @@ def _check_signal(
 ) -> SignalReport:
     lower, upper, x_half, y_half = tube(t_ref, y_ref, t, tol)
     excess = np.maximum(lower - y, y - upper) / y_half
-    excess = np.where(
-        np.isnan(excess), np.inf, excess
-    )  # NaN in the test is never inside
+    excess = np.where(np.isnan(excess), np.inf, excess)  # NaN in the test is never inside
     outside = excess > 0.0
     if not outside.any():
         return SignalReport(name, True, 0.0, None, 0, None, x_half, y_half)
@@ -208,13 +190,9 @@ def _as_table(source: Trajectories, what: str) -> tuple[list[str], np.ndarray]:
         names, data = source
         data = np.asarray(data, dtype=np.float64)
         if data.ndim != 2 or data.shape[1] != len(names):
-            raise ValueError(
-                f"{what}: data shape {data.shape} does not match {len(names)} names"
-            )
+            raise ValueError(f"{what}: data shape {data.shape} does not match {len(names)} names")
         return list(names), data
-    raise TypeError(
-        f"{what}: expected a CSV path, a Result or (names, data), got {type(source)}"
-    )
+    raise TypeError(f"{what}: expected a CSV path, a Result or (names, data), got {type(source)}")
 
 
 def _time_column(names: list[str], data: np.ndarray, what: str) -> np.ndarray:

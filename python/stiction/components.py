@@ -19,9 +19,7 @@ from .errors import ModelError
 
 __all__ = ["FACTORIES", "Component", "ParamValue", "component_types", "factory"]
 
-ParamValue = Union[
-    bool, int, float, str, Sequence[Any], Mapping[str, Any], "os.PathLike[str]"
-]
+ParamValue = Union[bool, int, float, str, Sequence[Any], Mapping[str, Any], "os.PathLike[str]"]
 
 
 def normalize_value(value: Any, where: str) -> Any:
@@ -38,9 +36,7 @@ def normalize_value(value: Any, where: str) -> Any:
         return value
     if isinstance(value, os.PathLike):
         return os.fspath(value)
-    if hasattr(value, "tolist") and not isinstance(
-        value, (list, tuple)
-    ):  # numpy arrays
+    if hasattr(value, "tolist") and not isinstance(value, (list, tuple)):  # numpy arrays
         return normalize_value(value.tolist(), where)
     if isinstance(value, Mapping):
         out = {}
@@ -71,13 +67,9 @@ class Component:
         self.params: dict[str, Any] = {}
         for key, value in (params or {}).items():
             if not isinstance(key, str) or not key:
-                raise ModelError(
-                    f"{type}: parameter names must be non-empty strings, got {key!r}"
-                )
+                raise ModelError(f"{type}: parameter names must be non-empty strings, got {key!r}")
             if key == "type":
-                raise ModelError(
-                    f"{type}: 'type' is reserved and cannot be a parameter name"
-                )
+                raise ModelError(f"{type}: 'type' is reserved and cannot be a parameter name")
             self.params[key] = normalize_value(value, f"{type}: parameter '{key}'")
 
     def __init_subclass__(cls, **kwargs: Any) -> None:

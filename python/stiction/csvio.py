@@ -38,9 +38,7 @@ def read_csv(path: str | os.PathLike[str]) -> tuple[list[str], np.ndarray]:
     with path.open("r", encoding="utf-8-sig", newline="") as f:
         header_line = f.readline()
         if not header_line.strip():
-            raise ValueError(
-                f"{path}: empty file, expected a header row of signal names"
-            )
+            raise ValueError(f"{path}: empty file, expected a header row of signal names")
         names = [n.strip() for n in next(csv.reader([header_line]))]
         body = f.read()
     if not body.strip():
@@ -50,10 +48,7 @@ def read_csv(path: str | os.PathLike[str]) -> tuple[list[str], np.ndarray]:
     except ValueError as exc:
         raise ValueError(f"{path}: not a numeric CSV body: {exc}") from None
     if data.shape[1] != len(names):
-        raise ValueError(
-            f"{path}: header has {len(names)} names "
-            f"but rows have {data.shape[1]} values"
-        )
+        raise ValueError(f"{path}: header has {len(names)} names but rows have {data.shape[1]} values")
     return names, data
 
 
@@ -63,9 +58,7 @@ def _cell(value: float, integer: bool) -> str:
     return repr(value)  # shortest text that reads back to the same double
 
 
-def write_csv(
-    path: str | os.PathLike[str], names: Sequence[str], data: np.ndarray
-) -> None:
+def write_csv(path: str | os.PathLike[str], names: Sequence[str], data: np.ndarray) -> None:
     """Write (names, data): quoted header, full precision, integer modes and flags."""
     data = np.asarray(data, dtype=np.float64)
     if data.ndim != 2 or data.shape[1] != len(names):

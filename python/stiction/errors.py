@@ -12,9 +12,7 @@ __all__ = ["ModelError", "core_available"]
 
 try:
     from ._core import ModelError
-except (
-    ModuleNotFoundError
-) as exc:  # only "not built"; a broken build must still fail loudly
+except ModuleNotFoundError as exc:  # only "not built"; a broken build must still fail loudly
     if exc.name != f"{__package__}._core":
         raise
 

@@ -48,19 +48,13 @@ class Model:
     def add(self, name: str, component: Component) -> Model:
         """Add a component under a unique identifier-like name; returns the model."""
         if not isinstance(name, str) or not _IDENTIFIER.fullmatch(name):
-            raise ModelError(
-                f"component name {name!r} is not a valid identifier "
-                "(letters, digits, '_')"
-            )
+            raise ModelError(f"component name {name!r} is not a valid identifier (letters, digits, '_')")
         if not isinstance(component, Component):
             raise ModelError(
-                f"component '{name}': expected a Component such as st.Inertia(J=1.0), "
-                f"got {component!r}"
+                f"component '{name}': expected a Component such as st.Inertia(J=1.0), got {component!r}"
             )
         if name in self.components:
-            raise ModelError(
-                f"component '{name}': a component of that name already exists"
-            )
+            raise ModelError(f"component '{name}': a component of that name already exists")
         known = component_types()
         if known is not None:
             if component.type not in known:
@@ -105,9 +99,7 @@ class Model:
         self._check_end(a)
         self._check_end(b)
         if a == b:
-            raise ModelError(
-                f"connection '{a}' - '{b}': a port cannot be connected to itself"
-            )
+            raise ModelError(f"connection '{a}' - '{b}': a port cannot be connected to itself")
         if (a, b) in self.connections or (b, a) in self.connections:
             raise ModelError(f"connection '{a}' - '{b}': already connected")
         self.connections.append((a, b))
@@ -130,8 +122,7 @@ class Model:
 
     def __repr__(self) -> str:
         return (
-            f"<Model {self.name!r}: {len(self.components)} components, "
-            f"{len(self.connections)} connections>"
+            f"<Model {self.name!r}: {len(self.components)} components, {len(self.connections)} connections>"
         )
 
     # --- files ------------------------------------------------------------------------
@@ -167,9 +158,7 @@ class Model:
                 comp = make(**params) if make else Component(comp_type, params)
             except ModelError as exc:
                 detail = str(exc).removeprefix(f"{comp_type}: ")
-                raise ModelError(
-                    f"component '{comp_name}' ({comp_type}): {detail}"
-                ) from None
+                raise ModelError(f"component '{comp_name}' ({comp_type}): {detail}") from None
             model.add(comp_name, comp)
         for a, b in data.connections:
             model.connect(a, b)

@@ -24,9 +24,7 @@ __all__ = ["EXPERIMENT_KEYS", "ModelData", "dumps", "parse"]
 EXPERIMENT_KEYS = ("StartTime", "StopTime", "Interval", "Tolerance", "Solver")
 _TOP_KEYS = ("name", "connect", "experiment", "components")
 _BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
-_INLINE_MAX = (
-    110  # longer components are written as [components.<name>] sections instead
-)
+_INLINE_MAX = 110  # longer components are written as [components.<name>] sections instead
 
 
 class ModelData(NamedTuple):
@@ -45,19 +43,12 @@ def _suggest(word: str, choices: Iterable[str]) -> str:
 
 def _connections(value: Any, where: str) -> list[tuple[str, str]]:
     if not isinstance(value, list):
-        raise ModelError(
-            f'{where}: \'connect\' must be an array of ["a.port", "b.port"] pairs'
-        )
+        raise ModelError(f'{where}: \'connect\' must be an array of ["a.port", "b.port"] pairs')
     pairs = []
     for i, pair in enumerate(value):
-        if (
-            not isinstance(pair, list)
-            or len(pair) != 2
-            or not all(isinstance(end, str) for end in pair)
-        ):
+        if not isinstance(pair, list) or len(pair) != 2 or not all(isinstance(end, str) for end in pair):
             raise ModelError(
-                f'{where}: connect[{i}] must be a pair of "component.port" strings, '
-                f"got {pair!r}"
+                f'{where}: connect[{i}] must be a pair of "component.port" strings, got {pair!r}'
             )
         pairs.append((pair[0], pair[1]))
     return pairs
@@ -85,15 +76,10 @@ def parse(text: str, source: str = "model") -> ModelData:
         raise ModelError(f"{source}: 'experiment' must be a table")
     for key, value in experiment.items():
         if key not in EXPERIMENT_KEYS:
-            raise ModelError(
-                f"{source}: experiment: unknown setting '{key}'"
-                f"{_suggest(key, EXPERIMENT_KEYS)}"
-            )
+            raise ModelError(f"{source}: experiment: unknown setting '{key}'{_suggest(key, EXPERIMENT_KEYS)}")
         wanted = str if key == "Solver" else (int, float)
         if isinstance(value, bool) or not isinstance(value, wanted):
-            raise ModelError(
-                f"{source}: experiment: '{key}' has the wrong kind of value {value!r}"
-            )
+            raise ModelError(f"{source}: experiment: '{key}' has the wrong kind of value {value!r}")
 
     connections = _connections(doc["connect"], source) if "connect" in doc else []
     components: list[tuple[str, str, dict[str, Any]]] = []
@@ -113,9 +99,7 @@ def parse(text: str, source: str = "model") -> ModelData:
         params = dict(entry)
         comp_type = params.pop("type", None)
         if not isinstance(comp_type, str):
-            raise ModelError(
-                f"{source}: component '{comp_name}': missing 'type' (a string)"
-            )
+            raise ModelError(f"{source}: component '{comp_name}': missing 'type' (a string)")
         components.append((comp_name, comp_type, params))
     return ModelData(name, dict(experiment), components, connections)
 
@@ -134,11 +118,7 @@ def _value(value: Any, multiline: bool = False) -> str:
     if isinstance(value, Mapping):
         if not value:
             return "{}"
-        return (
-            "{ "
-            + ", ".join(f"{_key(k)} = {_value(v)}" for k, v in value.items())
-            + " }"
-        )
+        return "{ " + ", ".join(f"{_key(k)} = {_value(v)}" for k, v in value.items()) + " }"
     if isinstance(value, (list, tuple)):
         items = [_value(v) for v in value]
         if multiline and items:
@@ -175,7 +155,5 @@ def dumps(
     else:  # long tables: one section per component keeps the file readable
         for comp_name, entry in comps:
             lines += ["", f"[components.{_key(comp_name)}]"]
-            lines.extend(
-                f"{_key(k)} = {_value(v, multiline=True)}" for k, v in entry.items()
-            )
+            lines.extend(f"{_key(k)} = {_value(v, multiline=True)}" for k, v in entry.items())
     return "\n".join(lines) + "\n"

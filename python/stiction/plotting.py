@@ -41,20 +41,14 @@ def plot_result(
         fig = parent
         axes = [ax] * len(groups)
     else:
-        fig = Figure(
-            figsize=(8.0, 0.6 + 2.2 * max(len(groups), 1)), layout="constrained"
-        )
-        axes = list(
-            fig.subplots(max(len(groups), 1), 1, sharex=True, squeeze=False)[:, 0]
-        )
+        fig = Figure(figsize=(8.0, 0.6 + 2.2 * max(len(groups), 1)), layout="constrained")
+        axes = list(fig.subplots(max(len(groups), 1), 1, sharex=True, squeeze=False)[:, 0])
     for axis, group in zip(axes, groups, strict=False):
         for name in group:
             # Event rows repeat the time (left, then right value): jumps are vertical.
             axis.plot(t, result[name], label=name, linewidth=1.2)
         axis.grid(True, alpha=0.3)
-        if all(
-            is_integer_signal(n) for n in group
-        ):  # modes and flags: whole-number ticks
+        if all(is_integer_signal(n) for n in group):  # modes and flags: whole-number ticks
             axis.yaxis.set_major_locator(MaxNLocator(integer=True))
         if len(group) == 1 and ax is None:
             axis.set_ylabel(group[0])

@@ -60,13 +60,10 @@ class Result:
         if data is not None or source is None:
             table = np.asarray(data, dtype=np.float64)
             if table.ndim != 2 or table.shape[1] != len(self.names):
-                raise ValueError(
-                    f"data shape {table.shape} does not match {len(self.names)} names"
-                )
+                raise ValueError(f"data shape {table.shape} does not match {len(self.names)} names")
             self._data = table
         self.events: list[Event] = [
-            Event(float(t), str(c), int(a), int(b), str(why))
-            for t, c, a, b, why in events
+            Event(float(t), str(c), int(a), int(b), str(why)) for t, c, a, b, why in events
         ]
         self.stats: dict[str, float | int] = dict(stats or {})
         self.name = name
@@ -101,9 +98,7 @@ class Result:
             return self._columns[name]
         except KeyError:
             close = difflib.get_close_matches(name, self.names, n=5, cutoff=0.5)
-            hint = (
-                f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
-            )
+            hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
             raise KeyError(f"no signal {name!r} in the result{hint}") from None
 
     def __contains__(self, name: object) -> bool:
@@ -116,10 +111,7 @@ class Result:
 
     def __repr__(self) -> str:
         label = f" {self.name!r}" if self.name else ""
-        return (
-            f"<Result{label}: {len(self.names) - 1} signals, {len(self)} rows, "
-            f"{len(self.events)} events>"
-        )
+        return f"<Result{label}: {len(self.names) - 1} signals, {len(self)} rows, {len(self.events)} events>"
 
     @property
     def time(self) -> np.ndarray:
@@ -146,9 +138,7 @@ class Result:
         """Plot signals against time, one axes per argument (a name or names)."""
         from .plotting import plot_result
 
-        groups = [
-            [n] if isinstance(n, str) else list(n) for n in names
-        ] or self._default_groups()
+        groups = [[n] if isinstance(n, str) else list(n) for n in names] or self._default_groups()
         for group in groups:
             for n in group:
                 self[n]  # raises the helpful KeyError before anything is drawn
@@ -160,11 +150,7 @@ class Result:
 
         def rank(name: str) -> int:
             suffix = name.rsplit(".", 1)[-1]
-            return (
-                _MAIN_SUFFIXES.index(suffix)
-                if suffix in _MAIN_SUFFIXES
-                else len(_MAIN_SUFFIXES)
-            )
+            return _MAIN_SUFFIXES.index(suffix) if suffix in _MAIN_SUFFIXES else len(_MAIN_SUFFIXES)
 
         candidates = [n for n in self.names[1:] if "." in n]
         chosen = set(sorted(candidates, key=rank)[:limit])
@@ -188,20 +174,12 @@ class Result:
             width = max(len(n) for n in main)
             for n in main:
                 v = float(self[n][-1])
-                text = (
-                    str(int(v))
-                    if csvio.is_integer_signal(n) and v.is_integer()
-                    else f"{v:.6g}"
-                )
+                text = str(int(v)) if csvio.is_integer_signal(n) and v.is_integer() else f"{v:.6g}"
                 lines.append(f"  {n:<{width}}  {text}")
         if self.stats:
             parts = []
             for key, value in self.stats.items():
-                shown = (
-                    f"{value:.3g}"
-                    if isinstance(value, float) and not math.isnan(value)
-                    else value
-                )
+                shown = f"{value:.3g}" if isinstance(value, float) and not math.isnan(value) else value
                 parts.append(f"{key}={shown}")
             lines.append("stats: " + ", ".join(parts))
         return "\n".join(lines)

@@ -124,8 +124,8 @@ impl RawResult {
 
     /// All variables as a `rows × len(names)` array.
     fn table<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let data = py.detach(|| self.0.table().to_vec());
-        PyArray1::from_vec(py, data).reshape([self.0.rows(), self.0.names.len()])
+        let table = py.detach(|| self.0.table());
+        PyArray1::from_slice(py, table).reshape([self.0.rows(), self.0.names.len()])
     }
 }
 

@@ -8,23 +8,42 @@ import numpy.typing as npt
 class ModelError(ValueError):
     """A model is invalid; the message names the component and the parameter or port."""
 
-class SimulationOutput(TypedDict):
-    names: list[str]  # names[0] == "time"
-    data: npt.NDArray[np.float64]  # shape (rows, len(names)); event instants appear twice
-    events: list[tuple[float, str, int, int, str]]  # (time, component, old_mode, new_mode, cause)
-    stats: dict[str, float | int]  # steps, rhs_evals, events, wall_ms
+class SimulationError(RuntimeError):
+    """A valid model could not be simulated (singular system, no consistent mode, ...)."""
 
 class ComponentType(TypedDict):
     parameters: list[str]
     ports: list[str]
 
-def simulate(model_toml: str, base_dir: str, overrides: dict[str, float]) -> SimulationOutput:
+class RawResult:
+    """One run: states on the output grid and both sides of every event.
+
+    Variables are computed from the recorded rows when first asked for.
+    """
+
+    @property
+    def names(self) -> list[str]:
+        """Every variable by MSL name; names[0] == "time"."""
+    @property
+    def rows(self) -> int: ...
+    @property
+    def events(self) -> list[tuple[float, str, int, int, str]]:
+        """(time, component, old_mode, new_mode, cause) per mode change."""
+    @property
+    def stats(self) -> dict[str, float | int]:
+        """steps, rejected_steps, rhs_evals, events, state_events, time_events, ..."""
+    def column(self, name: str) -> npt.NDArray[np.float64]:
+        """One variable over all rows; KeyError for an unknown name."""
+    def table(self) -> npt.NDArray[np.float64]:
+        """All variables, shape (rows, len(names)); event instants appear twice."""
+
+def simulate(model_toml: str, base_dir: str = ".", overrides: dict[str, float] | None = None) -> RawResult:
     """Run a model given as model-file text.
 
     ``overrides`` keys: StartTime, StopTime, Interval, Tolerance.
     """
 
-def check(model_toml: str, base_dir: str) -> None:
+def check(model_toml: str, base_dir: str = ".") -> None:
     """Validate a model without running it; raises ModelError."""
 
 def component_types() -> dict[str, ComponentType]:

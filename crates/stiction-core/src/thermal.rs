@@ -231,9 +231,16 @@ fn fixed_temperature(p: &Params) -> ModelResult<Box<dyn Component>> {
     Ok(Box::new(FixedTemperature { t }))
 }
 
+/// Thermal.HeatTransfer.Celsius.FixedTemperature: `T` in degrees Celsius.
+fn fixed_temperature_celsius(p: &Params) -> ModelResult<Box<dyn Component>> {
+    let t = p.at_least("T", p.required("T")?, -273.15)? + 273.15;
+    Ok(Box::new(FixedTemperature { t }))
+}
+
 pub const REGISTRY: &[(&str, Constructor)] = &[
     ("HeatCapacitor", heat_capacitor),
     ("ThermalConductor", thermal_conductor),
     ("Convection", convection),
     ("FixedTemperature", fixed_temperature),
+    ("Celsius.FixedTemperature", fixed_temperature_celsius),
 ];

@@ -1,4 +1,5 @@
-//! `Spring`, `Damper`, `SpringDamper`: torque laws between two flanges (spec §5.10–5.12).
+//! `Spring`, `Damper`, `SpringDamper`, `ElastoBacklash`: torque laws between two flanges
+//! (spec §5.6, §5.10–5.12).
 
 use super::{Component, Constructor, Ports};
 use crate::error::ModelResult;
@@ -37,6 +38,8 @@ struct Compliant {
     has_damper: bool,
     has_spring: bool,
     use_heat_port: bool,
+    /// ElastoBacklash: the total backlash `b`.
+    backlash: Option<f64>,
 }
 
 impl Component for Compliant {
@@ -55,14 +58,20 @@ impl Component for Compliant {
     fn build(&self, b: &mut Builder) -> ModelResult<()> {
         let (na, nb) = (b.node("flange_a")?, b.node("flange_b")?);
         let rel = Rel::between(na, nb);
-        let law = b.add_law(
-            rel.clone(),
-            Box::new(SpringDamperLaw {
+        let law: Box<dyn ForceLaw> = match self.backlash {
+            Some(width) => Box::new(BacklashLaw {
+                c: self.c,
+                d: self.d,
+                b_max: width / 2.0,
+                phi_rel0: self.phi_rel0,
+            }),
+            None => Box::new(SpringDamperLaw {
                 c: self.c,
                 d: self.d,
                 phi_rel0: self.phi_rel0,
             }),
-        );
+        };
+        let law = b.add_law(rel.clone(), law);
         b.init_angle(rel.clone(), self.phi_rel, "phi_rel");
         b.output("phi_rel", Out::Angle(rel.clone()));
         if self.has_damper {
@@ -71,7 +80,7 @@ impl Component for Compliant {
             b.output("a_rel", Out::Accel(rel.clone()));
         }
         b.output("tau", Out::LawTau(law, 1.0));
-        if self.has_damper && self.has_spring {
+        if self.has_damper && self.has_spring && self.backlash.is_none() {
             let mut stretch = rel.clone();
             stretch.offset -= self.phi_rel0;
             b.output("tau_c", Out::Scaled(Box::new(Out::Angle(stretch)), self.c));
@@ -111,6 +120,7 @@ fn spring(p: &Params) -> ModelResult<Box<dyn Component>> {
         has_damper: false,
         has_spring: true,
         use_heat_port: false,
+        backlash: None,
     }))
 }
 
@@ -124,6 +134,7 @@ fn damper(p: &Params) -> ModelResult<Box<dyn Component>> {
         has_damper: true,
         has_spring: false,
         use_heat_port: p.boolean("useHeatPort", false)?,
+        backlash: None,
     }))
 }
 
@@ -137,6 +148,25 @@ fn spring_damper(p: &Params) -> ModelResult<Box<dyn Component>> {
         has_damper: true,
         has_spring: true,
         use_heat_port: p.boolean("useHeatPort", false)?,
+        backlash: None,
+    }))
+}
+
+fn elasto_backlash(p: &Params) -> ModelResult<Box<dyn Component>> {
+    let b = p.real("b", 0.0)?;
+    if b < 0.0 {
+        return Err(p.error("b", format!("the backlash must be >= 0, got {b}")));
+    }
+    Ok(Box::new(Compliant {
+        c: p.positive("c", p.real("c", 1e5)?)?,
+        d: p.at_least("d", p.real("d", 0.0)?, 0.0)?,
+        phi_rel0: p.real("phi_rel0", 0.0)?,
+        phi_rel: p.init("phi_rel", 0.0)?,
+        w_rel: p.init("w_rel", 0.0)?,
+        has_damper: true,
+        has_spring: true,
+        use_heat_port: p.boolean("useHeatPort", false)?,
+        backlash: Some(b),
     }))
 }
 
@@ -144,4 +174,95 @@ pub const REGISTRY: &[(&str, Constructor)] = &[
     ("Spring", spring),
     ("Damper", damper),
     ("SpringDamper", spring_damper),
+    ("ElastoBacklash", elasto_backlash),
 ];
+
+/// MSL ElastoBacklash (spec §5.6): a spring/damper behind a backlash of total width `b`, with
+/// soft contact (the damping torque never exceeds the spring torque; no pulling torque). The
+/// contact relations `phi_diff > b/2` and `phi_diff < −b/2` are frozen between events.
+struct BacklashLaw {
+    c: f64,
+    d: f64,
+    b_max: f64,
+    phi_rel0: f64,
+}
+
+impl BacklashLaw {
+    /// `|b| ≤ 1e-10`: a plain spring/damper (MSL's bEps).
+    fn rigid(&self) -> bool {
+        self.b_max <= 0.5e-10
+    }
+
+    /// (tau_c, tau_d, contact): contact is +1 (phi_diff > bMax), −1 (< bMin) or 0.
+    fn parts(&self, x: &LawCtx) -> (f64, f64, i8) {
+        let phi_diff = x.phi_rel - self.phi_rel0;
+        let tau_d = self.d * x.w_rel;
+        if self.rigid() {
+            return (self.c * phi_diff, tau_d, 0);
+        }
+        if x.relations[0] {
+            (self.c * (phi_diff - self.b_max), tau_d, 1)
+        } else if x.relations[1] {
+            (self.c * (phi_diff + self.b_max), tau_d, -1)
+        } else {
+            (0.0, tau_d, 0)
+        }
+    }
+}
+
+impl ForceLaw for BacklashLaw {
+    fn tau(&self, x: &LawCtx) -> f64 {
+        let (tau_c, tau_d, contact) = self.parts(x);
+        match contact {
+            _ if self.rigid() => tau_c + tau_d,
+            1 if tau_c + tau_d <= 0.0 => 0.0,
+            1 => tau_c + tau_c.min(tau_d),
+            -1 if tau_c + tau_d >= 0.0 => 0.0,
+            -1 => tau_c + tau_c.max(tau_d),
+            _ => 0.0,
+        }
+    }
+    fn role(&self) -> EnergyRole {
+        EnergyRole::Conservative
+    }
+    fn potential(&self, x: &LawCtx) -> f64 {
+        let (tau_c, _, _) = self.parts(x);
+        0.5 * tau_c * tau_c / self.c
+    }
+    fn loss_power(&self, x: &LawCtx, _tau: f64) -> f64 {
+        let (tau_c, tau_d, contact) = self.parts(x);
+        match contact {
+            _ if self.rigid() => tau_d * x.w_rel,
+            1 if tau_c + tau_d <= 0.0 => 0.0,
+            1 => tau_c.min(tau_d) * x.w_rel,
+            -1 if tau_c + tau_d >= 0.0 => 0.0,
+            -1 => tau_c.max(tau_d) * x.w_rel,
+            _ => 0.0,
+        }
+    }
+    /// Where the contact opens with the spring still compressed (MSL sets the torque to 0), the
+    /// spring's energy is lost too: `tau·w − dV/dt` counts it.
+    fn dissipation(&self, x: &LawCtx, tau: f64) -> f64 {
+        let (tau_c, _, _) = self.parts(x);
+        (tau - tau_c) * x.w_rel
+    }
+    fn relation_count(&self) -> usize {
+        if self.rigid() {
+            0
+        } else {
+            2
+        }
+    }
+    fn relation_values(&self, x: &LawCtx, z: &mut [f64]) {
+        let phi_diff = x.phi_rel - self.phi_rel0;
+        z[0] = phi_diff - self.b_max;
+        z[1] = -self.b_max - phi_diff;
+    }
+    fn relation_label(&self, i: usize) -> &'static str {
+        if i == 0 {
+            "contact at phi_rel - phi_rel0 = b/2"
+        } else {
+            "contact at phi_rel - phi_rel0 = -b/2"
+        }
+    }
+}

@@ -1,4 +1,5 @@
-//! `IdealGear` (spec §5.7): `phi_a = ratio·phi_b` relative to the support, a permanent constraint.
+//! `IdealGear` (spec §5.7) and `IdealPlanetary` (§5.8): kinematic gears, permanent constraints
+//! whose multipliers are the gear torques.
 
 use super::{Component, Constructor, Ports};
 use crate::error::ModelResult;
@@ -69,4 +70,41 @@ fn ideal_gear(p: &Params) -> ModelResult<Box<dyn Component>> {
     }))
 }
 
-pub const REGISTRY: &[(&str, Constructor)] = &[("IdealGear", ideal_gear)];
+/// `(1 + ratio)·carrier = sun + ratio·ring`; no inertia, no support.
+struct IdealPlanetary {
+    ratio: f64,
+}
+
+impl Component for IdealPlanetary {
+    fn ports(&self) -> Ports {
+        Ports {
+            mech: vec!["sun", "carrier", "ring"],
+            ..Ports::default()
+        }
+    }
+
+    fn build(&self, b: &mut Builder) -> ModelResult<()> {
+        let (sun, carrier, ring) = (b.node("sun")?, b.node("carrier")?, b.node("ring")?);
+        let r = self.ratio;
+        // Multiplier λ: sun.tau = −λ, ring.tau = −ratio·λ, carrier.tau = (1 + ratio)·λ, so
+        // ring.tau = ratio·sun.tau and carrier.tau = −(1 + ratio)·sun.tau.
+        let row = || Rel::of(&[(sun, -1.0), (ring, -r), (carrier, 1.0 + r)]);
+        let k = b.add_constraint(row(), false)?;
+        b.init_angle(row(), fixed_zero(), "carrier.phi");
+        b.init_speed(row(), fixed_zero(), "carrier.w");
+        b.flange("sun", sun, Some(Out::ConstraintTau(k, -1.0)))?;
+        b.flange("carrier", carrier, Some(Out::ConstraintTau(k, 1.0 + r)))?;
+        b.flange("ring", ring, Some(Out::ConstraintTau(k, -r)))?;
+        Ok(())
+    }
+}
+
+fn ideal_planetary(p: &Params) -> ModelResult<Box<dyn Component>> {
+    let ratio = p.positive("ratio", p.real("ratio", 100.0 / 50.0)?)?;
+    Ok(Box::new(IdealPlanetary { ratio }))
+}
+
+pub const REGISTRY: &[(&str, Constructor)] = &[
+    ("IdealGear", ideal_gear),
+    ("IdealPlanetary", ideal_planetary),
+];

@@ -78,8 +78,8 @@ pub trait Component {
     fn ports(&self) -> Ports;
     /// Contributes to the system; called once the ports are resolved to nodes.
     fn build(&self, b: &mut Builder) -> ModelResult<()>;
-    /// Time instants where this component's equations change (time events).
-    fn time_events(&self) -> Vec<f64> {
+    /// Time instants up to `until` where this component's equations change (time events).
+    fn time_events(&self, _until: f64) -> Vec<f64> {
         Vec::new()
     }
 }

@@ -195,7 +195,7 @@ impl Component for TorqueSource {
         Ok(())
     }
 
-    fn time_events(&self) -> Vec<f64> {
+    fn time_events(&self, _until: f64) -> Vec<f64> {
         self.events.clone()
     }
 }

@@ -16,11 +16,16 @@ const NEVER: f64 = -1.0;
 pub fn indicators(sys: &System, disc: &DiscreteState, ws: &Workspace, z: &mut [f64]) {
     for (k, st) in disc.friction.iter().enumerate() {
         let v = &ws.friction[k];
+        let fe = &sys.frictions[k];
+        let one_way = fe.one_way.is_some();
         let slot = &mut z[3 * k..3 * k + 3];
         // free = (fn <= 0)
-        slot[0] = if st.free { v.fn_ } else { -v.fn_ };
-        let (a, b) = if st.free {
+        let normal_force = fe.normal_force(&ws.signals);
+        slot[0] = if st.free { normal_force } else { -normal_force };
+        let (a, b) = if st.free && !one_way {
             (NEVER, NEVER)
+        } else if st.locked && one_way {
+            (v.sa - v.tau0_max, NEVER) // a freewheel never breaks away backward
         } else if st.locked {
             (v.sa - v.tau0_max, -v.sa - v.tau0_max)
         } else if st.pre.mode == FORWARD {

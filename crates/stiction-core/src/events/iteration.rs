@@ -6,7 +6,7 @@
 use std::collections::HashMap;
 use std::rc::Rc;
 
-use crate::components::friction::logic::{self, Discrete, Relations};
+use crate::components::friction::logic::{Discrete, Relations};
 use crate::components::friction::FrictionState;
 use crate::error::SimError;
 use crate::system::eval::{evaluate, DiscreteState, Workspace};
@@ -91,7 +91,7 @@ pub fn iterate(
         let free: Vec<bool> = sys
             .frictions
             .iter()
-            .map(|fe| fe.normal_force(ws.signals[fe.input]) <= 0.0)
+            .map(|fe| fe.normal_force(&ws.signals) <= 0.0)
             .collect();
         let flags = solve_mixed(
             sys,
@@ -109,7 +109,7 @@ pub fn iterate(
             .map(|k| {
                 let (sf, sb) = flags[k];
                 Discrete {
-                    mode: logic::mode(free[k], pre[k].mode, sf, sb, ws.friction[k].w),
+                    mode: sys.frictions[k].mode(free[k], pre[k], sf, sb, ws.friction[k].w),
                     start_forward: sf,
                     start_backward: sb,
                 }
@@ -119,9 +119,9 @@ pub fn iterate(
         for k in 0..nf {
             disc.friction[k] = FrictionState {
                 pre: new[k],
-                locked: logic::locked(
+                locked: sys.frictions[k].locked(
                     free[k],
-                    new[k].mode,
+                    new[k],
                     new[k].start_forward,
                     new[k].start_backward,
                 ),
@@ -184,7 +184,7 @@ fn solve_mixed(
                             start_forward: sf,
                             start_backward: sb,
                         },
-                        locked: logic::locked(free[k], pre[k].mode, sf, sb),
+                        locked: sys.frictions[k].locked(free[k], pre[k], sf, sb),
                         free: free[k],
                     }
                 })
@@ -196,7 +196,7 @@ fn solve_mixed(
         let next: Vec<(bool, bool)> = (0..nf)
             .map(|k| {
                 let v = &ws.friction[k];
-                logic::start_flags(
+                sys.frictions[k].start_flags(
                     pre[k],
                     Relations {
                         sa: v.sa,

@@ -222,6 +222,31 @@ impl<'a> Params<'a> {
         }
     }
 
+    /// The start value of a Boolean (`stuck = { start = false, fixed = true }` or `stuck = false`):
+    /// it becomes the `pre()` value at initialization.
+    pub fn boolean_start(&self, name: &str, default: bool) -> ModelResult<bool> {
+        match self.get(name) {
+            None => Ok(default),
+            Some(toml::Value::Boolean(b)) => Ok(*b),
+            Some(toml::Value::Table(t)) => {
+                for key in t.keys() {
+                    if key != "start" && key != "fixed" {
+                        return Err(self.error(name, format!("unknown key '{key}' (start, fixed)")));
+                    }
+                }
+                match (t.get("start"), t.get("fixed")) {
+                    (Some(toml::Value::Boolean(b)), None | Some(toml::Value::Boolean(_))) => Ok(*b),
+                    (None, None | Some(toml::Value::Boolean(_))) => Ok(default),
+                    _ => Err(self.error(name, "'start' and 'fixed' must be true or false")),
+                }
+            }
+            Some(v) => Err(self.error(
+                name,
+                format!("expected true/false or {{ start = …, fixed = … }}, got {v}"),
+            )),
+        }
+    }
+
     /// Call last: any parameter the component did not ask for is unknown to it.
     pub fn finish(&self, known_extra: &[&str]) -> ModelResult<()> {
         let used = self.used.borrow();

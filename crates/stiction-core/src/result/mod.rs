@@ -169,6 +169,7 @@ fn is_discrete(var: FrictionVar) -> bool {
             | FrictionVar::StartForward
             | FrictionVar::StartBackward
             | FrictionVar::Free
+            | FrictionVar::Stuck
     )
 }
 
@@ -180,6 +181,7 @@ fn discrete_value(disc: &DiscreteState, k: usize, var: FrictionVar) -> f64 {
         FrictionVar::StartForward => flag(st.pre.start_forward),
         FrictionVar::StartBackward => flag(st.pre.start_backward),
         FrictionVar::Free => flag(st.free),
+        FrictionVar::Stuck => flag(st.pre.mode == crate::components::friction::logic::STUCK),
         _ => f64::NAN,
     }
 }
@@ -293,7 +295,8 @@ fn friction_value(ws: &Workspace, disc: &DiscreteState, k: usize, var: FrictionV
         | FrictionVar::Locked
         | FrictionVar::StartForward
         | FrictionVar::StartBackward
-        | FrictionVar::Free => discrete_value(disc, k, var),
+        | FrictionVar::Free
+        | FrictionVar::Stuck => discrete_value(disc, k, var),
         FrictionVar::W => v.w,
         FrictionVar::A => v.a,
         FrictionVar::Phi => v.phi,

@@ -12,7 +12,13 @@ use crate::system::{Builder, Out};
 struct BlockComponent<B: Block + Clone + 'static> {
     inputs: &'static [&'static str],
     block: B,
-    events: Vec<f64>,
+    events: Events,
+}
+
+/// A block's time events: a few fixed instants, or edges that recur up to the stop time.
+enum Events {
+    Fixed(Vec<f64>),
+    Recurring(Box<dyn Fn(f64) -> Vec<f64>>),
 }
 
 impl<B: Block + Clone + 'static> Component for BlockComponent<B> {
@@ -39,8 +45,11 @@ impl<B: Block + Clone + 'static> Component for BlockComponent<B> {
         Ok(())
     }
 
-    fn time_events(&self) -> Vec<f64> {
-        self.events.clone()
+    fn time_events(&self, until: f64) -> Vec<f64> {
+        match &self.events {
+            Events::Fixed(times) => times.clone(),
+            Events::Recurring(edges) => edges(until),
+        }
     }
 }
 
@@ -52,7 +61,7 @@ fn boxed<B: Block + Clone + 'static>(
     Ok(Box::new(BlockComponent {
         inputs,
         block,
-        events,
+        events: Events::Fixed(events),
     }))
 }
 
@@ -220,4 +229,86 @@ impl Block for Gain {
 pub fn gain(p: &Params) -> ModelResult<Box<dyn Component>> {
     let k = p.required("k")?;
     boxed(&["u"], Gain(k), vec![])
+}
+
+/// Modelica.Blocks.Sources.Pulse: `amplitude` for `width` % of each `period` from `startTime`,
+/// `nperiod` periods (−1: for ever); every edge is a time event.
+#[derive(Clone)]
+struct Pulse {
+    amplitude: f64,
+    width: f64,
+    period: f64,
+    nperiod: i64,
+    offset: f64,
+    start_time: f64,
+}
+
+impl Pulse {
+    fn period_start(&self, k: i64) -> f64 {
+        self.start_time + k as f64 * self.period
+    }
+
+    fn edges(&self, until: f64) -> Vec<f64> {
+        let mut edges = Vec::new();
+        let mut k = 0;
+        while self.period_start(k) <= until && (self.nperiod < 0 || k < self.nperiod) {
+            edges.push(self.period_start(k));
+            edges.push(self.period_start(k) + self.width);
+            k += 1;
+        }
+        edges
+    }
+}
+
+impl Block for Pulse {
+    fn eval(&self, t: f64, horizon: f64, _u: &[f64]) -> f64 {
+        if self.nperiod == 0 || !reached(t, self.start_time, horizon) {
+            return self.offset;
+        }
+        // The current period: the last period start that has been reached (edges are events).
+        let mut k = ((t - self.start_time) / self.period).floor().max(0.0) as i64;
+        while k > 0 && !reached(t, self.period_start(k), horizon) {
+            k -= 1;
+        }
+        while reached(t, self.period_start(k + 1), horizon) {
+            k += 1;
+        }
+        if self.nperiod > 0 && k >= self.nperiod {
+            return self.offset;
+        }
+        let high = !reached(t, self.period_start(k) + self.width, horizon);
+        self.offset + if high { self.amplitude } else { 0.0 }
+    }
+}
+
+pub fn pulse(p: &Params) -> ModelResult<Box<dyn Component>> {
+    let period = p.positive("period", p.real("period", 1.0)?)?;
+    let width_percent = p.real("width", 50.0)?;
+    if !(width_percent > 0.0 && width_percent <= 100.0) {
+        return Err(p.error(
+            "width",
+            format!("must be in (0, 100] %, got {width_percent}"),
+        ));
+    }
+    let nperiod = p.real("nperiod", -1.0)?;
+    if nperiod.fract() != 0.0 {
+        return Err(p.error(
+            "nperiod",
+            format!("must be a whole number (−1: for ever), got {nperiod}"),
+        ));
+    }
+    let block = Pulse {
+        amplitude: p.real("amplitude", 1.0)?,
+        width: period * width_percent / 100.0,
+        period,
+        nperiod: nperiod as i64,
+        offset: p.real("offset", 0.0)?,
+        start_time: p.real("startTime", 0.0)?,
+    };
+    let edges = block.clone();
+    Ok(Box::new(BlockComponent {
+        inputs: &[],
+        block,
+        events: Events::Recurring(Box::new(move |until| edges.edges(until))),
+    }))
 }

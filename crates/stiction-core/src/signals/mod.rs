@@ -12,6 +12,7 @@ pub const REGISTRY: &[(&str, Constructor)] = &[
     ("Step", blocks::step),
     ("Ramp", blocks::ramp),
     ("Sine", blocks::sine),
+    ("Pulse", blocks::pulse),
     ("Product", blocks::product),
     ("Feedback", blocks::feedback),
     ("Add", blocks::add),

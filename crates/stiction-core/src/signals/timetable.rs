@@ -64,7 +64,7 @@ impl Component for TimeTable {
     }
 
     /// Breakpoints are kinks: restarting the integrator there keeps it accurate.
-    fn time_events(&self) -> Vec<f64> {
+    fn time_events(&self, _until: f64) -> Vec<f64> {
         self.t.iter().map(|ti| ti + self.start_time).collect()
     }
 }

@@ -57,7 +57,7 @@ pub fn run(sys: Arc<System>) -> Result<SimResult, SimError> {
     let x0 = initial_state(&sys)?;
     let mut cache = ModeCache::default();
     let mut disc = DiscreteState {
-        friction: vec![FrictionState::INITIAL; sys.frictions.len()],
+        friction: sys.frictions.iter().map(FrictionState::initial).collect(),
         relations: vec![false; sys.relation_count],
     };
     let mut ws = Workspace::new(&sys);
@@ -495,9 +495,22 @@ impl Driver {
                     candidates.push((i, zp, zn));
                 }
             }
+            let mut located = None;
             if !candidates.is_empty() {
                 let (t_e, i) = self.locate(&solver, t_prev, t_now, &candidates)?;
                 let cause = indicator_label(&self.sys, &self.phase.borrow().disc, i);
+                located = Some((t_e, cause));
+            }
+            // A crossing at the pending time event is handled with it (one event iteration).
+            let tie = |t_e: f64| at_time_event && stop - t_e <= 1e-12 * stop.abs().max(1.0);
+            let tied_cause = match located.take() {
+                Some((t_e, cause)) if tie(t_e) => Some(cause),
+                other => {
+                    located = other;
+                    None
+                }
+            };
+            if let Some((t_e, cause)) = located {
                 self.emit_grid(&solver, t_e, false, t_now)?;
                 self.load(&solver, t_e)?;
                 let horizon = self.phase.borrow().horizon;
@@ -521,7 +534,11 @@ impl Driver {
                 let t_event = stop;
                 next_te += 1;
                 let horizon = time_events.get(next_te).copied().unwrap_or(f64::INFINITY);
-                self.handle_event(t_event, horizon, true, "time event")?;
+                let cause = match &tied_cause {
+                    Some(c) => format!("time event; {c}"),
+                    None => "time event".to_string(),
+                };
+                self.handle_event(t_event, horizon, true, &cause)?;
                 stop = time_events.get(next_te).copied().unwrap_or(t_end);
                 self.restart(&mut solver, t_event, order)?;
                 solver

@@ -115,6 +115,10 @@ impl Builder {
         self.sys.frictions.len() - 1
     }
 
+    pub fn friction_mut(&mut self, k: usize) -> &mut FrictionElem {
+        &mut self.sys.frictions[k]
+    }
+
     pub fn signal_in(&self, port: &str) -> ModelResult<usize> {
         let i = self.port_index(port)?;
         self.signal_slot[i].ok_or_else(|| ModelError::Component {
@@ -490,7 +494,7 @@ pub fn assemble(spec: &ModelSpec) -> ModelResult<System> {
     let exp = &spec.experiment;
     let mut events: Vec<f64> = comps
         .iter()
-        .flat_map(|c| c.time_events())
+        .flat_map(|c| c.time_events(exp.stop_time))
         .filter(|&t| t > exp.start_time && t < exp.stop_time)
         .collect();
     events.sort_by(f64::total_cmp);

@@ -167,8 +167,8 @@ pub fn evaluate(
         let v = &mut ws.friction[k];
         v.phi = fe.rel.angle(&ws.phi);
         v.w = fe.rel.dot(&ws.w);
-        v.fn_ = fe.normal_force(ws.signals[fe.input]);
-        (v.tau0, v.tau0_max) = fe.limits(v.fn_);
+        v.fn_ = fe.reported_normal_force(&ws.signals, st.free);
+        (v.tau0, v.tau0_max) = fe.limits(v.fn_, st.free);
         let (mu, tau) = fe.sliding(
             v.w,
             v.fn_,
@@ -196,18 +196,12 @@ pub fn evaluate(
         v.a = fe.rel.dot(&ws.a);
         v.sa = if st.locked {
             v.tau
-        } else if st.free {
-            v.a
         } else {
-            v.a + logic::accel_offset(
-                false,
-                st.pre.mode,
-                st.pre.start_forward,
-                st.pre.start_backward,
-                v.tau0_max,
-            )
+            fe.sa_from_accel(st.free, st.pre, v.a, v.tau0, v.tau0_max)
         };
-        v.loss = v.tau * v.w;
+        // A OneWayClutch dissipates nothing while stuck (spec §10.8).
+        let stuck_one_way = fe.one_way.is_some() && st.pre.mode == logic::STUCK;
+        v.loss = if stuck_one_way { 0.0 } else { v.tau * v.w };
     }
 
     // Heat and energy.
@@ -215,16 +209,15 @@ pub fn evaluate(
     let (mut loss, mut work, mut potential) = (0.0, 0.0, 0.0);
     for (k, law) in sys.laws.iter().enumerate() {
         let ctx = ws.law_ctx(sys, disc, k);
-        let p = law.law.loss_power(&ctx, ws.law_tau[k]);
         match law.law.role() {
             EnergyRole::Source => work -= ws.law_tau[k] * ws.law_w[k],
             _ => {
-                loss += p;
+                loss += law.law.dissipation(&ctx, ws.law_tau[k]);
                 potential += law.law.potential(&ctx);
             }
         }
         if let Some(node) = law.heat_node {
-            ws.heat_in[node] += p;
+            ws.heat_in[node] += law.law.loss_power(&ctx, ws.law_tau[k]);
         }
     }
     for (k, fe) in sys.frictions.iter().enumerate() {

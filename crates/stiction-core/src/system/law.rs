@@ -34,8 +34,14 @@ pub trait ForceLaw: Send + Sync {
     fn potential(&self, _c: &LawCtx) -> f64 {
         0.0
     }
+    /// MSL's `lossPower`: reported, and sent to the heat port.
     fn loss_power(&self, _c: &LawCtx, _tau: f64) -> f64 {
         0.0
+    }
+    /// The power the element takes out of the drivetrain for good (`tau·w_rel − dV/dt`), for the
+    /// energy audit. Equal to `loss_power` except where MSL's lossPower leaves some out.
+    fn dissipation(&self, c: &LawCtx, tau: f64) -> f64 {
+        self.loss_power(c, tau)
     }
     fn relation_count(&self) -> usize {
         0

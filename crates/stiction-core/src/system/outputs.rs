@@ -17,6 +17,8 @@ pub enum FrictionVar {
     StartForward,
     StartBackward,
     Free,
+    /// OneWayClutch: `stuck = locked ∨ w_rel ≤ 0`, kept as mode Stuck.
+    Stuck,
     W,
     A,
     Phi,

@@ -1,5 +1,6 @@
-//! Coulomb friction elements with MSL's stick/slip logic: `Brake` (shaft against its housing)
-//! and `Clutch` (between two shafts). Both share `FrictionElem`; the Boolean logic is in `logic`.
+//! Coulomb friction elements with MSL's stick/slip logic (`PartialFriction`): `Brake` (shaft
+//! against its housing), `Clutch` (between two shafts) and `BearingFriction` (a torque table, no
+//! normal force). They share `FrictionElem`; the Boolean logic is in `logic`.
 
 pub mod logic;
 
@@ -24,11 +25,23 @@ pub struct FrictionElem {
     pub w_small: f64,
     /// `mu0 = T(0)`.
     pub mu0: f64,
-    /// Signal slot of `f_normalized`.
-    pub input: usize,
+    /// Signal slot of `f_normalized`; None for BearingFriction (fn ≡ 1, cgeo ≡ 1: the table is
+    /// the friction torque itself and the element is never free).
+    pub input: Option<usize>,
     /// Clutch reads the table at `+w_rel` while starting backward (spec §5.2).
     pub clutch_quirk: bool,
     pub heat_node: Option<usize>,
+    /// OneWayClutch (spec §5.3): its own one-directional logic.
+    pub one_way: Option<OneWay>,
+    /// `pre()` of the discrete state at initialization.
+    pub initial: Discrete,
+}
+
+/// What a OneWayClutch adds: the breakaway threshold while disengaged
+/// (`tau0_max_low = 1e-4·mu0·cgeo·fn_max`). Its `peak` is already `max(peak, 1 + 1e-4)`.
+#[derive(Debug, Clone, Copy)]
+pub struct OneWay {
+    pub tau0_max_low: f64,
 }
 
 /// The discrete state of a friction element between events (its relations frozen).
@@ -40,29 +53,102 @@ pub struct FrictionState {
 }
 
 impl FrictionState {
-    pub const INITIAL: FrictionState = FrictionState {
-        pre: Discrete::INITIAL,
-        locked: false,
-        free: true,
-    };
+    pub fn initial(elem: &FrictionElem) -> Self {
+        FrictionState {
+            pre: elem.initial,
+            locked: false,
+            free: true,
+        }
+    }
 }
 
 impl FrictionElem {
-    pub fn normal_force(&self, f_normalized: f64) -> f64 {
-        self.fn_max * f_normalized
+    pub fn normal_force(&self, signals: &[f64]) -> f64 {
+        match self.input {
+            Some(slot) => self.fn_max * signals[slot],
+            None => 1.0,
+        }
+    }
+
+    /// The normal force MSL reports: a OneWayClutch has `fn = 0` while disengaged.
+    pub fn reported_normal_force(&self, signals: &[f64], free: bool) -> f64 {
+        match self.one_way {
+            Some(_) if free => 0.0,
+            _ => self.normal_force(signals),
+        }
     }
 
     /// `(tau0, tau0_max)` for a normal force.
-    pub fn limits(&self, fn_: f64) -> (f64, f64) {
+    pub fn limits(&self, fn_: f64, free: bool) -> (f64, f64) {
         let tau0 = self.mu0 * self.cgeo * fn_;
-        (tau0, self.peak * tau0)
+        match self.one_way {
+            Some(ow) if free => (tau0, ow.tau0_max_low),
+            _ => (tau0, self.peak * tau0),
+        }
     }
 
     /// `mu` and the sliding torque `mu·cgeo·fn` with the sign pair of (sf, sb, pre(mode)).
     pub fn sliding(&self, w: f64, fn_: f64, pre_mode: i8, sf: bool, sb: bool) -> (f64, f64) {
-        let (s_w, s_mu) = logic::table_signs(sf, sb, pre_mode, self.clutch_quirk);
-        let mu = s_mu * self.mu_pos.eval(s_w * w);
+        let mu = if self.one_way.is_some() {
+            self.mu_pos.eval(w) // no sign handling: w_rel is assumed >= 0
+        } else {
+            let (s_w, s_mu) = logic::table_signs(sf, sb, pre_mode, self.clutch_quirk);
+            s_mu * self.mu_pos.eval(s_w * w)
+        };
         (mu, mu * self.cgeo * fn_)
+    }
+
+    /// (F1, F2), or the OneWayClutch's start condition (it never starts backward).
+    pub fn start_flags(&self, pre: Discrete, r: logic::Relations) -> (bool, bool) {
+        if self.one_way.is_none() {
+            return logic::start_flags(pre, r);
+        }
+        let pre_stuck = pre.mode == logic::STUCK;
+        let forward = (pre_stuck
+            && (r.sa > r.tau0_max || (pre.start_forward && r.sa > r.tau0) || r.w > r.w_small))
+            || (r.initial && r.w > 0.0);
+        (forward, false)
+    }
+
+    /// (F3); a OneWayClutch locks whenever it was stuck and does not start, engaged or not.
+    pub fn locked(&self, free: bool, pre: Discrete, sf: bool, sb: bool) -> bool {
+        match self.one_way {
+            Some(_) => pre.mode == logic::STUCK && !sf,
+            None => logic::locked(free, pre.mode, sf, sb),
+        }
+    }
+
+    /// (F5); a OneWayClutch's "mode" is Stuck while `stuck = locked ∨ w_rel ≤ 0`, else Forward.
+    pub fn mode(&self, free: bool, pre: Discrete, sf: bool, sb: bool, w: f64) -> i8 {
+        match self.one_way {
+            Some(_) if self.locked(free, pre, sf, sb) || w <= 0.0 => logic::STUCK,
+            Some(_) => logic::FORWARD,
+            None => logic::mode(free, pre.mode, sf, sb, w),
+        }
+    }
+
+    /// `sa` of an element that is not locked, from its relative acceleration (F4).
+    pub fn sa_from_accel(
+        &self,
+        free: bool,
+        pre: Discrete,
+        a: f64,
+        tau0: f64,
+        tau0_max: f64,
+    ) -> f64 {
+        match self.one_way {
+            Some(_) => a + tau0,
+            None if free => a,
+            None => {
+                a + logic::accel_offset(
+                    false,
+                    pre.mode,
+                    pre.start_forward,
+                    pre.start_backward,
+                    tau0_max,
+                )
+            }
+        }
     }
 }
 
@@ -89,24 +175,26 @@ fn read_params(p: &Params) -> ModelResult<FrictionParams> {
 }
 
 /// Outputs every friction element reports (MSL names), plus its heat port.
-fn friction_outputs(b: &mut Builder, k: usize, slot: usize, heat: Option<usize>) {
+fn friction_outputs(b: &mut Builder, k: usize, slot: Option<usize>, heat: Option<usize>) {
+    if let Some(slot) = slot {
+        b.output("mu", Out::Friction(k, V::Mu));
+        b.output("fn", Out::Friction(k, V::Fn));
+        b.output("free", Out::Friction(k, V::Free));
+        b.output("f_normalized", Out::Signal(slot));
+    }
     for (name, var) in [
         ("tau", V::Tau),
-        ("mu", V::Mu),
-        ("fn", V::Fn),
         ("lossPower", V::LossPower),
         ("mode", V::Mode),
         ("locked", V::Locked),
         ("startForward", V::StartForward),
         ("startBackward", V::StartBackward),
-        ("free", V::Free),
         ("sa", V::Sa),
         ("tau0", V::Tau0),
         ("tau0_max", V::Tau0Max),
     ] {
         b.output(name, Out::Friction(k, var));
     }
-    b.output("f_normalized", Out::Signal(slot));
     if let Some(node) = heat {
         b.output("heatPort.T", Out::HeatT(node));
         b.output(
@@ -116,9 +204,12 @@ fn friction_outputs(b: &mut Builder, k: usize, slot: usize, heat: Option<usize>)
     }
 }
 
+/// Brake and BearingFriction: friction between a shaft and its support.
 struct Brake {
     p: FrictionParams,
     use_support: bool,
+    /// BearingFriction: no `f_normalized`; `mu_pos` holds `tau_pos`.
+    bearing: bool,
 }
 
 impl Component for Brake {
@@ -130,7 +221,11 @@ impl Component for Brake {
         Ports {
             mech,
             joins: vec![("flange_a", "flange_b")],
-            signal_in: vec!["f_normalized"],
+            signal_in: if self.bearing {
+                vec![]
+            } else {
+                vec!["f_normalized"]
+            },
             heat: if self.p.use_heat_port {
                 vec!["heatPort"]
             } else {
@@ -148,7 +243,7 @@ impl Component for Brake {
                 b.error("its flange is rigidly connected to its support: it can never slip")
             );
         }
-        let k = add_elem(b, &self.p, rel.clone(), false)?;
+        let k = add_elem(b, &self.p, rel.clone(), false, !self.bearing)?;
         b.output("phi", Out::Angle(rel));
         b.output("w", Out::Friction(k, V::W));
         b.output("a", Out::Friction(k, V::A));
@@ -172,8 +267,13 @@ fn add_elem(
     p: &FrictionParams,
     rel: Rel,
     clutch_quirk: bool,
+    normal_force: bool,
 ) -> ModelResult<usize> {
-    let slot = b.signal_in("f_normalized")?;
+    let slot = if normal_force {
+        Some(b.signal_in("f_normalized")?)
+    } else {
+        None
+    };
     let heat = if p.use_heat_port {
         Some(b.heat_node("heatPort")?)
     } else {
@@ -191,6 +291,8 @@ fn add_elem(
         input: slot,
         clutch_quirk,
         heat_node: heat,
+        one_way: None,
+        initial: Discrete::INITIAL,
     });
     friction_outputs(b, k, slot, heat);
     Ok(k)
@@ -200,6 +302,24 @@ fn brake(p: &Params) -> ModelResult<Box<dyn Component>> {
     Ok(Box::new(Brake {
         p: read_params(p)?,
         use_support: p.boolean("useSupport", false)?,
+        bearing: false,
+    }))
+}
+
+/// BearingFriction (spec §5.4): `tau_pos` is the sliding torque itself; never free.
+fn bearing_friction(p: &Params) -> ModelResult<Box<dyn Component>> {
+    let params = FrictionParams {
+        mu_pos: Table1D::from_param(p, "tau_pos", &[&[0.0, 1.0]])?,
+        peak: p.at_least("peak", p.real("peak", 1.0)?, 1.0)?,
+        cgeo: 1.0,
+        fn_max: 1.0,
+        w_small: p.positive("w_small", p.real("w_small", 1.0e10)?)?,
+        use_heat_port: p.boolean("useHeatPort", false)?,
+    };
+    Ok(Box::new(Brake {
+        p: params,
+        use_support: p.boolean("useSupport", false)?,
+        bearing: true,
     }))
 }
 
@@ -229,7 +349,7 @@ impl Component for Clutch {
         if rel.is_zero() {
             return Err(b.error("flange_a and flange_b are rigidly connected: it can never slip"));
         }
-        let k = add_elem(b, &self.p, rel.clone(), true)?;
+        let k = add_elem(b, &self.p, rel.clone(), true, true)?;
         b.init_angle(rel.clone(), self.phi_rel, "phi_rel");
         b.init_speed(rel.clone(), self.w_rel, "w_rel");
         b.output("phi_rel", Out::Angle(rel));
@@ -253,4 +373,122 @@ fn clutch(p: &Params) -> ModelResult<Box<dyn Component>> {
     }))
 }
 
-pub const REGISTRY: &[(&str, Constructor)] = &[("Brake", brake), ("Clutch", clutch)];
+pub const REGISTRY: &[(&str, Constructor)] = &[
+    ("Brake", brake),
+    ("Clutch", clutch),
+    ("BearingFriction", bearing_friction),
+    ("OneWayClutch", one_way_clutch),
+];
+
+/// MSL OneWayClutch (spec §5.3): a freewheel in parallel with a clutch. It slides freely (with
+/// clutch friction when engaged) while `w_rel > 0` and locks when `w_rel` would turn negative.
+struct OneWayClutch {
+    p: FrictionParams,
+    phi_rel: InitValue,
+    w_rel: InitValue,
+    stuck: bool,
+    start_forward: bool,
+}
+
+impl Component for OneWayClutch {
+    fn ports(&self) -> Ports {
+        Ports {
+            mech: vec!["flange_a", "flange_b"],
+            signal_in: vec!["f_normalized"],
+            heat: if self.p.use_heat_port {
+                vec!["heatPort"]
+            } else {
+                vec![]
+            },
+            ..Ports::default()
+        }
+    }
+
+    fn build(&self, b: &mut Builder) -> ModelResult<()> {
+        let (na, nb) = (b.node("flange_a")?, b.node("flange_b")?);
+        let rel = Rel::between(na, nb);
+        if rel.is_zero() {
+            return Err(b.error("flange_a and flange_b are rigidly connected: it can never slip"));
+        }
+        let slot = b.signal_in("f_normalized")?;
+        let heat = if self.p.use_heat_port {
+            Some(b.heat_node("heatPort")?)
+        } else {
+            None
+        };
+        let mu0 = self.p.mu_pos.eval(0.0);
+        let k = b.add_friction(FrictionElem {
+            name: b.name().to_string(),
+            rel: rel.clone(),
+            mu0,
+            mu_pos: self.p.mu_pos.clone(),
+            peak: self.p.peak.max(1.0 + ONE_WAY_EPS),
+            cgeo: self.p.cgeo,
+            fn_max: self.p.fn_max,
+            w_small: self.p.w_small,
+            input: Some(slot),
+            clutch_quirk: false,
+            heat_node: heat,
+            one_way: Some(OneWay {
+                tau0_max_low: ONE_WAY_EPS * mu0 * self.p.cgeo * self.p.fn_max,
+            }),
+            initial: Discrete {
+                mode: if self.stuck {
+                    logic::STUCK
+                } else {
+                    logic::FORWARD
+                },
+                start_forward: self.start_forward,
+                start_backward: false,
+            },
+        });
+        for (name, var) in [
+            ("tau", V::Tau),
+            ("mu", V::Mu),
+            ("fn", V::Fn),
+            ("lossPower", V::LossPower),
+            ("startForward", V::StartForward),
+            ("locked", V::Locked),
+            ("stuck", V::Stuck),
+            ("sa", V::Sa),
+            ("tau0", V::Tau0),
+            ("tau0_max", V::Tau0Max),
+        ] {
+            b.output(name, Out::Friction(k, var));
+        }
+        b.output("u", Out::Signal(slot));
+        b.output("f_normalized", Out::Signal(slot));
+        if let Some(node) = heat {
+            b.output("heatPort.T", Out::HeatT(node));
+            b.output(
+                "heatPort.Q_flow",
+                Out::Scaled(Box::new(Out::Friction(k, V::LossPower)), -1.0),
+            );
+        }
+        b.init_angle(rel.clone(), self.phi_rel, "phi_rel");
+        b.init_speed(rel.clone(), self.w_rel, "w_rel");
+        b.output("phi_rel", Out::Angle(rel));
+        b.output("w_rel", Out::Friction(k, V::W));
+        b.output("a_rel", Out::Friction(k, V::A));
+        b.flange(
+            "flange_a",
+            na,
+            Some(Out::Scaled(Box::new(Out::Friction(k, V::Tau)), -1.0)),
+        )?;
+        b.flange("flange_b", nb, Some(Out::Friction(k, V::Tau)))?;
+        Ok(())
+    }
+}
+
+/// MSL's `eps0`: the relative hysteresis of the OneWayClutch.
+const ONE_WAY_EPS: f64 = 1.0e-4;
+
+fn one_way_clutch(p: &Params) -> ModelResult<Box<dyn Component>> {
+    Ok(Box::new(OneWayClutch {
+        p: read_params(p)?,
+        phi_rel: p.init("phi_rel", 0.0)?,
+        w_rel: p.init("w_rel", 0.0)?,
+        stuck: p.boolean_start("stuck", false)?,
+        start_forward: p.boolean_start("startForward", false)?,
+    }))
+}

@@ -25,6 +25,23 @@ impl Table1D {
         rows: &[Vec<f64>],
         column: usize,
     ) -> ModelResult<Self> {
+        Self::check_increasing(p, name, rows)?;
+        Ok(Self {
+            x: rows.iter().map(|r| r[0]).collect(),
+            y: rows.iter().map(|r| r[column]).collect(),
+        })
+    }
+
+    /// A table from validated `(x, y)` rows.
+    pub fn from_points(rows: &[Vec<f64>]) -> Self {
+        Self {
+            x: rows.iter().map(|r| r[0]).collect(),
+            y: rows.iter().map(|r| r[1]).collect(),
+        }
+    }
+
+    /// The first column must be strictly increasing (CombiTable1D's rule).
+    pub fn check_increasing(p: &Params, name: &str, rows: &[Vec<f64>]) -> ModelResult<()> {
         for pair in rows.windows(2) {
             if pair[1][0] <= pair[0][0] {
                 return Err(p.error(
@@ -36,10 +53,7 @@ impl Table1D {
                 ));
             }
         }
-        Ok(Self {
-            x: rows.iter().map(|r| r[0]).collect(),
-            y: rows.iter().map(|r| r[column]).collect(),
-        })
+        Ok(())
     }
 
     pub fn eval(&self, u: f64) -> f64 {

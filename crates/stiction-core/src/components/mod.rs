@@ -95,6 +95,7 @@ pub fn registry() -> Vec<(&'static str, Constructor)> {
     r.extend(gears::REGISTRY);
     r.extend(sources::REGISTRY);
     r.extend(friction::REGISTRY);
+    r.extend(friction::lossy_gear::REGISTRY);
     r.extend(signals::REGISTRY);
     r.extend(thermal::REGISTRY);
     r

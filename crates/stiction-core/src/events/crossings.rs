@@ -6,9 +6,18 @@ use crate::components::friction::logic::{BACKWARD, FORWARD, STUCK};
 use crate::system::eval::{DiscreteState, Workspace};
 use crate::system::System;
 
-/// Three per friction element (engagement, and two mode-dependent ones), one per law relation.
+/// Three per friction element (engagement, and two mode-dependent ones), three per LossyGear
+/// (driving side, and two mode-dependent ones), one per law relation.
 pub fn indicator_count(sys: &System) -> usize {
-    3 * sys.frictions.len() + sys.relation_count
+    3 * sys.frictions.len() + 3 * sys.lossy_gears.len() + sys.relation_count
+}
+
+fn gear_base(sys: &System) -> usize {
+    3 * sys.frictions.len()
+}
+
+fn law_base(sys: &System) -> usize {
+    3 * (sys.frictions.len() + sys.lossy_gears.len())
 }
 
 const NEVER: f64 = -1.0;
@@ -42,7 +51,36 @@ pub fn indicators(sys: &System, disc: &DiscreteState, ws: &Workspace, z: &mut [f
         slot[1] = a;
         slot[2] = b;
     }
-    let base = 3 * sys.frictions.len();
+    for (k, (g, st)) in sys.lossy_gears.iter().zip(&disc.gears).enumerate() {
+        let v = &ws.gears[k];
+        let slot = &mut z[gear_base(sys) + 3 * k..gear_base(sys) + 3 * k + 3];
+        if g.ideal {
+            slot.fill(NEVER);
+            continue;
+        }
+        // tau_etaPos = (tau_eta >= 0)
+        slot[0] = if st.tau_eta_pos {
+            -v.tau_eta
+        } else {
+            v.tau_eta
+        };
+        let (a, b) = if st.locked {
+            (v.sa - v.loss_max_p, v.loss_min_m - v.sa)
+        } else if st.pre.mode == FORWARD {
+            (-v.w, NEVER)
+        } else if st.pre.mode == BACKWARD {
+            (v.w, NEVER)
+        } else if st.pre.start_forward {
+            (v.w, v.loss_max_p - v.sa)
+        } else if st.pre.start_backward {
+            (-v.w, v.sa - v.loss_min_m)
+        } else {
+            (NEVER, NEVER)
+        };
+        slot[1] = a;
+        slot[2] = b;
+    }
+    let base = law_base(sys);
     let mut scratch = [0.0; 4];
     for (k, law) in sys.laws.iter().enumerate() {
         let count = law.law.relation_count();
@@ -78,7 +116,22 @@ pub fn indicator_label(sys: &System, disc: &DiscreteState, i: usize) -> String {
         };
         return format!("{name}: {what}");
     }
-    let r = i - 3 * nf;
+    if i < law_base(sys) {
+        let (k, slot) = ((i - gear_base(sys)) / 3, (i - gear_base(sys)) % 3);
+        let st = &disc.gears[k];
+        let what = match slot {
+            0 => "driving side changed (tau_eta crossed 0)",
+            1 if st.locked => "loss torque exceeded tauLossMax_p (starts forward)",
+            2 if st.locked => "loss torque fell below tauLossMin_m (starts backward)",
+            1 if st.pre.mode == FORWARD => "forward speed reached 0",
+            1 if st.pre.mode == BACKWARD => "backward speed reached 0",
+            1 if st.pre.start_forward => "started rolling forward (w_a > 0)",
+            1 => "started rolling backward (w_a < 0)",
+            _ => "start condition lost",
+        };
+        return format!("{}: {what}", sys.lossy_gears[k].name);
+    }
+    let r = i - law_base(sys);
     for law in &sys.laws {
         let count = law.law.relation_count();
         if r >= law.relation_base && r < law.relation_base + count {

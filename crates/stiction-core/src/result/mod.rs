@@ -6,7 +6,7 @@ use std::sync::{Arc, OnceLock};
 use crate::components::friction::logic::{FORWARD, STUCK};
 use crate::system::eval::{evaluate, DiscreteState, Workspace};
 use crate::system::kkt::ModeMatrix;
-use crate::system::outputs::{EnergyVar, FrictionVar};
+use crate::system::outputs::{EnergyVar, FrictionVar, GearVar};
 use crate::system::{Out, System};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -145,7 +145,7 @@ impl SimResult {
             let disc = &self.discs[id];
             if modes[id].is_none() {
                 // The run factored this mode already; it cannot be singular here.
-                modes[id] = ModeMatrix::factor(sys, &disc.locked_set()).ok();
+                modes[id] = ModeMatrix::factor(sys, &disc.locked_set(), &disc.gear_modes(sys)).ok();
             }
             let Some(mm) = modes[id].as_ref() else {
                 recorder.data.push(tr.t[r]);
@@ -329,6 +329,7 @@ pub fn value(
             .loss_power(&ws.law_ctx(sys, disc, *k), ws.law_tau[*k]),
         Out::ConstraintTau(k, s) => s * ws.constraint_tau[*k],
         Out::Friction(k, var) => friction_value(ws, disc, *k, *var),
+        Out::Gear(k, var) => gear_value(sys, ws, disc, *k, *var),
         Out::Scaled(inner, s) => s * value(inner, sys, ws, disc, flange_tau),
         Out::Signal(slot) => ws.signals[*slot],
         Out::FlangeTau(p) => flange_tau.get(*p).copied().unwrap_or(f64::NAN),
@@ -366,6 +367,35 @@ pub fn value(
             EnergyVar::Work => ws.energy[3],
         },
         Out::Const(c) => *c,
+    }
+}
+
+fn gear_value(sys: &System, ws: &Workspace, disc: &DiscreteState, k: usize, var: GearVar) -> f64 {
+    let v = &ws.gears[k];
+    let st = &disc.gears[k];
+    match var {
+        GearVar::TauA => v.tau_a,
+        GearVar::TauB => v.tau_b,
+        GearVar::TauSupport => v.tau_support,
+        GearVar::W => v.w,
+        GearVar::A => v.a,
+        GearVar::Sa => v.sa,
+        GearVar::TauLoss => v.tau_loss,
+        GearVar::TauEta => v.tau_eta,
+        GearVar::Eta1 => v.losses.eta1,
+        GearVar::Eta2 => v.losses.eta2,
+        GearVar::Tbf1 => v.losses.tbf1,
+        GearVar::Tbf2 => v.losses.tbf2,
+        GearVar::TbfA => v.losses.tbf_a,
+        GearVar::LossMaxP => v.loss_max_p,
+        GearVar::LossMinM => v.loss_min_m,
+        GearVar::LossPower => v.loss,
+        GearVar::Mode => st.pre.mode as f64,
+        GearVar::Locked => flag(st.locked),
+        GearVar::StartForward => flag(st.pre.start_forward),
+        GearVar::StartBackward => flag(st.pre.start_backward),
+        GearVar::TauEtaPos => flag(st.tau_eta_pos),
+        GearVar::Ideal => flag(sys.lossy_gears[k].ideal),
     }
 }
 

@@ -17,6 +17,7 @@ use diffsol::{
 
 use super::initial_state;
 use crate::components::friction::logic::UNKNOWN;
+use crate::components::friction::lossy_gear::GearState;
 use crate::components::friction::FrictionState;
 use crate::error::SimError;
 use crate::events::{indicator_count, indicator_label, indicators, iterate, ModeCache, ModeChange};
@@ -58,6 +59,7 @@ pub fn run(sys: Arc<System>) -> Result<SimResult, SimError> {
     let mut cache = ModeCache::default();
     let mut disc = DiscreteState {
         friction: sys.frictions.iter().map(FrictionState::initial).collect(),
+        gears: vec![GearState::INITIAL; sys.lossy_gears.len()],
         relations: vec![false; sys.relation_count],
     };
     let mut ws = Workspace::new(&sys);
@@ -95,8 +97,22 @@ pub fn run(sys: Arc<System>) -> Result<SimResult, SimError> {
             cause: "initialization".into(),
         })
         .collect();
+    // A LossyGear starts from pre(mode) = Free; an ideal one stays there.
+    log.extend(
+        disc.gears
+            .iter()
+            .zip(&sys.lossy_gears)
+            .filter(|(st, _)| st.pre.mode != GearState::INITIAL.pre.mode)
+            .map(|(st, g)| EventRecord {
+                time: t0,
+                component: g.name.clone(),
+                old_mode: GearState::INITIAL.pre.mode,
+                new_mode: st.pre.mode,
+                cause: "initialization".into(),
+            }),
+    );
 
-    let mm = cache.get(&sys, &disc.locked_set(), t0)?;
+    let mm = cache.get(&sys, &disc, t0)?;
     let n = sys.state_len();
     let phase = Rc::new(RefCell::new(Phase {
         horizon: first_horizon,
@@ -415,8 +431,8 @@ impl Driver {
                 ws,
             )?
         };
-        let locked = self.phase.borrow().disc.locked_set();
-        let mm = self.cache.get(&self.sys, &locked, t)?;
+        let disc = self.phase.borrow().disc.clone();
+        let mm = self.cache.get(&self.sys, &disc, t)?;
         self.phase.borrow_mut().mm = mm;
         self.record_here(t);
         for c in changes {
@@ -445,6 +461,7 @@ impl Driver {
         S: OdeSolverMethod<'a, Eqn>,
     {
         let now = solver.state().t;
+        let h_before = solver.state().h.abs();
         if (now - t).abs() > 1e-12 * t.abs().max(1.0) {
             solver.state_mut_back(t).map_err(|e| numerical(t, e))?;
         }
@@ -455,6 +472,11 @@ impl Driver {
             state.y.inner_mut().as_mut_slice().copy_from_slice(&self.x);
             problem.eqn.rhs().call_inplace(state.y, t, state.dy);
             state.set_step_size(problem.h0, &problem.atol, problem.rtol, &problem.eqn, order);
+            // The step size the integrator had found before the event is a better first guess
+            // than the start heuristic (which overshoots and is rejected, event after event).
+            if h_before > 0.0 && h_before < state.h.abs() {
+                *state.h = h_before.copysign(*state.h);
+            }
         }
         if self.implicit {
             // the Jacobian belongs to the old mode

@@ -7,6 +7,7 @@ use std::collections::HashMap;
 use super::flange::FlangeBuilder;
 use super::outputs::EnergyVar;
 use super::{InitEq, LawElem, NodeRef, Out, Rel, System};
+use crate::components::friction::lossy_gear::LossyGearElem;
 use crate::components::friction::FrictionElem;
 use crate::components::{self, Component, PortKind, Ports};
 use crate::error::{ModelError, ModelResult};
@@ -115,8 +116,9 @@ impl Builder {
         self.sys.frictions.len() - 1
     }
 
-    pub fn friction_mut(&mut self, k: usize) -> &mut FrictionElem {
-        &mut self.sys.frictions[k]
+    pub fn add_lossy_gear(&mut self, g: LossyGearElem) -> usize {
+        self.sys.lossy_gears.push(g);
+        self.sys.lossy_gears.len() - 1
     }
 
     pub fn signal_in(&self, port: &str) -> ModelResult<usize> {
@@ -468,6 +470,7 @@ pub fn assemble(spec: &ModelSpec) -> ModelResult<System> {
             relation_count: 0,
             constraints: Vec::new(),
             frictions: Vec::new(),
+            lossy_gears: Vec::new(),
             signals: SignalGraph {
                 slots,
                 blocks: Vec::new(),

@@ -8,12 +8,14 @@ use nalgebra::DVector;
 use super::kkt::ModeMatrix;
 use super::{EnergyRole, LawCtx, System};
 use crate::components::friction::logic;
+use crate::components::friction::lossy_gear::{GearMode, GearState, Losses};
 use crate::components::friction::FrictionState;
 
-/// Discrete state between events: friction states and the frozen relations of force laws.
+/// Discrete state between events: friction and gear states and the frozen relations of laws.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DiscreteState {
     pub friction: Vec<FrictionState>,
+    pub gears: Vec<GearState>,
     pub relations: Vec<bool>,
 }
 
@@ -21,6 +23,35 @@ impl DiscreteState {
     pub fn locked_set(&self) -> Vec<bool> {
         self.friction.iter().map(|f| f.locked).collect()
     }
+
+    /// How each LossyGear enters the linear system, with its losses at rest: the key of the
+    /// factored mode (exact unless the loss table depends on the speed).
+    pub fn gear_modes(&self, sys: &System) -> Vec<GearMode> {
+        sys.lossy_gears
+            .iter()
+            .zip(&self.gears)
+            .map(|(g, st)| g.mode_in(st, &g.losses_at_rest()))
+            .collect()
+    }
+}
+
+/// Values of one LossyGear at an instant.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct GearValues {
+    pub tau_a: f64,
+    pub tau_b: f64,
+    pub tau_support: f64,
+    pub w: f64,
+    pub a: f64,
+    pub sa: f64,
+    pub tau_loss: f64,
+    pub tau_eta: f64,
+    pub losses: Losses,
+    /// `c1` of the rolling loss line at this speed.
+    pub slope: f64,
+    pub loss_max_p: f64,
+    pub loss_min_m: f64,
+    pub loss: f64,
 }
 
 #[derive(Debug, Clone, Copy, Default)]
@@ -50,6 +81,7 @@ pub struct Workspace {
     pub law_tau: Vec<f64>,
     pub constraint_tau: Vec<f64>,
     pub friction: Vec<FrictionValues>,
+    pub gears: Vec<GearValues>,
     pub heat_in: Vec<f64>,
     pub temps: Vec<f64>,
     pub heat_net: Vec<f64>,
@@ -76,12 +108,13 @@ impl Workspace {
             law_tau: vec![0.0; sys.laws.len()],
             constraint_tau: vec![0.0; sys.constraints.len()],
             friction: vec![FrictionValues::default(); sys.frictions.len()],
+            gears: vec![GearValues::default(); sys.lossy_gears.len()],
             heat_in: vec![0.0; sys.thermal.nodes],
             temps: vec![0.0; sys.thermal.nodes],
             heat_net: vec![0.0; sys.thermal.nodes],
             energy: [0.0; 4],
             rates: (0.0, 0.0),
-            rhs: DVector::zeros(n + sys.constraints.len() + sys.frictions.len()),
+            rhs: DVector::zeros(0),
             rhs_evals: 0,
         }
     }
@@ -127,7 +160,8 @@ impl Layout {
     }
 }
 
-/// Evaluates everything at (t, x) in discrete state `disc`, whose locked set `mm` was factored for.
+/// Evaluates everything at (t, x) in discrete state `disc`, whose mode `mm` was factored for.
+/// (A LossyGear whose losses depend on its speed gets a matrix factored for this instant.)
 pub fn evaluate(
     sys: &System,
     mm: &ModeMatrix,
@@ -146,9 +180,17 @@ pub fn evaluate(
     ws.w.copy_from_slice(&x[n..2 * n]);
     sys.signals.eval(t, horizon, &mut ws.signals);
 
+    // LossyGears: losses at the current speed (their slopes enter the solve below).
+    for (k, g) in sys.lossy_gears.iter().enumerate() {
+        let v = &mut ws.gears[k];
+        v.w = g.lock_row.dot(&ws.w);
+        v.losses = g.losses(v.w);
+        v.slope = g.mode_in(&disc.gears[k], &v.losses).c1;
+    }
+
     // Generalized forces of laws and sliding friction.
     let m = sys.constraints.len();
-    let size = n + m + mm.locked.len();
+    let size = mm.size;
     let mut rhs = std::mem::replace(&mut ws.rhs, DVector::zeros(0));
     if rhs.len() != size {
         rhs = DVector::zeros(size);
@@ -182,11 +224,51 @@ pub fn evaluate(
             fe.rel.apply(v.tau, &mut f[..n]);
         }
     }
-    mm.solve(&mut rhs);
+    // A rolling gear's constant loss part c0 acts through ℓ.
+    for (k, g) in sys.lossy_gears.iter().enumerate() {
+        let st = &disc.gears[k];
+        if !g.ideal && !st.locked {
+            let (_, c0) = g.rolling_line(st, &ws.gears[k].losses);
+            g.loss_col.apply(c0, &mut f[..n]);
+        }
+    }
+    if sys.lossy_gears.is_empty() {
+        mm.solve(&mut rhs);
+    } else {
+        let slopes: Vec<f64> = ws.gears.iter().map(|v| v.slope).collect();
+        mm.solve_with_gear_slopes(sys, &slopes, &mut rhs);
+    }
     ws.a.copy_from_slice(&rhs.as_slice()[..n]);
     ws.constraint_tau.copy_from_slice(&rhs.as_slice()[n..n + m]);
-    for (r, &k) in mm.locked.iter().enumerate() {
-        ws.friction[k].tau = rhs[n + m + r];
+    for (k, row) in mm.friction_row.iter().enumerate() {
+        if disc.friction[k].locked {
+            // a locked element whose row depends on others carries no torque
+            ws.friction[k].tau = row.map_or(0.0, |r| rhs[n + r]);
+        }
+    }
+    for (k, g) in sys.lossy_gears.iter().enumerate() {
+        let st = &disc.gears[k];
+        let v = &mut ws.gears[k];
+        v.tau_a = rhs[n + mm.gear_row[k]];
+        v.a = g.lock_row.dot(&ws.a);
+        v.tau_loss = if g.ideal {
+            0.0
+        } else if st.locked {
+            mm.gear_lock_row[k].map_or(0.0, |r| rhs[n + r])
+        } else {
+            let (c1, c0) = g.rolling_line(st, &v.losses);
+            c1 * v.tau_a + c0
+        };
+        v.sa = if st.locked {
+            v.tau_loss
+        } else {
+            v.a + v.tau_loss
+        };
+        v.tau_b = -g.ratio * (v.tau_a - v.tau_loss);
+        v.tau_support = -v.tau_a - v.tau_b;
+        v.tau_eta = g.tau_eta(st, v.tau_a, v.losses.tbf_a);
+        (v.loss_max_p, v.loss_min_m) = g.rest_limits(v.tau_a);
+        v.loss = v.tau_loss * v.w;
     }
     ws.rhs = rhs;
 
@@ -224,6 +306,12 @@ pub fn evaluate(
         loss += ws.friction[k].loss;
         if let Some(node) = fe.heat_node {
             ws.heat_in[node] += ws.friction[k].loss;
+        }
+    }
+    for (g, v) in sys.lossy_gears.iter().zip(&ws.gears) {
+        loss += v.loss;
+        if let Some(node) = g.heat_node {
+            ws.heat_in[node] += v.loss;
         }
     }
     for (c, tau) in sys.constraints.iter().zip(&ws.constraint_tau) {

@@ -1,37 +1,126 @@
-//! The per-mode linear solve (design §3): accelerations `a` and constraint torques `λ` from
-//! `[M Gᵀ; G 0]·[a; λ] = [f; 0]`, where G holds the permanent constraints and the rows of the
-//! friction elements that are locked. The matrix depends on the mode only: factor once per mode.
+//! The per-mode linear solve (design §3): accelerations `a` and multipliers `λ` from
+//!
+//! ```text
+//! [ M  C ] [ a ]   [ f ]
+//! [ G  0 ] [ λ ] = [ 0 ]
+//! ```
+//!
+//! G holds the permanent constraints (gears, speed sources), one row per LossyGear, and the
+//! rows of the friction elements and gears that are locked; C holds the columns through which
+//! each multiplier acts on the nodes (C = Gᵀ except a rolling LossyGear, whose loss torque
+//! follows its torque). The matrix depends on the mode only — factor once per mode and reuse.
+//! A locked row that depends on the others (two elements locking the same motion) is left out:
+//! its torque is 0, one of the consistent splits MSL allows (spec §7.9). Locked gears come
+//! before locked friction elements, so a gear sticking together with a bearing carries the load
+//! and the bearing, unloaded, stays stuck until the gear moves.
 
 use nalgebra::{DMatrix, DVector, Dyn, LU};
 
-use super::System;
+use super::{Rel, System};
+use crate::components::friction::lossy_gear::GearMode;
 
 pub struct ModeMatrix {
     lu: LU<f64, Dyn, Dyn>,
-    /// Friction elements whose rows are in G, in row order after the permanent constraints.
-    pub locked: Vec<usize>,
     pub size: usize,
+    /// Row of each friction element's multiplier (its torque) when locked and kept.
+    pub friction_row: Vec<Option<usize>>,
+    /// Row of each LossyGear's torque `τa`.
+    pub gear_row: Vec<usize>,
+    /// Row of each locked LossyGear's stuck loss torque `sa`, when kept.
+    pub gear_lock_row: Vec<Option<usize>>,
+    /// The gear modes this matrix was factored for.
+    pub gear_modes: Vec<GearMode>,
+}
+
+/// Keeps rows that are linearly independent of those kept before (Gram–Schmidt).
+struct Independent(Vec<Vec<f64>>);
+
+impl Independent {
+    fn accept(&mut self, rel: &Rel, n: usize) -> bool {
+        let mut v = vec![0.0; n];
+        for &(i, c) in &rel.terms {
+            v[i] += c;
+        }
+        let norm0 = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        for q in &self.0 {
+            let dot: f64 = q.iter().zip(&v).map(|(a, b)| a * b).sum();
+            v.iter_mut().zip(q).for_each(|(x, qi)| *x -= dot * qi);
+        }
+        let norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if norm0 == 0.0 || norm <= 1e-10 * norm0 {
+            return false;
+        }
+        v.iter_mut().for_each(|x| *x /= norm);
+        self.0.push(v);
+        true
+    }
 }
 
 impl ModeMatrix {
-    pub fn factor(sys: &System, locked: &[bool]) -> Result<Self, String> {
+    pub fn factor(
+        sys: &System,
+        friction_locked: &[bool],
+        gear_modes: &[GearMode],
+    ) -> Result<Self, String> {
         let n = sys.nodes;
-        let locked: Vec<usize> = (0..locked.len()).filter(|&k| locked[k]).collect();
-        let rows: Vec<&super::Rel> = sys
-            .constraints
-            .iter()
-            .map(|c| &c.rel)
-            .chain(locked.iter().map(|&k| &sys.frictions[k].rel))
-            .collect();
+        // (row, column, scale of the column's extra part ℓ) in row order.
+        let mut rows: Vec<(&Rel, Option<(&Rel, f64)>)> = Vec::new();
+        let mut basis = Independent(Vec::new());
+        for c in &sys.constraints {
+            basis.accept(&c.rel, n);
+            rows.push((&c.rel, None));
+        }
+        let mut gear_row = Vec::new();
+        for (g, mode) in sys.lossy_gears.iter().zip(gear_modes) {
+            basis.accept(&g.row, n);
+            gear_row.push(rows.len());
+            let extra = (!mode.locked && mode.c1 != 0.0).then_some((&g.loss_col, mode.c1));
+            rows.push((&g.row, extra));
+        }
+        let mut gear_lock_row = vec![None; sys.lossy_gears.len()];
+        for (k, (g, mode)) in sys.lossy_gears.iter().zip(gear_modes).enumerate() {
+            if mode.locked && basis.accept(&g.lock_row, n) {
+                gear_lock_row[k] = Some(rows.len());
+                // the stuck loss torque acts through ℓ
+                rows.push((&g.lock_row, Some((&g.loss_col, f64::NAN))));
+            }
+        }
+        let mut friction_row = vec![None; sys.frictions.len()];
+        for (k, fe) in sys.frictions.iter().enumerate() {
+            if friction_locked[k] && basis.accept(&fe.rel, n) {
+                friction_row[k] = Some(rows.len());
+                rows.push((&fe.rel, None));
+            }
+        }
         let size = n + rows.len();
         let mut m = DMatrix::<f64>::zeros(size, size);
         for i in 0..n {
             m[(i, i)] = sys.mass[i];
         }
-        for (r, rel) in rows.iter().enumerate() {
-            for &(i, c) in &rel.terms {
+        for (r, (row, extra)) in rows.iter().enumerate() {
+            for &(i, c) in &row.terms {
                 m[(n + r, i)] = c;
-                m[(i, n + r)] = c;
+            }
+            match extra {
+                // a locked gear's sa acts through ℓ only
+                Some((col, s)) if s.is_nan() => {
+                    for &(i, c) in &col.terms {
+                        m[(i, n + r)] += c;
+                    }
+                }
+                Some((col, s)) => {
+                    for &(i, c) in &row.terms {
+                        m[(i, n + r)] += c;
+                    }
+                    for &(i, c) in &col.terms {
+                        m[(i, n + r)] += s * c;
+                    }
+                }
+                None => {
+                    for &(i, c) in &row.terms {
+                        m[(i, n + r)] += c;
+                    }
+                }
             }
         }
         let scale = m.iter().fold(0.0f64, |acc, v| acc.max(v.abs())).max(1e-300);
@@ -41,9 +130,16 @@ impl ModeMatrix {
             .map(|i| u[(i, i)].abs())
             .fold(f64::INFINITY, f64::min);
         if size > 0 && smallest <= 1e-13 * scale {
-            return Err(singular_message(sys, &locked));
+            return Err(singular_message(sys, friction_locked));
         }
-        Ok(Self { lu, locked, size })
+        Ok(Self {
+            lu,
+            size,
+            friction_row,
+            gear_row,
+            gear_lock_row,
+            gear_modes: gear_modes.to_vec(),
+        })
     }
 
     /// Solves in place: on entry `[f; 0]`, on exit `[a; λ]`.
@@ -52,16 +148,57 @@ impl ModeMatrix {
             self.lu.solve_mut(rhs);
         }
     }
+
+    /// Solves with rolling LossyGears whose loss slope `c1` differs from the factored one (the
+    /// losses depend on the speed): each such gear's column changes by `Δc1·ℓ`, a rank-one
+    /// change, so the factored matrix serves through the Woodbury identity instead of a new
+    /// factorization per evaluation.
+    pub fn solve_with_gear_slopes(&self, sys: &System, slopes: &[f64], rhs: &mut DVector<f64>) {
+        let n = sys.nodes;
+        let changed: Vec<(usize, f64)> = self
+            .gear_modes
+            .iter()
+            .zip(slopes)
+            .enumerate()
+            .filter(|(_, (mode, &c1))| !mode.locked && c1 != mode.c1)
+            .map(|(k, (mode, &c1))| (k, c1 - mode.c1))
+            .collect();
+        self.solve(rhs);
+        if changed.is_empty() {
+            return;
+        }
+        // Z = A⁻¹U with U's columns Δc1·ℓ in the node rows.
+        let z: Vec<DVector<f64>> = changed
+            .iter()
+            .map(|&(k, dc1)| {
+                let mut u = DVector::zeros(self.size);
+                for &(i, c) in &sys.lossy_gears[k].loss_col.terms {
+                    u[i] += dc1 * c;
+                }
+                self.solve(&mut u);
+                u
+            })
+            .collect();
+        let rows: Vec<usize> = changed.iter().map(|&(k, _)| n + self.gear_row[k]).collect();
+        let m = changed.len();
+        let s = DMatrix::from_fn(m, m, |i, j| (i == j) as u8 as f64 + z[j][rows[i]]);
+        let y = DVector::from_iterator(m, rows.iter().map(|&r| rhs[r]));
+        if let Some(w) = s.lu().solve(&y) {
+            for (j, zj) in z.iter().enumerate() {
+                rhs.axpy(-w[j], zj, 1.0);
+            }
+        }
+    }
 }
 
-fn singular_message(sys: &System, locked: &[usize]) -> String {
+fn singular_message(sys: &System, locked: &[bool]) -> String {
     let massless: Vec<String> = (0..sys.nodes)
         .filter(|&i| sys.mass[i] == 0.0)
         .map(|i| format!("[{}]", sys.node_label(i)))
         .collect();
-    let locked: Vec<&str> = locked
-        .iter()
-        .map(|&k| sys.frictions[k].name.as_str())
+    let locked: Vec<&str> = (0..locked.len())
+        .filter(|&k| locked[k])
+        .map(|k| sys.frictions[k].name.as_str())
         .collect();
     let mut msg = String::from("the accelerations are not determined (singular system)");
     if !massless.is_empty() {

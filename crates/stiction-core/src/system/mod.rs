@@ -16,6 +16,7 @@ pub use law::{EnergyRole, ForceLaw, LawCtx};
 pub use outputs::Out;
 pub use rel::{NodeRef, Rel};
 
+use crate::components::friction::lossy_gear::LossyGearElem;
 use crate::components::friction::FrictionElem;
 use crate::model::{Experiment, InitValue};
 use crate::signals::SignalGraph;
@@ -58,6 +59,7 @@ pub struct System {
     /// Permanent acceleration constraints `row·a = 0` (gears, speed sources).
     pub constraints: Vec<Constraint>,
     pub frictions: Vec<FrictionElem>,
+    pub lossy_gears: Vec<LossyGearElem>,
     pub signals: SignalGraph,
     pub thermal: ThermalNet,
     pub init_phi: Vec<InitEq>,

@@ -24,6 +24,33 @@ pub enum FrictionVar {
     Phi,
 }
 
+/// Variables of a LossyGear.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GearVar {
+    TauA,
+    TauB,
+    TauSupport,
+    W,
+    A,
+    Sa,
+    TauLoss,
+    TauEta,
+    Eta1,
+    Eta2,
+    Tbf1,
+    Tbf2,
+    TbfA,
+    LossMaxP,
+    LossMinM,
+    LossPower,
+    Mode,
+    Locked,
+    StartForward,
+    StartBackward,
+    TauEtaPos,
+    Ideal,
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum EnergyVar {
     Kinetic,
@@ -42,6 +69,7 @@ pub enum Out {
     LawLoss(usize),
     ConstraintTau(usize, f64),
     Friction(usize, FrictionVar),
+    Gear(usize, GearVar),
     Scaled(Box<Out>, f64),
     Signal(usize),
     /// Cut torque of a mechanical port (global port index).

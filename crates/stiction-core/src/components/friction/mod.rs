@@ -3,6 +3,7 @@
 //! normal force). They share `FrictionElem`; the Boolean logic is in `logic`.
 
 pub mod logic;
+pub mod lossy_gear;
 
 use logic::Discrete;
 

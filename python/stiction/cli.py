@@ -22,7 +22,7 @@ F = TypeVar("F", bound=Callable[..., Any])
 
 # MSL examples of a source checkout (repo/examples/msl): `bench` runs these by default.
 EXAMPLES_DIR = Path(__file__).resolve().parents[2] / "examples" / "msl"
-DEFAULT_BENCH = ("CoupledClutches", "Friction")
+DEFAULT_BENCH = ("CoupledClutches", "Friction", "SimpleGearShift", "HeatLosses")
 
 
 def _fail(message: str) -> NoReturn:
@@ -197,7 +197,7 @@ def compare_cmd(result_csv: Path, reference_csv: Path, tolerance: float, signals
 )
 @_friendly_errors
 def bench(model_files: tuple[Path, ...], repeat: int, warmup: int) -> None:
-    """Time whole runs of MODEL_FILES (default: MSL CoupledClutches and Friction)."""
+    """Time whole runs of MODEL_FILES (default: MSL CoupledClutches, Friction, SimpleGearShift, HeatLosses)."""
     from .bench import bench as run_bench
     from .model import Model
 

@@ -1,7 +1,7 @@
 //! `Spring`, `Damper`, `SpringDamper`, `ElastoBacklash`: torque laws between two flanges
 //! (spec §5.6, §5.10–5.12).
 
-use super::{Component, Constructor, Ports};
+use super::{heat_port, Component, Constructor, Ports};
 use crate::error::ModelResult;
 use crate::model::{InitValue, Params};
 use crate::system::{Builder, EnergyRole, ForceLaw, LawCtx, Out, Rel};
@@ -46,11 +46,7 @@ impl Component for Compliant {
     fn ports(&self) -> Ports {
         Ports {
             mech: vec!["flange_a", "flange_b"],
-            heat: if self.use_heat_port {
-                vec!["heatPort"]
-            } else {
-                vec![]
-            },
+            heat: heat_port(self.use_heat_port),
             ..Ports::default()
         }
     }

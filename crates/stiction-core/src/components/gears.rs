@@ -1,7 +1,7 @@
 //! `IdealGear` (spec §5.7) and `IdealPlanetary` (§5.8): kinematic gears, permanent constraints
 //! whose multipliers are the gear torques.
 
-use super::{Component, Constructor, Ports};
+use super::{with_support, Component, Constructor, Ports};
 use crate::error::ModelResult;
 use crate::model::Params;
 use crate::system::{Builder, Out, Rel};
@@ -13,12 +13,8 @@ struct IdealGear {
 
 impl Component for IdealGear {
     fn ports(&self) -> Ports {
-        let mut mech = vec!["flange_a", "flange_b"];
-        if self.use_support {
-            mech.push("support");
-        }
         Ports {
-            mech,
+            mech: with_support(&["flange_a", "flange_b"], self.use_support),
             ..Ports::default()
         }
     }

@@ -54,6 +54,24 @@ impl Ports {
     }
 }
 
+/// Flanges plus the conditional `support` (MSL `useSupport`).
+pub fn with_support(flanges: &[&'static str], use_support: bool) -> Vec<&'static str> {
+    let mut mech = flanges.to_vec();
+    if use_support {
+        mech.push("support");
+    }
+    mech
+}
+
+/// The conditional `heatPort` (MSL `useHeatPort`).
+pub fn heat_port(enabled: bool) -> Vec<&'static str> {
+    if enabled {
+        vec!["heatPort"]
+    } else {
+        vec![]
+    }
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PortKind {
     Mechanical,

@@ -1,7 +1,7 @@
 //! Rotational sources (spec §6.1): a torque on `flange` with the reaction on `support`
 //! (implicitly grounded unless `useSupport`), and `ConstantSpeed`, a prescribed speed.
 
-use super::{Component, Constructor, Ports};
+use super::{with_support, Component, Constructor, Ports};
 use crate::error::ModelResult;
 use crate::model::{InitValue, Params};
 use crate::signals::reached;
@@ -160,18 +160,10 @@ struct TorqueSource {
     events: Vec<f64>,
 }
 
-fn with_support(use_support: bool, first: &'static str) -> Vec<&'static str> {
-    let mut mech = vec![first];
-    if use_support {
-        mech.push("support");
-    }
-    mech
-}
-
 impl Component for TorqueSource {
     fn ports(&self) -> Ports {
         Ports {
-            mech: with_support(self.use_support, "flange"),
+            mech: with_support(&["flange"], self.use_support),
             signal_in: if self.input { vec!["tau"] } else { vec![] },
             ..Ports::default()
         }
@@ -298,7 +290,7 @@ struct ConstantSpeed {
 impl Component for ConstantSpeed {
     fn ports(&self) -> Ports {
         Ports {
-            mech: with_support(self.use_support, "flange"),
+            mech: with_support(&["flange"], self.use_support),
             ..Ports::default()
         }
     }

@@ -65,26 +65,18 @@ pub fn run(sys: Arc<System>) -> Result<SimResult, SimError> {
     let mut ws = Workspace::new(&sys);
     // MSL initialization (initial() = true), then the event it triggers at t0.
     let first_horizon = sys.time_events.first().copied().unwrap_or(f64::INFINITY);
-    iterate(
-        &sys,
-        &mut cache,
-        &mut disc,
-        t0,
-        &x0,
-        true,
-        first_horizon,
-        &mut ws,
-    )?;
-    iterate(
-        &sys,
-        &mut cache,
-        &mut disc,
-        t0,
-        &x0,
-        false,
-        first_horizon,
-        &mut ws,
-    )?;
+    for initial in [true, false] {
+        iterate(
+            &sys,
+            &mut cache,
+            &mut disc,
+            t0,
+            &x0,
+            initial,
+            first_horizon,
+            &mut ws,
+        )?;
+    }
     let mut log: Vec<EventRecord> = disc
         .friction
         .iter()

@@ -7,7 +7,7 @@
 //! `c1·τa + c0` (the quadrant's line), so `τa`'s column becomes `row + c1·ℓ`; while stuck it is
 //! the unknown `sa` of the extra row `a_a = 0`.
 
-use super::super::{Component, Constructor, Ports};
+use super::super::{heat_port, with_support, Component, Constructor, Ports};
 use super::logic::{Discrete, BACKWARD, FORWARD, FREE, STUCK};
 use crate::error::ModelResult;
 use crate::model::Params;
@@ -212,17 +212,9 @@ struct LossyGear {
 
 impl Component for LossyGear {
     fn ports(&self) -> Ports {
-        let mut mech = vec!["flange_a", "flange_b"];
-        if self.use_support {
-            mech.push("support");
-        }
         Ports {
-            mech,
-            heat: if self.use_heat_port {
-                vec!["heatPort"]
-            } else {
-                vec![]
-            },
+            mech: with_support(&["flange_a", "flange_b"], self.use_support),
+            heat: heat_port(self.use_heat_port),
             ..Ports::default()
         }
     }

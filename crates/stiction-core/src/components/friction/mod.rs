@@ -7,7 +7,7 @@ pub mod lossy_gear;
 
 use logic::Discrete;
 
-use super::{Component, Constructor, Ports};
+use super::{heat_port, with_support, Component, Constructor, Ports};
 use crate::error::ModelResult;
 use crate::model::{InitValue, Params};
 use crate::system::outputs::FrictionVar as V;
@@ -176,24 +176,47 @@ fn read_params(p: &Params) -> ModelResult<FrictionParams> {
 }
 
 /// Outputs every friction element reports (MSL names), plus its heat port.
-fn friction_outputs(b: &mut Builder, k: usize, slot: Option<usize>, heat: Option<usize>) {
+fn friction_outputs(
+    b: &mut Builder,
+    k: usize,
+    slot: Option<usize>,
+    heat: Option<usize>,
+    one_way: bool,
+) {
     if let Some(slot) = slot {
         b.output("mu", Out::Friction(k, V::Mu));
         b.output("fn", Out::Friction(k, V::Fn));
-        b.output("free", Out::Friction(k, V::Free));
         b.output("f_normalized", Out::Signal(slot));
+        // OneWayClutch calls its normalized force `u`; its `free` is protected in MSL
+        b.output(
+            if one_way { "u" } else { "free" },
+            if one_way {
+                Out::Signal(slot)
+            } else {
+                Out::Friction(k, V::Free)
+            },
+        );
     }
-    for (name, var) in [
+    let logic: &[(&str, V)] = if one_way {
+        &[("startForward", V::StartForward), ("stuck", V::Stuck)]
+    } else {
+        &[
+            ("mode", V::Mode),
+            ("startForward", V::StartForward),
+            ("startBackward", V::StartBackward),
+        ]
+    };
+    for &(name, var) in [
         ("tau", V::Tau),
         ("lossPower", V::LossPower),
-        ("mode", V::Mode),
         ("locked", V::Locked),
-        ("startForward", V::StartForward),
-        ("startBackward", V::StartBackward),
         ("sa", V::Sa),
         ("tau0", V::Tau0),
         ("tau0_max", V::Tau0Max),
-    ] {
+    ]
+    .iter()
+    .chain(logic)
+    {
         b.output(name, Out::Friction(k, var));
     }
     if let Some(node) = heat {
@@ -215,23 +238,15 @@ struct Brake {
 
 impl Component for Brake {
     fn ports(&self) -> Ports {
-        let mut mech = vec!["flange_a", "flange_b"];
-        if self.use_support {
-            mech.push("support");
-        }
         Ports {
-            mech,
+            mech: with_support(&["flange_a", "flange_b"], self.use_support),
             joins: vec![("flange_a", "flange_b")],
             signal_in: if self.bearing {
                 vec![]
             } else {
                 vec!["f_normalized"]
             },
-            heat: if self.p.use_heat_port {
-                vec!["heatPort"]
-            } else {
-                vec![]
-            },
+            heat: heat_port(self.p.use_heat_port),
             ..Ports::default()
         }
     }
@@ -244,7 +259,12 @@ impl Component for Brake {
                 b.error("its flange is rigidly connected to its support: it can never slip")
             );
         }
-        let k = add_elem(b, &self.p, rel.clone(), false, !self.bearing)?;
+        let kind = if self.bearing {
+            Kind::Bearing
+        } else {
+            Kind::Brake
+        };
+        let k = add_elem(b, &self.p, rel.clone(), kind)?;
         b.output("phi", Out::Angle(rel));
         b.output("w", Out::Friction(k, V::W));
         b.output("a", Out::Friction(k, V::A));
@@ -263,39 +283,64 @@ impl Component for Brake {
     }
 }
 
-fn add_elem(
-    b: &mut Builder,
-    p: &FrictionParams,
-    rel: Rel,
-    clutch_quirk: bool,
-    normal_force: bool,
-) -> ModelResult<usize> {
-    let slot = if normal_force {
-        Some(b.signal_in("f_normalized")?)
-    } else {
+/// Which friction element `add_elem` makes.
+#[derive(Clone, Copy, PartialEq)]
+enum Kind {
+    Brake,
+    Bearing,
+    Clutch,
+    /// A OneWayClutch with the start values of `stuck` and `startForward`.
+    OneWay {
+        stuck: bool,
+        start_forward: bool,
+    },
+}
+
+fn add_elem(b: &mut Builder, p: &FrictionParams, rel: Rel, kind: Kind) -> ModelResult<usize> {
+    let slot = if kind == Kind::Bearing {
         None
+    } else {
+        Some(b.signal_in("f_normalized")?)
     };
     let heat = if p.use_heat_port {
         Some(b.heat_node("heatPort")?)
     } else {
         None
     };
+    let mu0 = p.mu_pos.eval(0.0);
+    let (one_way, initial, peak) = match kind {
+        Kind::OneWay {
+            stuck,
+            start_forward,
+        } => (
+            Some(OneWay {
+                tau0_max_low: ONE_WAY_EPS * mu0 * p.cgeo * p.fn_max,
+            }),
+            Discrete {
+                mode: if stuck { logic::STUCK } else { logic::FORWARD },
+                start_forward,
+                start_backward: false,
+            },
+            p.peak.max(1.0 + ONE_WAY_EPS),
+        ),
+        _ => (None, Discrete::INITIAL, p.peak),
+    };
     let k = b.add_friction(FrictionElem {
         name: b.name().to_string(),
         rel,
-        mu0: p.mu_pos.eval(0.0),
+        mu0,
         mu_pos: p.mu_pos.clone(),
-        peak: p.peak,
+        peak,
         cgeo: p.cgeo,
         fn_max: p.fn_max,
         w_small: p.w_small,
         input: slot,
-        clutch_quirk,
+        clutch_quirk: kind == Kind::Clutch,
         heat_node: heat,
-        one_way: None,
-        initial: Discrete::INITIAL,
+        one_way,
+        initial,
     });
-    friction_outputs(b, k, slot, heat);
+    friction_outputs(b, k, slot, heat, one_way.is_some());
     Ok(k)
 }
 
@@ -324,10 +369,14 @@ fn bearing_friction(p: &Params) -> ModelResult<Box<dyn Component>> {
     }))
 }
 
+/// Clutch and OneWayClutch (spec §5.3: a freewheel in parallel with a clutch; it slides freely
+/// while `w_rel > 0` and locks when `w_rel` would turn negative).
 struct Clutch {
     p: FrictionParams,
     phi_rel: InitValue,
     w_rel: InitValue,
+    /// OneWayClutch: the start values of `stuck` and `startForward`.
+    one_way: Option<(bool, bool)>,
 }
 
 impl Component for Clutch {
@@ -335,11 +384,7 @@ impl Component for Clutch {
         Ports {
             mech: vec!["flange_a", "flange_b"],
             signal_in: vec!["f_normalized"],
-            heat: if self.p.use_heat_port {
-                vec!["heatPort"]
-            } else {
-                vec![]
-            },
+            heat: heat_port(self.p.use_heat_port),
             ..Ports::default()
         }
     }
@@ -350,7 +395,14 @@ impl Component for Clutch {
         if rel.is_zero() {
             return Err(b.error("flange_a and flange_b are rigidly connected: it can never slip"));
         }
-        let k = add_elem(b, &self.p, rel.clone(), true, true)?;
+        let kind = match self.one_way {
+            Some((stuck, start_forward)) => Kind::OneWay {
+                stuck,
+                start_forward,
+            },
+            None => Kind::Clutch,
+        };
+        let k = add_elem(b, &self.p, rel.clone(), kind)?;
         b.init_angle(rel.clone(), self.phi_rel, "phi_rel");
         b.init_speed(rel.clone(), self.w_rel, "w_rel");
         b.output("phi_rel", Out::Angle(rel));
@@ -371,6 +423,7 @@ fn clutch(p: &Params) -> ModelResult<Box<dyn Component>> {
         p: read_params(p)?,
         phi_rel: p.init("phi_rel", 0.0)?,
         w_rel: p.init("w_rel", 0.0)?,
+        one_way: None,
     }))
 }
 
@@ -381,115 +434,17 @@ pub const REGISTRY: &[(&str, Constructor)] = &[
     ("OneWayClutch", one_way_clutch),
 ];
 
-/// MSL OneWayClutch (spec §5.3): a freewheel in parallel with a clutch. It slides freely (with
-/// clutch friction when engaged) while `w_rel > 0` and locks when `w_rel` would turn negative.
-struct OneWayClutch {
-    p: FrictionParams,
-    phi_rel: InitValue,
-    w_rel: InitValue,
-    stuck: bool,
-    start_forward: bool,
-}
-
-impl Component for OneWayClutch {
-    fn ports(&self) -> Ports {
-        Ports {
-            mech: vec!["flange_a", "flange_b"],
-            signal_in: vec!["f_normalized"],
-            heat: if self.p.use_heat_port {
-                vec!["heatPort"]
-            } else {
-                vec![]
-            },
-            ..Ports::default()
-        }
-    }
-
-    fn build(&self, b: &mut Builder) -> ModelResult<()> {
-        let (na, nb) = (b.node("flange_a")?, b.node("flange_b")?);
-        let rel = Rel::between(na, nb);
-        if rel.is_zero() {
-            return Err(b.error("flange_a and flange_b are rigidly connected: it can never slip"));
-        }
-        let slot = b.signal_in("f_normalized")?;
-        let heat = if self.p.use_heat_port {
-            Some(b.heat_node("heatPort")?)
-        } else {
-            None
-        };
-        let mu0 = self.p.mu_pos.eval(0.0);
-        let k = b.add_friction(FrictionElem {
-            name: b.name().to_string(),
-            rel: rel.clone(),
-            mu0,
-            mu_pos: self.p.mu_pos.clone(),
-            peak: self.p.peak.max(1.0 + ONE_WAY_EPS),
-            cgeo: self.p.cgeo,
-            fn_max: self.p.fn_max,
-            w_small: self.p.w_small,
-            input: Some(slot),
-            clutch_quirk: false,
-            heat_node: heat,
-            one_way: Some(OneWay {
-                tau0_max_low: ONE_WAY_EPS * mu0 * self.p.cgeo * self.p.fn_max,
-            }),
-            initial: Discrete {
-                mode: if self.stuck {
-                    logic::STUCK
-                } else {
-                    logic::FORWARD
-                },
-                start_forward: self.start_forward,
-                start_backward: false,
-            },
-        });
-        for (name, var) in [
-            ("tau", V::Tau),
-            ("mu", V::Mu),
-            ("fn", V::Fn),
-            ("lossPower", V::LossPower),
-            ("startForward", V::StartForward),
-            ("locked", V::Locked),
-            ("stuck", V::Stuck),
-            ("sa", V::Sa),
-            ("tau0", V::Tau0),
-            ("tau0_max", V::Tau0Max),
-        ] {
-            b.output(name, Out::Friction(k, var));
-        }
-        b.output("u", Out::Signal(slot));
-        b.output("f_normalized", Out::Signal(slot));
-        if let Some(node) = heat {
-            b.output("heatPort.T", Out::HeatT(node));
-            b.output(
-                "heatPort.Q_flow",
-                Out::Scaled(Box::new(Out::Friction(k, V::LossPower)), -1.0),
-            );
-        }
-        b.init_angle(rel.clone(), self.phi_rel, "phi_rel");
-        b.init_speed(rel.clone(), self.w_rel, "w_rel");
-        b.output("phi_rel", Out::Angle(rel));
-        b.output("w_rel", Out::Friction(k, V::W));
-        b.output("a_rel", Out::Friction(k, V::A));
-        b.flange(
-            "flange_a",
-            na,
-            Some(Out::Scaled(Box::new(Out::Friction(k, V::Tau)), -1.0)),
-        )?;
-        b.flange("flange_b", nb, Some(Out::Friction(k, V::Tau)))?;
-        Ok(())
-    }
-}
-
 /// MSL's `eps0`: the relative hysteresis of the OneWayClutch.
 const ONE_WAY_EPS: f64 = 1.0e-4;
 
 fn one_way_clutch(p: &Params) -> ModelResult<Box<dyn Component>> {
-    Ok(Box::new(OneWayClutch {
+    Ok(Box::new(Clutch {
         p: read_params(p)?,
         phi_rel: p.init("phi_rel", 0.0)?,
         w_rel: p.init("w_rel", 0.0)?,
-        stuck: p.boolean_start("stuck", false)?,
-        start_forward: p.boolean_start("startForward", false)?,
+        one_way: Some((
+            p.boolean_start("stuck", false)?,
+            p.boolean_start("startForward", false)?,
+        )),
     }))
 }

@@ -48,6 +48,12 @@ pub fn indicators(sys: &System, disc: &DiscreteState, ws: &Workspace, z: &mut [f
         } else {
             (NEVER, NEVER)
         };
+        // A speed the mode holds fixed cannot cross zero; its round-off must not fire events.
+        let (a, b) = if v.held && !st.locked {
+            (NEVER, b)
+        } else {
+            (a, b)
+        };
         slot[1] = a;
         slot[2] = b;
     }
@@ -76,6 +82,11 @@ pub fn indicators(sys: &System, disc: &DiscreteState, ws: &Workspace, z: &mut [f
             (-v.w, v.sa - v.loss_min_m)
         } else {
             (NEVER, NEVER)
+        };
+        let (a, b) = if v.held && !st.locked {
+            (NEVER, b)
+        } else {
+            (a, b)
         };
         slot[1] = a;
         slot[2] = b;

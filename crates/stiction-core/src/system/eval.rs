@@ -52,6 +52,8 @@ pub struct GearValues {
     pub loss_max_p: f64,
     pub loss_min_m: f64,
     pub loss: f64,
+    /// The mode's rows hold this gear's speed fixed.
+    pub held: bool,
 }
 
 #[derive(Debug, Clone, Copy, Default)]
@@ -66,6 +68,8 @@ pub struct FrictionValues {
     pub mu: f64,
     pub sa: f64,
     pub loss: f64,
+    /// The mode's rows hold this element's relative speed fixed.
+    pub held: bool,
 }
 
 /// Everything known at one instant. Allocated once per run and reused.
@@ -250,6 +254,7 @@ pub fn evaluate(
         let st = &disc.gears[k];
         let v = &mut ws.gears[k];
         v.tau_a = rhs[n + mm.gear_row[k]];
+        v.held = mm.gear_held[k];
         v.a = g.lock_row.dot(&ws.a);
         v.tau_loss = if g.ideal {
             0.0
@@ -276,6 +281,7 @@ pub fn evaluate(
         let st = &disc.friction[k];
         let v = &mut ws.friction[k];
         v.a = fe.rel.dot(&ws.a);
+        v.held = mm.friction_held[k];
         v.sa = if st.locked {
             v.tau
         } else {

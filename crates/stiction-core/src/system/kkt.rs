@@ -10,9 +10,9 @@
 //! each multiplier acts on the nodes (C = Gᵀ except a rolling LossyGear, whose loss torque
 //! follows its torque). The matrix depends on the mode only — factor once per mode and reuse.
 //! A locked row that depends on the others (two elements locking the same motion) is left out:
-//! its torque is 0, one of the consistent splits MSL allows (spec §7.9). Locked gears come
-//! before locked friction elements, so a gear sticking together with a bearing carries the load
-//! and the bearing, unloaded, stays stuck until the gear moves.
+//! its torque is 0, one of the consistent splits MSL allows (spec §7.9). Locked friction
+//! elements come before locked gears, as in the reference results: a bearing stuck together
+//! with a gear carries the load first.
 
 use nalgebra::{DMatrix, DVector, Dyn, LU};
 
@@ -30,13 +30,26 @@ pub struct ModeMatrix {
     pub gear_lock_row: Vec<Option<usize>>,
     /// The gear modes this matrix was factored for.
     pub gear_modes: Vec<GearMode>,
+    /// Friction elements (and gears) whose relative motion the mode's rows hold fixed: their
+    /// speed cannot change, so it is not watched for zero crossings (no events from round-off).
+    pub friction_held: Vec<bool>,
+    pub gear_held: Vec<bool>,
+}
+
+/// How a row's multiplier acts on the nodes: along the row itself, the row plus `s·ℓ`, or
+/// only along `ℓ` (a stuck LossyGear's loss torque).
+enum Column<'a> {
+    Same,
+    Plus(&'a Rel, f64),
+    Only(&'a Rel),
 }
 
 /// Keeps rows that are linearly independent of those kept before (Gram–Schmidt).
 struct Independent(Vec<Vec<f64>>);
 
 impl Independent {
-    fn accept(&mut self, rel: &Rel, n: usize) -> bool {
+    /// The row's norm and what is left of it after removing the kept rows' directions.
+    fn residual(&self, rel: &Rel, n: usize) -> (f64, Vec<f64>) {
         let mut v = vec![0.0; n];
         for &(i, c) in &rel.terms {
             v[i] += c;
@@ -46,6 +59,18 @@ impl Independent {
             let dot: f64 = q.iter().zip(&v).map(|(a, b)| a * b).sum();
             v.iter_mut().zip(q).for_each(|(x, qi)| *x -= dot * qi);
         }
+        (norm0, v)
+    }
+
+    /// Whether the row is a combination of the rows kept so far.
+    fn depends(&self, rel: &Rel, n: usize) -> bool {
+        let (norm0, v) = self.residual(rel, n);
+        norm0 > 0.0 && v.iter().map(|x| x * x).sum::<f64>().sqrt() <= 1e-10 * norm0
+    }
+
+    /// Keeps the row if it is independent of the rows kept so far.
+    fn accept(&mut self, rel: &Rel, n: usize) -> bool {
+        let (norm0, mut v) = self.residual(rel, n);
         let norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
         if norm0 == 0.0 || norm <= 1e-10 * norm0 {
             return false;
@@ -63,63 +88,72 @@ impl ModeMatrix {
         gear_modes: &[GearMode],
     ) -> Result<Self, String> {
         let n = sys.nodes;
-        // (row, column, scale of the column's extra part ℓ) in row order.
-        let mut rows: Vec<(&Rel, Option<(&Rel, f64)>)> = Vec::new();
+        // (row, column) in row order.
+        let mut rows: Vec<(&Rel, Column)> = Vec::new();
         let mut basis = Independent(Vec::new());
         for c in &sys.constraints {
             basis.accept(&c.rel, n);
-            rows.push((&c.rel, None));
+            rows.push((&c.rel, Column::Same));
         }
         let mut gear_row = Vec::new();
         for (g, mode) in sys.lossy_gears.iter().zip(gear_modes) {
             basis.accept(&g.row, n);
             gear_row.push(rows.len());
-            let extra = (!mode.locked && mode.c1 != 0.0).then_some((&g.loss_col, mode.c1));
-            rows.push((&g.row, extra));
+            let column = if !mode.locked && mode.c1 != 0.0 {
+                Column::Plus(&g.loss_col, mode.c1)
+            } else {
+                Column::Same
+            };
+            rows.push((&g.row, column));
+        }
+        let mut friction_row = vec![None; sys.frictions.len()];
+        for (k, fe) in sys.frictions.iter().enumerate() {
+            if friction_locked[k] && basis.accept(&fe.rel, n) {
+                friction_row[k] = Some(rows.len());
+                rows.push((&fe.rel, Column::Same));
+            }
         }
         let mut gear_lock_row = vec![None; sys.lossy_gears.len()];
         for (k, (g, mode)) in sys.lossy_gears.iter().zip(gear_modes).enumerate() {
             if mode.locked && basis.accept(&g.lock_row, n) {
                 gear_lock_row[k] = Some(rows.len());
                 // the stuck loss torque acts through ℓ
-                rows.push((&g.lock_row, Some((&g.loss_col, f64::NAN))));
+                rows.push((&g.lock_row, Column::Only(&g.loss_col)));
             }
         }
-        let mut friction_row = vec![None; sys.frictions.len()];
-        for (k, fe) in sys.frictions.iter().enumerate() {
-            if friction_locked[k] && basis.accept(&fe.rel, n) {
-                friction_row[k] = Some(rows.len());
-                rows.push((&fe.rel, None));
-            }
-        }
+        // Elements whose motion the kept rows hold: their speed cannot change in this mode.
+        let friction_held = sys
+            .frictions
+            .iter()
+            .map(|fe| basis.depends(&fe.rel, n))
+            .collect();
+        let gear_held = sys
+            .lossy_gears
+            .iter()
+            .map(|g| basis.depends(&g.lock_row, n))
+            .collect();
         let size = n + rows.len();
         let mut m = DMatrix::<f64>::zeros(size, size);
         for i in 0..n {
             m[(i, i)] = sys.mass[i];
         }
-        for (r, (row, extra)) in rows.iter().enumerate() {
+        for (r, (row, column)) in rows.iter().enumerate() {
             for &(i, c) in &row.terms {
                 m[(n + r, i)] = c;
             }
-            match extra {
-                // a locked gear's sa acts through ℓ only
-                Some((col, s)) if s.is_nan() => {
-                    for &(i, c) in &col.terms {
-                        m[(i, n + r)] += c;
-                    }
+            let (same, extra) = match *column {
+                Column::Same => (true, None),
+                Column::Plus(col, s) => (true, Some((col, s))),
+                Column::Only(col) => (false, Some((col, 1.0))),
+            };
+            if same {
+                for &(i, c) in &row.terms {
+                    m[(i, n + r)] += c;
                 }
-                Some((col, s)) => {
-                    for &(i, c) in &row.terms {
-                        m[(i, n + r)] += c;
-                    }
-                    for &(i, c) in &col.terms {
-                        m[(i, n + r)] += s * c;
-                    }
-                }
-                None => {
-                    for &(i, c) in &row.terms {
-                        m[(i, n + r)] += c;
-                    }
+            }
+            if let Some((col, s)) = extra {
+                for &(i, c) in &col.terms {
+                    m[(i, n + r)] += s * c;
                 }
             }
         }
@@ -135,6 +169,8 @@ impl ModeMatrix {
         Ok(Self {
             lu,
             size,
+            friction_held,
+            gear_held,
             friction_row,
             gear_row,
             gear_lock_row,

@@ -309,6 +309,49 @@ class FixedTemperature(_Factory):
     """
 
 
+# --- the rest of the MSL Coulomb-friction family ---------------------------------------
+class OneWayClutch(_Factory):
+    """Freewheel in parallel with a clutch: slides forward, locks instead of sliding backward.
+
+    MSL counterpart: Modelica.Mechanics.Rotational.Components.OneWayClutch
+    """
+
+
+class BearingFriction(_Factory):
+    """Coulomb friction in bearings, the torque given by ``tau_pos``.
+
+    MSL counterpart: Modelica.Mechanics.Rotational.Components.BearingFriction
+    """
+
+
+class LossyGear(_Factory):
+    """Gear with mesh efficiency and bearing friction (``lossTable``); can stick.
+
+    MSL counterpart: Modelica.Mechanics.Rotational.Components.LossyGear
+    """
+
+
+class ElastoBacklash(_Factory):
+    """Backlash in series with a spring and damper, soft contact.
+
+    MSL counterpart: Modelica.Mechanics.Rotational.Components.ElastoBacklash
+    """
+
+
+class IdealPlanetary(_Factory):
+    """Planetary gear (sun, carrier, ring) without inertia.
+
+    MSL counterpart: Modelica.Mechanics.Rotational.Components.IdealPlanetary
+    """
+
+
+class Pulse(_Factory):
+    """Periodic pulse signal; every edge is a time event.
+
+    MSL counterpart: Modelica.Blocks.Sources.Pulse
+    """
+
+
 @functools.cache
 def component_types() -> dict[str, dict[str, list[str]]] | None:
     """Give the engine's types with their parameters and ports; None if not built."""

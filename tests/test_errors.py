@@ -13,6 +13,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import stiction as st
@@ -45,6 +46,41 @@ def _edit(old: str, new: str) -> str:
 
 BRAKE = 'brake = { type = "Brake", fn_max = 100.0 }'
 CONNECT_PRESS = '  ["press.y", "brake.f_normalized"],\n'
+
+GEARBOX = """\
+name = "gearbox"
+connect = [
+  ["pulse.y", "drive.tau"],
+  ["drive.flange", "J1.flange_a"],
+  ["J1.flange_b", "gear.flange_a"],
+  ["gear.flange_b", "backlash.flange_a"],
+  ["backlash.flange_b", "planet.sun"],
+  ["planet.ring", "ground.flange"],
+  ["planet.carrier", "J2.flange_a"],
+]
+
+[experiment]
+StopTime = 0.5
+Interval = 0.01
+
+[components]
+pulse = { type = "Pulse", amplitude = 10.0, width = 50.0, period = 0.2 }
+drive = { type = "Torque" }
+J1 = { type = "Inertia", J = 1.0, phi = 0.0, w = 0.0 }
+gear = { type = "LossyGear", ratio = 2.0, lossTable = [[0.0, 0.9, 0.8, 0.1, 0.1], [10.0, 0.85, 0.75, 0.2, 0.2]] }
+backlash = { type = "ElastoBacklash", c = 1e4, d = 10.0, b = 0.001 }
+planet = { type = "IdealPlanetary", ratio = 2.0 }
+ground = { type = "Fixed" }
+J2 = { type = "Inertia", J = 3.0, phi = 0.0, w = 0.0 }
+"""
+
+
+def _edit_gearbox(old: str, new: str) -> str:
+    assert GEARBOX.count(old) == 1, old
+    return GEARBOX.replace(old, new, 1)
+
+
+LOSS_ROW2 = "[10.0, 0.85, 0.75, 0.2, 0.2]"
 
 # case: (model text, regular expressions the message must contain)
 CASES: dict[str, tuple[str, list[str]]] = {
@@ -91,6 +127,45 @@ CASES: dict[str, tuple[str, list[str]]] = {
         _edit(CONNECT_PRESS, ""),
         [r"'brake'", r"f_normalized", r"(?i)not connected"],
     ),
+    "lossTable speed repeated": (
+        _edit_gearbox(LOSS_ROW2, "[0.0, 0.85, 0.75, 0.2, 0.2]"),
+        [r"'gear'", r"lossTable", r"(?i)strictly increasing"],
+    ),
+    "lossTable speed decreasing": (
+        _edit_gearbox(LOSS_ROW2, "[-1.0, 0.85, 0.75, 0.2, 0.2]"),
+        [r"'gear'", r"lossTable", r"(?i)strictly increasing"],
+    ),
+    "lossTable efficiency 0": (
+        _edit_gearbox("[0.0, 0.9, 0.8,", "[0.0, 0.0, 0.8,"),
+        [r"'gear'", r"lossTable", r"eta_mf1", r"\(0, 1\]|> 0"],
+    ),
+    "lossTable efficiency 1.2": (
+        _edit_gearbox(LOSS_ROW2, "[10.0, 0.85, 1.2, 0.2, 0.2]"),
+        [r"'gear'", r"lossTable", r"eta_mf2", r"1\.2"],
+    ),
+    "lossTable with 4 columns": (
+        _edit_gearbox(
+            "[[0.0, 0.9, 0.8, 0.1, 0.1], [10.0, 0.85, 0.75, 0.2, 0.2]]",
+            "[[0.0, 0.9, 0.8, 0.1], [10.0, 0.85, 0.75, 0.2]]",
+        ),
+        [r"'gear'", r"lossTable", r"(?i)5 columns"],
+    ),
+    "negative backlash": (
+        _edit_gearbox("b = 0.001", "b = -0.001"),
+        [r"'backlash'", r"parameter 'b'", r"-0\.001"],
+    ),
+    "planetary ratio 0": (
+        _edit_gearbox('"IdealPlanetary", ratio = 2.0', '"IdealPlanetary", ratio = 0.0'),
+        [r"'planet'", r"parameter 'ratio'", r"(?i)> 0|positive"],
+    ),
+    "planetary ratio negative": (
+        _edit_gearbox('"IdealPlanetary", ratio = 2.0', '"IdealPlanetary", ratio = -1.5'),
+        [r"'planet'", r"parameter 'ratio'", r"-1\.5"],
+    ),
+    "pulse width 0": (
+        _edit_gearbox("width = 50.0", "width = 0.0"),
+        [r"'pulse'", r"parameter 'width'", r"\(0, 100\]|> 0"],
+    ),
 }
 
 
@@ -118,6 +193,17 @@ def test_the_good_model_runs() -> None:
     """Control: the unedited model simulates, so each failure below is due to its edit."""
     r = st.Model.loads(GOOD).simulate()
     assert r["J.w"][0] == 10.0 and r["brake.mode"][-1] == 0  # braked to a stop in 0.4 s
+
+
+def test_the_good_gearbox_model_runs() -> None:
+    """Control for the LossyGear / ElastoBacklash / IdealPlanetary / Pulse cases below.
+
+    The pulse drives the lossy gear forward, through the backlash into the planetary, whose
+    ring is held, so the carrier turns at sun/(1 + ratio).
+    """
+    r = st.Model.loads(GEARBOX).simulate()
+    assert r["J2.w"][-1] > 0.0 and 1.0 in r["gear.mode"]
+    np.testing.assert_allclose(3.0 * r["planet.carrier.phi"], r["planet.sun.phi"], rtol=1e-12, atol=1e-15)
 
 
 @pytest.mark.parametrize("case", list(CASES))

@@ -48,9 +48,10 @@ pub fn indicators(sys: &System, disc: &DiscreteState, ws: &Workspace, z: &mut [f
         } else {
             (NEVER, NEVER)
         };
-        // A speed the mode holds fixed cannot cross zero; its round-off must not fire events.
+        // A speed the mode holds fixed cannot cross zero, and while starting its `sa` is then
+        // pinned to the threshold (a ≡ 0): watching either would fire events from round-off.
         let (a, b) = if v.held && !st.locked {
-            (NEVER, b)
+            (NEVER, NEVER)
         } else {
             (a, b)
         };
@@ -84,7 +85,7 @@ pub fn indicators(sys: &System, disc: &DiscreteState, ws: &Workspace, z: &mut [f
             (NEVER, NEVER)
         };
         let (a, b) = if v.held && !st.locked {
-            (NEVER, b)
+            (NEVER, NEVER)
         } else {
             (a, b)
         };
@@ -103,6 +104,40 @@ pub fn indicators(sys: &System, disc: &DiscreteState, ws: &Workspace, z: &mut [f
         for r in 0..count {
             let frozen = disc.relations[law.relation_base + r];
             z[base + law.relation_base + r] = if frozen { -scratch[r] } else { scratch[r] };
+        }
+    }
+}
+
+/// Rates of change of the speed indicators (±relative speed of a sliding or starting element:
+/// the rate is ±its relative acceleration); NaN for the others. A speed that rises and falls
+/// back within one step shows as a rate changing sign, which the driver then inspects.
+pub fn speed_rates(sys: &System, disc: &DiscreteState, ws: &Workspace, dz: &mut [f64]) {
+    dz.fill(f64::NAN);
+    let sign = |locked: bool,
+                free: bool,
+                held: bool,
+                pre: crate::components::friction::logic::Discrete| {
+        if locked || free || held {
+            None
+        } else if pre.mode == FORWARD || (pre.mode == STUCK && pre.start_backward) {
+            Some(-1.0)
+        } else if pre.mode == BACKWARD || (pre.mode == STUCK && pre.start_forward) {
+            Some(1.0)
+        } else {
+            None
+        }
+    };
+    for (k, st) in disc.friction.iter().enumerate() {
+        let v = &ws.friction[k];
+        let free = st.free && sys.frictions[k].one_way.is_none();
+        if let Some(s) = sign(st.locked, free, v.held, st.pre) {
+            dz[3 * k + 1] = s * v.a;
+        }
+    }
+    for (k, (g, st)) in sys.lossy_gears.iter().zip(&disc.gears).enumerate() {
+        let v = &ws.gears[k];
+        if let Some(s) = sign(st.locked || g.ideal, false, v.held, st.pre) {
+            dz[gear_base(sys) + 3 * k + 1] = s * v.a;
         }
     }
 }

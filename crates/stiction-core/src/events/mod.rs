@@ -4,5 +4,5 @@
 mod crossings;
 mod iteration;
 
-pub use crossings::{indicator_count, indicator_label, indicators};
+pub use crossings::{indicator_count, indicator_label, indicators, speed_rates};
 pub use iteration::{iterate, ModeCache, ModeChange};

@@ -20,7 +20,9 @@ use crate::components::friction::logic::UNKNOWN;
 use crate::components::friction::lossy_gear::GearState;
 use crate::components::friction::FrictionState;
 use crate::error::SimError;
-use crate::events::{indicator_count, indicator_label, indicators, iterate, ModeCache, ModeChange};
+use crate::events::{
+    indicator_count, indicator_label, indicators, iterate, speed_rates, ModeCache, ModeChange,
+};
 use crate::result::{EventRecord, SimResult, Stats, Trajectory};
 use crate::system::eval::{derivative, evaluate, DiscreteState, Workspace};
 use crate::system::kkt::ModeMatrix;
@@ -189,6 +191,10 @@ pub fn run(sys: Arc<System>) -> Result<SimResult, SimError> {
         log: std::mem::take(&mut log),
         z_prev: vec![0.0; indicator_count(&sys)],
         z: vec![0.0; indicator_count(&sys)],
+        z_scan: vec![0.0; indicator_count(&sys)],
+        dz: vec![f64::NAN; indicator_count(&sys)],
+        dz_scan: vec![f64::NAN; indicator_count(&sys)],
+        dz_probe: vec![f64::NAN; indicator_count(&sys)],
         x: x0,
         dense: None,
         grid_k: 1,
@@ -225,6 +231,12 @@ struct Driver {
     log: Vec<EventRecord>,
     z_prev: Vec<f64>,
     z: Vec<f64>,
+    /// Indicators at the previous sample while scanning a step.
+    z_scan: Vec<f64>,
+    /// Rates of the speed indicators at the current and the previous sample.
+    dz: Vec<f64>,
+    dz_scan: Vec<f64>,
+    dz_probe: Vec<f64>,
     /// State buffer (interpolated or current).
     x: Vec<f64>,
     /// diffsol's vector for dense output, reused.
@@ -336,6 +348,115 @@ impl Driver {
         Ok(self.z[i])
     }
 
+    /// Looks for a crossing in the last step at three interior points of the dense output and
+    /// at its end — a relation that flips and flips back within one step (a freewheel touching
+    /// lock for a millisecond) is still seen. Leaves the indicators at the step end in `z`.
+    fn scan_step<'a, Eqn, S>(
+        &mut self,
+        solver: &S,
+        t_prev: f64,
+        t_now: f64,
+        candidates: &mut Vec<(usize, f64, f64)>,
+    ) -> Result<Option<(f64, usize)>, SimError>
+    where
+        Eqn: OdeEquations<T = f64, V = V, C = diffsol::NalgebraContext> + 'a,
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        const SAMPLES: usize = 4;
+        self.z_scan.copy_from_slice(&self.z_prev);
+        // the rates at the step's start: those of the last sample (NaN right after an event)
+        self.dz_scan.copy_from_slice(&self.dz);
+        let mut a = t_prev;
+        for k in 1..=SAMPLES {
+            let t = if k == SAMPLES {
+                self.x.copy_from_slice(solver.state().y.inner().as_slice());
+                t_now
+            } else {
+                let t = t_prev + (t_now - t_prev) * k as f64 / SAMPLES as f64;
+                self.load(solver, t)?;
+                t
+            };
+            self.evaluate_here(t, true);
+            {
+                let guard = self.phase.borrow();
+                speed_rates(&self.sys, &guard.disc, &guard.ws, &mut self.dz);
+            }
+            candidates.clear();
+            for (i, (&za, &zb)) in self.z_scan.iter().zip(&self.z).enumerate() {
+                if za <= 0.0 && zb > 0.0 {
+                    candidates.push((i, za, zb));
+                }
+            }
+            if !candidates.is_empty() {
+                return self.locate(solver, a, t, candidates).map(Some);
+            }
+            // A speed indicator that rises and falls back between two samples: find its peak.
+            if let Some((t_peak, i)) = self.peak_between(solver, a, t)? {
+                let z_a = self.z_scan[i];
+                let z_peak = self.indicator_at(solver, t_peak, i)?;
+                if z_peak > 0.0 {
+                    candidates.clear();
+                    candidates.push((i, z_a, z_peak));
+                    return self.locate(solver, a, t_peak, candidates).map(Some);
+                }
+                // restore the sample at t
+                if k == SAMPLES {
+                    self.x.copy_from_slice(solver.state().y.inner().as_slice());
+                } else {
+                    self.load(solver, t)?;
+                }
+                self.evaluate_here(t, true);
+            }
+            self.z_scan.copy_from_slice(&self.z);
+            self.dz_scan.copy_from_slice(&self.dz);
+            a = t;
+        }
+        Ok(None)
+    }
+
+    /// The highest point between samples `a` and `b` of a speed indicator whose rate goes from
+    /// positive (at a, in `dz_scan`) to negative (at b, in `dz`) while it stays ≤ 0 at both ends:
+    /// the rate's zero, by bisection on the dense output.
+    fn peak_between<'a, Eqn, S>(
+        &mut self,
+        solver: &S,
+        a: f64,
+        b: f64,
+    ) -> Result<Option<(f64, usize)>, SimError>
+    where
+        Eqn: OdeEquations<T = f64, V = V, C = diffsol::NalgebraContext> + 'a,
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let Some(i) = (0..self.dz.len()).find(|&i| {
+            self.dz_scan[i] > 0.0 && self.dz[i] < 0.0 && self.z_scan[i] <= 0.0 && self.z[i] <= 0.0
+        }) else {
+            return Ok(None);
+        };
+        let (mut lo, mut hi) = (a, b);
+        for _ in 0..60 {
+            if hi - lo <= 1e-9 * (b - a) {
+                break;
+            }
+            let mid = 0.5 * (lo + hi);
+            self.load(solver, mid)?;
+            self.evaluate_here(mid, false);
+            let rate = {
+                let guard = self.phase.borrow();
+                let mut dz = std::mem::take(&mut self.dz_probe);
+                speed_rates(&self.sys, &guard.disc, &guard.ws, &mut dz);
+                let r = dz[i];
+                self.dz_probe = dz;
+                r
+            };
+            if rate > 0.0 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        Ok(Some((0.5 * (lo + hi), i)))
+    }
+
     /// Earliest instant in (a, b] at which one of `candidates` becomes > 0: Illinois regula falsi
     /// on each, keeping the bracket so the returned time lies just after the crossing.
     fn locate<'a, Eqn, S>(
@@ -443,6 +564,7 @@ impl Driver {
         }
         self.evaluate_here(t, true);
         self.z_prev.copy_from_slice(&self.z);
+        self.dz.fill(f64::NAN);
         Ok(())
     }
 
@@ -498,23 +620,15 @@ impl Driver {
         loop {
             let reason = solver.step().map_err(|e| numerical(t_prev, e))?;
             let t_now = solver.state().t;
-            self.x.copy_from_slice(solver.state().y.inner().as_slice());
             // At a pending time event the signals keep their left limits (the horizon).
             let at_time_event =
                 next_te < time_events.len() && (t_now - stop).abs() <= 1e-12 * stop.abs().max(1.0);
-            self.evaluate_here(t_now, true);
-            candidates.clear();
-            for (i, (&zp, &zn)) in self.z_prev.iter().zip(&self.z).enumerate() {
-                if zp <= 0.0 && zn > 0.0 {
-                    candidates.push((i, zp, zn));
-                }
-            }
             let mut located = None;
-            if !candidates.is_empty() {
-                let (t_e, i) = self.locate(&solver, t_prev, t_now, &candidates)?;
+            if let Some((t_e, i)) = self.scan_step(&solver, t_prev, t_now, &mut candidates)? {
                 let cause = indicator_label(&self.sys, &self.phase.borrow().disc, i);
                 located = Some((t_e, cause));
             }
+            self.x.copy_from_slice(solver.state().y.inner().as_slice());
             // A crossing at the pending time event is handled with it (one event iteration).
             let tie = |t_e: f64| at_time_event && stop - t_e <= 1e-12 * stop.abs().max(1.0);
             let tied_cause = match located.take() {

@@ -4,6 +4,8 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 OUT    := out
 EXAMPLE ?= examples/msl/CoupledClutches.toml
+# what the demo plots: speeds on one axes, the clutch modes on another
+DEMO_SIGNALS ?= J1.w+J2.w+J3.w+J4.w,clutch1.mode+clutch2.mode+clutch3.mode
 
 .PHONY: setup demo test test-rust test-python lint bench clean
 
@@ -15,7 +17,7 @@ setup:
 demo: setup
 	@mkdir -p $(OUT)
 	$(VENV)/bin/stiction simulate $(EXAMPLE) -o $(OUT)/$(basename $(notdir $(EXAMPLE))).csv \
-		--plot $(OUT)/$(basename $(notdir $(EXAMPLE))).png
+		--plot $(OUT)/$(basename $(notdir $(EXAMPLE))).png --signals "$(DEMO_SIGNALS)"
 
 test: setup test-rust test-python
 

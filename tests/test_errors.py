@@ -255,7 +255,7 @@ Interval = 0.01
 [components]
 J1 = { type = "Inertia", J = 1.0, phi = 0.0, w = 10.0 }
 c1 = { type = "Clutch", fn_max = 100.0 }
-c2 = { type = "Clutch", fn_max = 100.0 }
+c2 = { type = "Clutch", fn_max = 100.0, w_rel = -5.0 }
 J2 = { type = "Inertia", J = 1.0, phi = 0.0, w = 0.0 }
 press = { type = "Constant", k = 1.0 }
 """
@@ -263,6 +263,10 @@ press = { type = "Constant", k = 1.0 }
 
 def test_shaft_without_inertia_between_two_clutches(tmp_path: Path) -> None:
     """Two sliding clutches on a massless shaft leave its acceleration undetermined.
+
+    The shaft starts at 5 rad/s (c2.w_rel = −5 fixed), between J1 at 10 and J2 at rest, so
+    both clutches slide and nothing holds the shaft. (Were one of them locked, the shaft
+    would move with its inertia, a regular mode, and the model would run.)
 
     The run must stop promptly (the CLI call has a timeout and goes first) with an error
     naming the shaft's ports, not hang in the event iteration or return garbage.

@@ -198,8 +198,8 @@ impl Component for FixedTemperature {
         let node = b.heat_node("port")?;
         b.fix_temperature(node, self.t)?;
         b.output("port.T", Out::HeatT(node));
-        // The source absorbs whatever flows into its node.
-        b.output("port.Q_flow", Out::HeatNodeInflow(node, -1.0));
+        // The source absorbs whatever flows into its node (Q_flow is positive into a component).
+        b.output("port.Q_flow", Out::HeatNodeInflow(node, 1.0));
         Ok(())
     }
 }

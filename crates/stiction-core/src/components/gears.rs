@@ -26,16 +26,7 @@ impl Component for IdealGear {
         // flange_b.tau = −ratio·λ, support.tau = −(1 − ratio)·λ.
         let row = Rel::of(&[(na, 1.0), (nb, -r), (ns, r - 1.0)]);
         let k = b.add_constraint(row, false)?;
-        b.init_angle(
-            Rel::of(&[(na, 1.0), (nb, -r), (ns, r - 1.0)]),
-            fixed_zero(),
-            "phi_a",
-        );
-        b.init_speed(
-            Rel::of(&[(na, 1.0), (nb, -r), (ns, r - 1.0)]),
-            fixed_zero(),
-            "w_a",
-        );
+        b.init_constraint(Rel::of(&[(na, 1.0), (nb, -r), (ns, r - 1.0)]));
         b.output("phi_a", Out::Angle(Rel::of(&[(na, 1.0), (ns, -1.0)])));
         b.output("phi_b", Out::Angle(Rel::of(&[(nb, 1.0), (ns, -1.0)])));
         b.flange("flange_a", na, Some(Out::ConstraintTau(k, 1.0)))?;
@@ -44,14 +35,6 @@ impl Component for IdealGear {
             b.flange("support", ns, Some(Out::ConstraintTau(k, r - 1.0)))?;
         }
         Ok(())
-    }
-}
-
-/// The constraint itself holds at the start: a fixed initial equation `row = 0`.
-fn fixed_zero() -> crate::model::InitValue {
-    crate::model::InitValue {
-        start: 0.0,
-        fixed: true,
     }
 }
 
@@ -86,8 +69,7 @@ impl Component for IdealPlanetary {
         // ring.tau = ratio·sun.tau and carrier.tau = −(1 + ratio)·sun.tau.
         let row = || Rel::of(&[(sun, -1.0), (ring, -r), (carrier, 1.0 + r)]);
         let k = b.add_constraint(row(), false)?;
-        b.init_angle(row(), fixed_zero(), "carrier.phi");
-        b.init_speed(row(), fixed_zero(), "carrier.w");
+        b.init_constraint(row());
         b.flange("sun", sun, Some(Out::ConstraintTau(k, -1.0)))?;
         b.flange("carrier", carrier, Some(Out::ConstraintTau(k, 1.0 + r)))?;
         b.flange("ring", ring, Some(Out::ConstraintTau(k, -r)))?;

@@ -91,13 +91,17 @@ impl PortKind {
     }
 }
 
+/// The most time events one component may schedule in a run.
+pub const MAX_TIME_EVENTS: usize = 1_000_000;
+
 /// What every component does.
 pub trait Component {
     fn ports(&self) -> Ports;
     /// Contributes to the system; called once the ports are resolved to nodes.
     fn build(&self, b: &mut Builder) -> ModelResult<()>;
-    /// Time instants up to `until` where this component's equations change (time events).
-    fn time_events(&self, _until: f64) -> Vec<f64> {
+    /// Time instants in `[from, until]` where this component's equations change (time events),
+    /// at most `MAX_TIME_EVENTS` of them (more is reported as an error by the assembly).
+    fn time_events(&self, _from: f64, _until: f64) -> Vec<f64> {
         Vec::new()
     }
 }

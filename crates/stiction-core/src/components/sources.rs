@@ -187,7 +187,7 @@ impl Component for TorqueSource {
         Ok(())
     }
 
-    fn time_events(&self, _until: f64) -> Vec<f64> {
+    fn time_events(&self, _from: f64, _until: f64) -> Vec<f64> {
         self.events.clone()
     }
 }

@@ -11,7 +11,7 @@ use crate::components::friction::logic::{Discrete, Relations};
 use crate::components::friction::lossy_gear::GearState;
 use crate::components::friction::FrictionState;
 use crate::error::SimError;
-use crate::system::eval::{evaluate, DiscreteState, Workspace};
+use crate::system::eval::{evaluate, kinematics, DiscreteState, Workspace};
 use crate::system::kkt::ModeMatrix;
 use crate::system::System;
 
@@ -104,10 +104,10 @@ pub fn iterate(
     let before_f: Vec<i8> = disc.friction.iter().map(|f| f.pre.mode).collect();
     let before_g: Vec<i8> = disc.gears.iter().map(|g| g.pre.mode).collect();
 
-    // Relations of force laws are evaluated literally at the event.
+    // Relations of force laws are evaluated literally at the event (no linear solve needed:
+    // the previous mode's matrix may not even be regular, e.g. before initialization).
     {
-        let mm = cache.get(sys, disc, t)?;
-        evaluate(sys, &mm, disc, t, x, horizon, ws);
+        kinematics(sys, t, x, horizon, ws);
         let mut z = [0.0; 4];
         for (k, law) in sys.laws.iter().enumerate() {
             let count = law.law.relation_count();

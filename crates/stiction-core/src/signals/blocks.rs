@@ -18,7 +18,7 @@ struct BlockComponent<B: Block + Clone + 'static> {
 /// A block's time events: a few fixed instants, or edges that recur up to the stop time.
 enum Events {
     Fixed(Vec<f64>),
-    Recurring(Box<dyn Fn(f64) -> Vec<f64>>),
+    Recurring(Box<dyn Fn(f64, f64) -> Vec<f64>>),
 }
 
 impl<B: Block + Clone + 'static> Component for BlockComponent<B> {
@@ -45,10 +45,10 @@ impl<B: Block + Clone + 'static> Component for BlockComponent<B> {
         Ok(())
     }
 
-    fn time_events(&self, until: f64) -> Vec<f64> {
+    fn time_events(&self, from: f64, until: f64) -> Vec<f64> {
         match &self.events {
             Events::Fixed(times) => times.clone(),
-            Events::Recurring(edges) => edges(until),
+            Events::Recurring(edges) => edges(from, until),
         }
     }
 }
@@ -248,10 +248,15 @@ impl Pulse {
         self.start_time + k as f64 * self.period
     }
 
-    fn edges(&self, until: f64) -> Vec<f64> {
+    /// Pulse edges in `[from, until]`, from the period containing `from`, at most
+    /// `MAX_TIME_EVENTS` of them.
+    fn edges(&self, from: f64, until: f64) -> Vec<f64> {
         let mut edges = Vec::new();
-        let mut k = 0;
-        while self.period_start(k) <= until && (self.nperiod < 0 || k < self.nperiod) {
+        let mut k = ((from - self.start_time) / self.period).floor().max(0.0) as i64;
+        while self.period_start(k) <= until
+            && (self.nperiod < 0 || k < self.nperiod)
+            && edges.len() < crate::components::MAX_TIME_EVENTS
+        {
             edges.push(self.period_start(k));
             edges.push(self.period_start(k) + self.width);
             k += 1;
@@ -309,6 +314,6 @@ pub fn pulse(p: &Params) -> ModelResult<Box<dyn Component>> {
     Ok(Box::new(BlockComponent {
         inputs: &[],
         block,
-        events: Events::Recurring(Box::new(move |until| edges.edges(until))),
+        events: Events::Recurring(Box::new(move |from, until| edges.edges(from, until))),
     }))
 }

@@ -53,9 +53,16 @@ impl SignalGraph {
     }
 }
 
+/// Two time events closer than the integrator can separate are one event (see the assembly).
+#[inline]
+pub fn same_instant(a: f64, b: f64) -> bool {
+    a.is_finite() && b.is_finite() && (a - b).abs() <= 1e-10 * a.abs().max(b.abs()).max(1.0)
+}
+
 /// Modelica's `time >= t0` with frozen time relations: a switch at `t0` has happened once the
-/// event at `t0` was handled, i.e. when `t0` lies before the horizon of unhandled events.
+/// event at `t0` was handled, i.e. when `t0` lies before the horizon of unhandled events (and is
+/// not part of the horizon's own event, merged with it).
 #[inline]
 pub fn reached(t: f64, t0: f64, horizon: f64) -> bool {
-    t >= t0 && t0 < horizon
+    t >= t0 && t0 < horizon && !same_instant(t0, horizon)
 }

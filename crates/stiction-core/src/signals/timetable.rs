@@ -18,31 +18,33 @@ struct TimeTable {
 
 impl Block for TimeTable {
     fn eval(&self, t: f64, horizon: f64, _u: &[f64]) -> f64 {
+        // MSL CombiTimeTable: the output is `offset` before startTime.
+        if !crate::signals::reached(t, self.start_time, horizon) {
+            return self.offset;
+        }
         let n = self.t.len();
-        let s = t - self.start_time;
         if n == 1 {
             return self.offset + self.y[0];
         }
-        if self.hold && s <= self.t[0] {
-            return self.offset + self.y[0];
+        let s = t - self.start_time;
+        // Breakpoints are time events: the segment in force is the last one whose start has
+        // been reached (its absolute time lies before the horizon of unhandled events).
+        let started = |i: usize| crate::signals::reached(t, self.t[i] + self.start_time, horizon);
+        let mut k = self.t.partition_point(|&ti| ti <= s).max(1);
+        while k > 1 && !started(k - 1) {
+            k -= 1;
         }
-        if self.hold && s >= self.t[n - 1] {
+        if self.hold && k >= n && started(n - 1) {
             return self.offset + self.y[n - 1];
         }
-        // Interval with t_i <= s < t_{i+1}. Breakpoints are time events: one at or beyond the
-        // horizon has not been passed, so the interval before it continues (left limit).
-        let h = horizon - self.start_time;
-        let k = if s >= h {
-            self.t.partition_point(|&ti| ti < h)
-        } else {
-            self.t.partition_point(|&ti| ti <= s)
-        };
-        let left = s >= h;
-        let i = k.clamp(1, n - 1) - 1;
+        if self.hold && !started(0) {
+            return self.offset + self.y[0];
+        }
+        let i = k.min(n - 1) - 1;
         let (t0, t1, y0, y1) = (self.t[i], self.t[i + 1], self.y[i], self.y[i + 1]);
         if t1 == t0 {
-            // a jump at the table's first or last point
-            return self.offset + if left { y0 } else { y1 };
+            // a jump at the table's last point: its right value once it has happened
+            return self.offset + if started(i + 1) { y1 } else { y0 };
         }
         self.offset + y0 + (y1 - y0) * (s - t0) / (t1 - t0)
     }
@@ -64,8 +66,10 @@ impl Component for TimeTable {
     }
 
     /// Breakpoints are kinks: restarting the integrator there keeps it accurate.
-    fn time_events(&self, _until: f64) -> Vec<f64> {
-        self.t.iter().map(|ti| ti + self.start_time).collect()
+    fn time_events(&self, _from: f64, _until: f64) -> Vec<f64> {
+        let mut events = vec![self.start_time];
+        events.extend(self.t.iter().map(|ti| ti + self.start_time));
+        events
     }
 }
 

@@ -57,6 +57,16 @@ pub fn run(sys: Arc<System>) -> Result<SimResult, SimError> {
     let started = Instant::now();
     let exp = sys.experiment.clone();
     let t0 = exp.start_time;
+    // Rows are kept in memory (states, and all variables once asked for): refuse what cannot fit.
+    let rows = (exp.stop_time - exp.start_time) / exp.interval + 2.0 * sys.time_events.len() as f64;
+    let width = (sys.outputs.len() + 1).max(sys.state_len() + 3) as f64;
+    if rows * width > 3.0e8 {
+        return Err(crate::error::ModelError::File(format!(
+            "experiment: Interval = {} gives about {:.0} rows of {} values, more than fits in memory; use a larger Interval",
+            exp.interval, rows, width
+        ))
+        .into());
+    }
     let x0 = initial_state(&sys)?;
     let mut cache = ModeCache::default();
     let mut disc = DiscreteState {
@@ -348,6 +358,39 @@ impl Driver {
         Ok(self.z[i])
     }
 
+    /// Stops a run that cannot succeed, with a reason, instead of running away: a non-finite
+    /// state (overflow, a singular mode), or more events or steps than any sensible model needs
+    /// (chattering, a relation that flips on round-off).
+    fn check_progress<'a, Eqn, S>(&self, solver: &S, t: f64) -> Result<(), SimError>
+    where
+        Eqn: OdeEquations<T = f64, V = V, C = diffsol::NalgebraContext> + 'a,
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        const MAX_EVENTS: usize = 50_000;
+        const MAX_STEPS: usize = 5_000_000;
+        let fail = |message: String| Err(SimError::Numerical { time: t, message });
+        if solver.state().y.inner().iter().any(|v| !v.is_finite()) {
+            return fail(
+                "the state became infinite or NaN (overflow, or a mode without a solution)".into(),
+            );
+        }
+        if self.stats.state_events > MAX_EVENTS {
+            let last = self
+                .log
+                .last()
+                .map_or(String::new(), |e| format!("; last: {}", e.cause));
+            return fail(format!(
+                "more than {MAX_EVENTS} state events: the model chatters{last}"
+            ));
+        }
+        if solver.get_statistics().number_of_steps > MAX_STEPS {
+            return fail(format!(
+                "more than {MAX_STEPS} integration steps: the model is too stiff or chatters"
+            ));
+        }
+        Ok(())
+    }
+
     /// Looks for a crossing in the last step at three interior points of the dense output and
     /// at its end — a relation that flips and flips back within one step (a freewheel touching
     /// lock for a millisecond) is still seen. Leaves the indicators at the step end in `z`.
@@ -620,6 +663,7 @@ impl Driver {
         loop {
             let reason = solver.step().map_err(|e| numerical(t_prev, e))?;
             let t_now = solver.state().t;
+            self.check_progress(&solver, t_now)?;
             // At a pending time event the signals keep their left limits (the horizon).
             let at_time_event =
                 next_te < time_events.len() && (t_now - stop).abs() <= 1e-12 * stop.abs().max(1.0);

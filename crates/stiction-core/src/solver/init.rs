@@ -63,7 +63,9 @@ fn solve(eqs: &[InitEq], sys: &System, what: &str) -> Result<Vec<f64>, ModelErro
     let mut basis = Basis(Vec::new());
     let mut rows: Vec<(Vec<f64>, f64)> = Vec::new();
     let mut fixed_names: Vec<&str> = Vec::new();
-    for eq in eqs.iter().filter(|e| e.value.fixed) {
+    // Constraints first, so a user's start value that a gear already implies is the one named.
+    let fixed = eqs.iter().filter(|e| e.value.fixed && e.constraint);
+    for eq in fixed.chain(eqs.iter().filter(|e| e.value.fixed && !e.constraint)) {
         let row = dense_row(eq, n);
         fixed_names.push(&eq.variable);
         if !basis.accept(&row) {

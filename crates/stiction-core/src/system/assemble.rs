@@ -177,6 +177,7 @@ impl Builder {
             rel,
             value,
             variable,
+            constraint: false,
         });
     }
 
@@ -186,7 +187,25 @@ impl Builder {
             rel,
             value,
             variable,
+            constraint: false,
         });
+    }
+
+    /// A gear's kinematic row `row = 0` holds from the start, for angles and speeds.
+    pub fn init_constraint(&mut self, row: Rel) {
+        let value = InitValue {
+            start: 0.0,
+            fixed: true,
+        };
+        let variable = format!("{} (gear constraint)", self.name());
+        for list in [&mut self.sys.init_phi, &mut self.sys.init_w] {
+            list.push(InitEq {
+                rel: row.clone(),
+                value,
+                variable: variable.clone(),
+                constraint: true,
+            });
+        }
     }
 
     /// Reports a variable under `component.name`.
@@ -349,6 +368,9 @@ pub fn assemble(spec: &ModelSpec) -> ModelResult<System> {
                 } else {
                     (ib, ia)
                 };
+                if signal_source[inp] == Some(out) {
+                    continue; // the same connection twice
+                }
                 if signal_source[inp].is_some() {
                     return err(format!(
                         "signal input '{}.{}' is already connected to another output",
@@ -495,14 +517,21 @@ pub fn assemble(spec: &ModelSpec) -> ModelResult<System> {
         comp.build(&mut b)?;
     }
     let exp = &spec.experiment;
-    let mut events: Vec<f64> = comps
-        .iter()
-        .flat_map(|c| c.time_events(exp.stop_time))
-        .filter(|&t| t > exp.start_time && t < exp.stop_time)
-        .collect();
-    events.sort_by(f64::total_cmp);
-    events.dedup();
-    b.sys.time_events = events;
+    let mut events: Vec<f64> = Vec::new();
+    for (ci, c) in comps.iter().enumerate() {
+        let own = c.time_events(exp.start_time, exp.stop_time);
+        if own.len() >= components::MAX_TIME_EVENTS {
+            return Err(ModelError::Component {
+                component: names[ci].clone(),
+                message: format!(
+                    "schedules more than {} time events before StopTime (a period far shorter than the run?)",
+                    components::MAX_TIME_EVENTS
+                ),
+            });
+        }
+        events.extend(own);
+    }
+    b.sys.time_events = merge_time_events(events, exp.start_time, exp.stop_time);
 
     for (name, var) in [
         ("system.kineticEnergy", EnergyVar::Kinetic),
@@ -519,6 +548,24 @@ pub fn assemble(spec: &ModelSpec) -> ModelResult<System> {
         .collect();
     b.sys.flange_torques = b.flanges.finish(&cut_roots);
     Ok(b.sys)
+}
+
+/// Sorted time events strictly inside (start, stop). Events closer than the integrator can
+/// separate (a Ramp's end computed as 0.1 + 0.2 next to a Step at 0.3) are one event, at the
+/// latest of them, so every switch of the cluster has happened once it is handled.
+fn merge_time_events(mut events: Vec<f64>, start: f64, stop: f64) -> Vec<f64> {
+    let close = crate::signals::same_instant;
+    events
+        .retain(|&t| t.is_finite() && t > start && t < stop && !close(t, start) && !close(t, stop));
+    events.sort_by(f64::total_cmp);
+    let mut merged: Vec<f64> = Vec::with_capacity(events.len());
+    for t in events {
+        match merged.last_mut() {
+            Some(last) if close(*last, t) => *last = t,
+            _ => merged.push(t),
+        }
+    }
+    merged
 }
 
 /// Orders blocks so that every block comes after the blocks it reads; a loop is an error.

@@ -164,6 +164,21 @@ impl Layout {
     }
 }
 
+/// What needs no linear solve: node angles and speeds, signals, the laws' relative coordinates
+/// (enough for the relations the event iteration evaluates literally).
+pub fn kinematics(sys: &System, t: f64, x: &[f64], horizon: f64, ws: &mut Workspace) {
+    let n = sys.nodes;
+    ws.t = t;
+    ws.horizon = horizon;
+    ws.phi.copy_from_slice(&x[..n]);
+    ws.w.copy_from_slice(&x[n..2 * n]);
+    sys.signals.eval(t, horizon, &mut ws.signals);
+    for (k, law) in sys.laws.iter().enumerate() {
+        ws.law_phi[k] = law.rel.angle(&ws.phi);
+        ws.law_w[k] = law.rel.dot(&ws.w);
+    }
+}
+
 /// Evaluates everything at (t, x) in discrete state `disc`, whose mode `mm` was factored for.
 /// (A LossyGear whose losses depend on its speed gets a matrix factored for this instant.)
 pub fn evaluate(
@@ -177,12 +192,8 @@ pub fn evaluate(
 ) {
     let lay = Layout::of(sys);
     let n = sys.nodes;
-    ws.t = t;
-    ws.horizon = horizon;
     ws.rhs_evals += 1;
-    ws.phi.copy_from_slice(&x[..n]);
-    ws.w.copy_from_slice(&x[n..2 * n]);
-    sys.signals.eval(t, horizon, &mut ws.signals);
+    kinematics(sys, t, x, horizon, ws);
 
     // LossyGears: losses at the current speed (their slopes enter the solve below).
     for (k, g) in sys.lossy_gears.iter().enumerate() {

@@ -219,10 +219,14 @@ impl ModeMatrix {
         let m = changed.len();
         let s = DMatrix::from_fn(m, m, |i, j| (i == j) as u8 as f64 + z[j][rows[i]]);
         let y = DVector::from_iterator(m, rows.iter().map(|&r| rhs[r]));
-        if let Some(w) = s.lu().solve(&y) {
-            for (j, zj) in z.iter().enumerate() {
-                rhs.axpy(-w[j], zj, 1.0);
+        match s.lu().solve(&y) {
+            Some(w) => {
+                for (j, zj) in z.iter().enumerate() {
+                    rhs.axpy(-w[j], zj, 1.0);
+                }
             }
+            // singular at this speed: no answer, and the driver reports the non-finite state
+            None => rhs.fill(f64::NAN),
         }
     }
 }

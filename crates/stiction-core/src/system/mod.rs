@@ -45,6 +45,8 @@ pub struct InitEq {
     pub rel: Rel,
     pub value: InitValue,
     pub variable: String,
+    /// A holonomic constraint holding at the start (a gear), not a user's start value.
+    pub constraint: bool,
 }
 
 pub struct System {

@@ -257,12 +257,7 @@ impl Component for LossyGear {
             loss_col: Rel::of(&[(nb, r), (ns, -r)]),
             heat_node,
         });
-        let fixed = crate::model::InitValue {
-            start: 0.0,
-            fixed: true,
-        };
-        b.init_angle(row.clone(), fixed, "phi_a");
-        b.init_speed(row, fixed, "w_a");
+        b.init_constraint(row);
         b.output("phi_a", Out::Angle(Rel::of(&[(na, 1.0), (ns, -1.0)])));
         b.output("phi_b", Out::Angle(Rel::of(&[(nb, 1.0), (ns, -1.0)])));
         for (name, var) in [

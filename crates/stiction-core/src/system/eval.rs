@@ -250,8 +250,8 @@ pub fn evaluate(
     if sys.lossy_gears.is_empty() {
         mm.solve(&mut rhs);
     } else {
-        let slopes: Vec<f64> = ws.gears.iter().map(|v| v.slope).collect();
-        mm.solve_with_gear_slopes(sys, &slopes, &mut rhs);
+        let gears = &ws.gears;
+        mm.solve_with_gear_slopes(sys, |k| gears[k].slope, &mut rhs);
     }
     ws.a.copy_from_slice(&rhs.as_slice()[..n]);
     ws.constraint_tau.copy_from_slice(&rhs.as_slice()[n..n + m]);

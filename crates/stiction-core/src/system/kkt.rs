@@ -189,20 +189,31 @@ impl ModeMatrix {
     /// losses depend on the speed): each such gear's column changes by `Δc1·ℓ`, a rank-one
     /// change, so the factored matrix serves through the Woodbury identity instead of a new
     /// factorization per evaluation.
-    pub fn solve_with_gear_slopes(&self, sys: &System, slopes: &[f64], rhs: &mut DVector<f64>) {
+    /// `slope(k)` is gear k's current `c1`. Allocates only when a slope has changed.
+    pub fn solve_with_gear_slopes(
+        &self,
+        sys: &System,
+        slope: impl Fn(usize) -> f64,
+        rhs: &mut DVector<f64>,
+    ) {
         let n = sys.nodes;
+        let differs = |k: usize, mode: &GearMode| !mode.locked && slope(k) != mode.c1;
+        self.solve(rhs);
+        if !self
+            .gear_modes
+            .iter()
+            .enumerate()
+            .any(|(k, mode)| differs(k, mode))
+        {
+            return;
+        }
         let changed: Vec<(usize, f64)> = self
             .gear_modes
             .iter()
-            .zip(slopes)
             .enumerate()
-            .filter(|(_, (mode, &c1))| !mode.locked && c1 != mode.c1)
-            .map(|(k, (mode, &c1))| (k, c1 - mode.c1))
+            .filter(|(k, mode)| differs(*k, mode))
+            .map(|(k, mode)| (k, slope(k) - mode.c1))
             .collect();
-        self.solve(rhs);
-        if changed.is_empty() {
-            return;
-        }
         // Z = A⁻¹U with U's columns Δc1·ℓ in the node rows.
         let z: Vec<DVector<f64>> = changed
             .iter()

@@ -216,15 +216,17 @@ def test_freewheel_carries_only_pushing_torque_and_releases_at_tau0_max_low() ->
     np.testing.assert_allclose(r["inertiaOut.w"][locked], w_common[locked], rtol=0, atol=w_tol)
     np.testing.assert_allclose(tau[locked], -J_OUT * drive[locked] / (J_IN + J_OUT), rtol=1e-9, atol=1e-12)
     assert np.all(r["oneWayClutch.stuck"][locked] == 1)
-    free = t > t_r + 1e-9
+    # stuck ends when w_rel clears the 1e-10 rad/s event hysteresis, 1.7e-9 s after the release
+    free = t > t_r + 1e-8
     w_r = AMPLITUDE * (1 - math.cos(2 * math.pi * t_r)) / (2 * math.pi * (J_IN + J_OUT))
     assert np.all(tau[free] == 0.0) and np.all(r["oneWayClutch.stuck"][free] == 0)
     np.testing.assert_allclose(r["inertiaOut.w"][free], w_r, rtol=0, atol=w_tol)
     w_in = w_r + AMPLITUDE * (math.cos(2 * math.pi * t_r) - np.cos(2 * np.pi * t[free])) / (2 * np.pi * J_IN)
     np.testing.assert_allclose(r["inertiaIn.w"][free], w_in, rtol=0, atol=w_tol)
     # It never pulls: a positive (pulling) torque above the release threshold never occurs,
-    # and it only carries torque while stuck.
-    assert tau.max() <= TAU0_MAX_LOW * (1 + 1e-9)
+    # and it only carries torque while stuck. (The release fires once the pull clears the
+    # threshold by the 1e-10 N·m event hysteresis.)
+    assert tau.max() <= TAU0_MAX_LOW + 2e-10
     assert np.all(r["oneWayClutch.stuck"][tau != 0.0] == 1)
     assert tau.min() < -5.0  # and it really carries the push (up to 2/3 of 10 N·m)
     assert r["oneWayClutch.w_rel"].min() >= -1e-6

@@ -118,7 +118,10 @@ def test_demo1_loss_power_is_the_power_flowing_into_the_gear() -> None:
     loss = r["gear.lossPower"]
     np.testing.assert_allclose(loss, p_a + p_b, rtol=0, atol=1e-12 * scale)
     np.testing.assert_allclose(loss, r["gear.tauLoss"] * w_a, rtol=0, atol=1e-12 * scale)
-    assert loss.min() >= -1e-12 * scale
+    # While stuck the shaft may drift at the 1e-10 rad/s event hysteresis (as in the MSL
+    # reference), so tauLoss·w_a can be "negative" by that much.
+    drift = 2e-10 * float(np.abs(r["gear.tauLoss"]).max())
+    assert loss.min() >= -1e-12 * scale - drift
     rolling = r["gear.mode"] != 0
     assert loss[rolling].max() > 0.05  # W; ≈ 0.13 W at the fastest backward rolling
 
@@ -260,8 +263,8 @@ def _mode_consistency_violations(
     Intervals between event instants (rows written twice) are either held (|w| ≤ W_HELD on
     every inner row) or moving. While held, w is constant and at least one element reports
     stuck: that element carries the load; the other may report a sliding mode on the drift
-    (the reference's bearing says 1 on [0.064, 0.31] s while w = +5e-11 rad/s is held). While
-    moving, neither reports stuck and both modes are the sign of w.
+    (the bearing says 1 on [0.064, 0.23] s while w = +5e-11 rad/s is held). While moving,
+    neither reports stuck and both modes are the sign of w.
     """
     bad = []
     cuts = np.r_[t[0], t[np.flatnonzero(np.diff(t) == 0.0)], t[-1]]
@@ -283,28 +286,59 @@ def _mode_consistency_violations(
     return bad
 
 
-def test_demo2_kinematics_stay_inside_the_msl_tube() -> None:
-    """Inertia2.phi and Inertia2.w lie in the tube; the mode signals are not compared.
+def test_demo2_stays_inside_the_msl_tube_modes_included() -> None:
+    """Every compared signal lies in the tube: Inertia2.phi/w, both modes and the bearing's start
+    flags (compared in MSL 4.0.0).
 
-    Bearing and gear lock the same motion, so which one reports stuck is not unique (spec §7.9,
-    §8.1 item 7). Negative control: a 1 % offset of Inertia2.w leaves the tube.
+    Bearing and gear lock the same motion, so the split is not unique (spec §7.9); it follows
+    from the event semantics: relations keep their value within the 1e-10 event hysteresis
+    and the mixed system starts from their current values. Negative control: the split that
+    loads the bearing first in every stuck phase (bearing stuck on 0.064–0.23 s instead of
+    sliding on the gear's hold) leaves the tube on bearingFriction.mode.
     """
     r = _demo("LossyGearDemo2")
     reference = MSL_DIR / "LossyGearDemo2.csv"
-    kinematics = ["Inertia2.phi", "Inertia2.w"]
-    report = st.compare(r, reference, tolerance=MSL_TOLERANCE, signals=kinematics)
+    listed = (MSL_DIR / "LossyGearDemo2.signals.txt").read_text().split()
+    signals = [n for n in listed if n != "time"] + [
+        "bearingFriction.startForward",
+        "bearingFriction.startBackward",
+    ]
+    assert {"bearingFriction.mode", "gear.mode"} <= set(signals)
+    report = st.compare(r, reference, tolerance=MSL_TOLERANCE, signals=signals)
+    assert [s.name for s in report] == signals
     assert report.passed, str(report)
-    ref_names, ref_data = read_csv(reference)
-    bad = r.data.copy()
-    bad[:, r.names.index("Inertia2.w")] += 0.01 * np.ptp(ref_data[:, ref_names.index("Inertia2.w")])
-    assert st.compare((r.names, bad), reference, signals=kinematics).failed == ["Inertia2.w"]
+    other_split = r.data.copy()
+    mode = r.names.index("bearingFriction.mode")
+    other_split[(r.time > 0.064) & (r.time < 0.23), mode] = 0.0
+    failed = st.compare((r.names, other_split), reference, tolerance=MSL_TOLERANCE, signals=signals).failed
+    assert failed == ["bearingFriction.mode"]
+
+
+def test_demo2_held_phases_drift_at_the_event_hysteresis() -> None:
+    """After each stop the shafts keep the speed at which the stop was detected: the bearing's
+    relative speed clears the 1e-10 rad/s hysteresis, so Inertia2 (ratio 2) holds ±5e-11 rad/s —
+    the very values of the reference — and the sign decides the modes that follow."""
+    r = _demo("LossyGearDemo2")
+    w = r["Inertia2.w"]
+    held = (np.abs(w) <= W_HELD) & (r.time > 0.0)  # at t0 the shafts are at rest
+    assert held.sum() > 300  # most of the run: the shafts are held on three long phases
+    np.testing.assert_allclose(np.abs(w[held]), 5e-11, rtol=1e-3)
+    names, data = read_csv(MSL_DIR / "LossyGearDemo2.csv")
+    w_ref = data[:, names.index("Inertia2.w")]
+    t_ref = data[:, 0]
+    ref_held = (np.abs(w_ref) <= W_HELD) & (t_ref > 0.0)
+    np.testing.assert_allclose(np.abs(w_ref[ref_held]), 5e-11, rtol=1e-3)
+    # the same signs at the same times (where both are held: the stops differ by ~1e-6 s)
+    ours_at_ref = np.interp(t_ref[ref_held], r.time, w)
+    both = np.abs(ours_at_ref) <= W_HELD
+    assert both.sum() > 0.9 * ref_held.sum()
+    assert np.all(np.sign(ours_at_ref[both]) == np.sign(w_ref[ref_held][both]))
 
 
 def test_demo2_modes_are_consistent_with_the_motion() -> None:
     """Whenever the motion is held one element is stuck; whenever it moves both slide with it.
 
-    The same predicate is applied to Dymola's reference as a control: it holds there too,
-    though the reference splits the stuck phases differently between the two elements.
+    The same predicate is applied to Dymola's reference as a control: it holds there too.
     """
     r = _demo("LossyGearDemo2")
     ours = _mode_consistency_violations(r.time, r["Inertia2.w"], r["gear.mode"], r["bearingFriction.mode"])
@@ -323,9 +357,8 @@ def test_demo2_modes_are_consistent_with_the_motion() -> None:
 def test_demo2_does_not_chatter() -> None:
     """At most 4 mode changes of one element within 1e-6 s, and few events in all.
 
-    The reference logs 9 mode changes (bearing 4, gear 5); the two redundant locks may add a
-    few hand-overs, but an event iteration that flips between the two splits would log
-    hundreds.
+    The reference logs 9 mode changes (bearing 4, gear 5); an event iteration that flips between
+    the two splits would log hundreds.
     """
     r = _demo("LossyGearDemo2")
     _assert_no_chattering(r)

@@ -1,8 +1,12 @@
 //! Zero-crossing indicators. Each is arranged so that the event happens when it goes from ≤ 0 to
-//! above 0. Only the relations that can change something in the current discrete state are watched,
-//! so a locked or free element never fires events from noise in its relative speed.
+//! above 0; for the friction relations that is where the relation's function clears the event
+//! hysteresis band (`relation::flip_indicator`). Only the relations that can change something in
+//! the current discrete state are watched, so a locked or free element never fires events from
+//! noise in its relative speed.
 
-use crate::components::friction::logic::{BACKWARD, FORWARD, STUCK};
+use super::relation::flip_indicator;
+use crate::components::friction::logic::{Relations as R, BACKWARD, FORWARD, STUCK};
+use crate::components::friction::lossy_gear::GearRelations as G;
 use crate::system::eval::{DiscreteState, Workspace};
 use crate::system::System;
 
@@ -31,20 +35,26 @@ pub fn indicators(sys: &System, disc: &DiscreteState, ws: &Workspace, z: &mut [f
         // free = (fn <= 0)
         let normal_force = fe.normal_force(&ws.signals);
         slot[0] = if st.free { normal_force } else { -normal_force };
+        // where the relation that ends the current state flips (with hysteresis)
+        let flip = |i: usize, g: f64| flip_indicator(st.rel.get(i), g);
         let (a, b) = if st.free && !one_way {
             (NEVER, NEVER)
         } else if st.locked && one_way {
-            (v.sa - v.tau0_max, NEVER) // a freewheel never breaks away backward
+            // a freewheel never breaks away backward
+            (flip(R::SA_ABOVE_MAX, v.sa - v.tau0_max), NEVER)
         } else if st.locked {
-            (v.sa - v.tau0_max, -v.sa - v.tau0_max)
+            (
+                flip(R::SA_ABOVE_MAX, v.sa - v.tau0_max),
+                flip(R::SA_BELOW_MAX, -v.sa - v.tau0_max),
+            )
         } else if st.pre.mode == FORWARD {
-            (-v.w, NEVER)
+            (flip(R::W_POS, v.w), NEVER)
         } else if st.pre.mode == BACKWARD {
-            (v.w, NEVER)
+            (flip(R::W_NEG, -v.w), NEVER)
         } else if st.pre.mode == STUCK && st.pre.start_forward {
-            (v.w, v.tau0 - v.sa)
+            (flip(R::W_POS, v.w), flip(R::SA_ABOVE, v.sa - v.tau0))
         } else if st.pre.mode == STUCK && st.pre.start_backward {
-            (-v.w, v.sa + v.tau0)
+            (flip(R::W_NEG, -v.w), flip(R::SA_BELOW, -v.sa - v.tau0))
         } else {
             (NEVER, NEVER)
         };
@@ -65,22 +75,23 @@ pub fn indicators(sys: &System, disc: &DiscreteState, ws: &Workspace, z: &mut [f
             slot.fill(NEVER);
             continue;
         }
+        let flip = |i: usize, g: f64| flip_indicator(st.rel.get(i), g);
         // tau_etaPos = (tau_eta >= 0)
-        slot[0] = if st.tau_eta_pos {
-            -v.tau_eta
-        } else {
-            v.tau_eta
-        };
+        slot[0] = flip(G::TAU_ETA_POS, v.tau_eta);
+        let (above, below) = (v.sa - v.loss_max_p, v.loss_min_m - v.sa);
         let (a, b) = if st.locked {
-            (v.sa - v.loss_max_p, v.loss_min_m - v.sa)
+            (
+                flip(G::SA_ABOVE_MAX_P, above),
+                flip(G::SA_BELOW_MIN_M, below),
+            )
         } else if st.pre.mode == FORWARD {
-            (-v.w, NEVER)
+            (flip(G::W_POS, v.w), NEVER)
         } else if st.pre.mode == BACKWARD {
-            (v.w, NEVER)
+            (flip(G::W_NEG, -v.w), NEVER)
         } else if st.pre.start_forward {
-            (v.w, v.loss_max_p - v.sa)
+            (flip(G::W_POS, v.w), flip(G::SA_ABOVE_MAX_P, above))
         } else if st.pre.start_backward {
-            (-v.w, v.sa - v.loss_min_m)
+            (flip(G::W_NEG, -v.w), flip(G::SA_BELOW_MIN_M, below))
         } else {
             (NEVER, NEVER)
         };

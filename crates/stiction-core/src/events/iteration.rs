@@ -1,14 +1,14 @@
 //! The event iteration. At an event instant the continuous state is fixed; the Booleans of every
 //! friction element and LossyGear are solved as MSL's mixed system (fixed point over the
-//! Booleans: guess the start flags — and a gear's driving side — solve the linear system for the
-//! mode they imply, recompute them, repeat), then `pre()` is updated and the whole is solved
+//! relations: take their current values, solve the linear system for the mode they imply,
+//! re-evaluate them with hysteresis, repeat), then `pre()` is updated and the whole is solved
 //! again until nothing changes (spec §1.6–1.7, §10.2).
 
 use std::collections::HashMap;
 use std::rc::Rc;
 
-use crate::components::friction::logic::{Discrete, Relations};
-use crate::components::friction::lossy_gear::GearState;
+use crate::components::friction::logic::{Discrete, Quantities, Relations};
+use crate::components::friction::lossy_gear::{GearRelations, GearState};
 use crate::components::friction::FrictionState;
 use crate::error::SimError;
 use crate::system::eval::{evaluate, kinematics, DiscreteState, Workspace};
@@ -59,29 +59,86 @@ pub struct ModeChange {
 
 const MAX_PASSES: usize = 50;
 
-/// The Booleans the mixed system solves for: each friction element's start flags, each gear's
-/// start flags and driving side.
+/// What the mixed system iterates on: the relations of each friction element and LossyGear.
 #[derive(Debug, Clone, PartialEq)]
-struct Flags {
-    friction: Vec<(bool, bool)>,
-    gears: Vec<(bool, bool, bool)>,
+struct RelationValues {
+    friction: Vec<Relations>,
+    gears: Vec<GearRelations>,
 }
 
-impl Flags {
-    /// Start flags set in either; the driving side of `self`.
-    fn or(&self, other: &Flags) -> Flags {
-        Flags {
+impl RelationValues {
+    fn of(disc: &DiscreteState) -> Self {
+        RelationValues {
+            friction: disc.friction.iter().map(|f| f.rel).collect(),
+            gears: disc.gears.iter().map(|g| g.rel).collect(),
+        }
+    }
+
+    /// Every relation true in either (start conditions set in either); the driving side of
+    /// `self`. Speeds do not change within an event, so their relations agree anyway.
+    fn or(&self, other: &RelationValues) -> RelationValues {
+        let or = |a: &[bool], b: &[bool], i: usize| a[i] || b[i];
+        RelationValues {
             friction: self
                 .friction
                 .iter()
                 .zip(&other.friction)
-                .map(|(a, b)| (a.0 || b.0, a.1 || b.1))
+                .map(|(a, b)| Relations(std::array::from_fn(|i| or(&a.0, &b.0, i))))
                 .collect(),
             gears: self
                 .gears
                 .iter()
                 .zip(&other.gears)
-                .map(|(a, b)| (a.0 || b.0, a.1 || b.1, a.2))
+                .map(|(a, b)| {
+                    let mut r = GearRelations(std::array::from_fn(|i| or(&a.0, &b.0, i)));
+                    r.0[GearRelations::TAU_ETA_POS] = a.get(GearRelations::TAU_ETA_POS);
+                    r
+                })
+                .collect(),
+        }
+    }
+
+    /// The same with every start condition on `sa` false: each element that was stuck locks.
+    fn nothing_starts(&self) -> RelationValues {
+        let mut r = self.clone();
+        for f in &mut r.friction {
+            for i in [
+                Relations::SA_ABOVE_MAX,
+                Relations::SA_ABOVE,
+                Relations::SA_BELOW_MAX,
+                Relations::SA_BELOW,
+            ] {
+                f.0[i] = false;
+            }
+        }
+        for g in &mut r.gears {
+            g.0[GearRelations::SA_ABOVE_MAX_P] = false;
+            g.0[GearRelations::SA_BELOW_MIN_M] = false;
+        }
+        r
+    }
+
+    /// The relations at the values in `ws`, from these (literal at initialization).
+    fn updated(&self, sys: &System, ws: &Workspace, initial: bool) -> RelationValues {
+        RelationValues {
+            friction: (0..sys.frictions.len())
+                .map(|k| {
+                    let v = &ws.friction[k];
+                    let q = Quantities {
+                        sa: v.sa,
+                        w: v.w,
+                        tau0: v.tau0,
+                        tau0_max: v.tau0_max,
+                        w_small: sys.frictions[k].w_small,
+                    };
+                    self.friction[k].update(&q, initial)
+                })
+                .collect(),
+            gears: (0..sys.lossy_gears.len())
+                .map(|k| {
+                    let v = &ws.gears[k];
+                    self.gears[k].update(v.sa, v.loss_max_p, v.loss_min_m, v.w, v.tau_eta, initial)
+                })
                 .collect(),
         }
     }
@@ -120,6 +177,19 @@ pub fn iterate(
             }
         }
     }
+    // The friction relations as they stand at the event, in the mode before it (between events
+    // only those that matter were watched).
+    if !initial {
+        let mm = cache.get(sys, disc, t)?;
+        evaluate(sys, &mm, disc, t, x, horizon, ws);
+        let now = RelationValues::of(disc).updated(sys, ws, false);
+        for (st, rel) in disc.friction.iter_mut().zip(now.friction) {
+            st.rel = rel;
+        }
+        for (st, rel) in disc.gears.iter_mut().zip(now.gears) {
+            st.rel = rel;
+        }
+    }
 
     for _pass in 0..MAX_PASSES {
         let pre_f: Vec<Discrete> = disc.friction.iter().map(|f| f.pre).collect();
@@ -130,24 +200,13 @@ pub fn iterate(
             .iter()
             .map(|fe| fe.normal_force(&ws.signals) <= 0.0)
             .collect();
-        let guess = Flags {
-            friction: pre_f
-                .iter()
-                .map(|p| (p.start_forward, p.start_backward))
-                .collect(),
-            gears: disc
-                .gears
-                .iter()
-                .map(|g| (g.pre.start_forward, g.pre.start_backward, g.tau_eta_pos))
-                .collect(),
-        };
-        let flags = solve_mixed(
+        let rels = solve_mixed(
             sys,
             cache,
             &pre_f,
             &pre_g,
             &free,
-            guess,
+            RelationValues::of(disc),
             &disc.relations,
             t,
             x,
@@ -157,9 +216,11 @@ pub fn iterate(
         )?;
         let new_f: Vec<Discrete> = (0..sys.frictions.len())
             .map(|k| {
-                let (sf, sb) = flags.friction[k];
+                let fe = &sys.frictions[k];
+                let r = rels.friction[k];
+                let (sf, sb) = fe.start_flags(pre_f[k], r, initial);
                 Discrete {
-                    mode: sys.frictions[k].mode(free[k], pre_f[k], sf, sb, ws.friction[k].w),
+                    mode: fe.mode(free[k], pre_f[k], sf, sb, r),
                     start_forward: sf,
                     start_backward: sb,
                 }
@@ -167,9 +228,11 @@ pub fn iterate(
             .collect();
         let new_g: Vec<Discrete> = (0..sys.lossy_gears.len())
             .map(|k| {
-                let (sf, sb, _) = flags.gears[k];
+                let g = &sys.lossy_gears[k];
+                let r = rels.gears[k];
+                let (sf, sb) = g.start_flags(pre_g[k], r, initial);
                 Discrete {
-                    mode: sys.lossy_gears[k].mode(pre_g[k], sf, sb, ws.gears[k].w),
+                    mode: g.mode(pre_g[k], sf, sb, r),
                     start_forward: sf,
                     start_backward: sb,
                 }
@@ -183,6 +246,7 @@ pub fn iterate(
                 pre: p,
                 locked: fe.locked(free[k], p, p.start_forward, p.start_backward),
                 free: free[k],
+                rel: rels.friction[k],
             };
         }
         for (k, g) in sys.lossy_gears.iter().enumerate() {
@@ -190,7 +254,7 @@ pub fn iterate(
             disc.gears[k] = GearState {
                 pre: p,
                 locked: g.locked(p, p.start_forward, p.start_backward),
-                tau_eta_pos: flags.gears[k].2,
+                rel: rels.gears[k],
             };
         }
         if settled || initial {
@@ -231,8 +295,13 @@ pub fn iterate(
     })
 }
 
-/// One evaluation of the mixed system: the Booleans consistent with the accelerations and
-/// torques they imply, for fixed `pre()` values.
+/// One evaluation of the mixed system: relation values consistent with the accelerations and
+/// torques they imply, for fixed `pre()` values. The fixed point starts from the relations'
+/// current values (the solution closest to the state before); if that cycles — an element that
+/// starts one way is pushed back the other way, each direction implying the opposite — it
+/// starts again from "nothing starts" (every stuck element locked); if that cycles too, two
+/// elements hold the same motion and each alone breaks away while each alone holds: starting
+/// is then the consistent answer.
 #[allow(clippy::too_many_arguments)]
 fn solve_mixed(
     sys: &System,
@@ -240,43 +309,51 @@ fn solve_mixed(
     pre_f: &[Discrete],
     pre_g: &[Discrete],
     free: &[bool],
-    mut flags: Flags,
+    current: RelationValues,
     relations: &[bool],
     t: f64,
     x: &[f64],
     initial: bool,
     horizon: f64,
     ws: &mut Workspace,
-) -> Result<Flags, SimError> {
+) -> Result<RelationValues, SimError> {
     let limit = 4 * (sys.frictions.len() + sys.lossy_gears.len()) + 10;
-    let mut visited: Vec<Flags> = Vec::new();
-    for _ in 0..limit {
+    let locked_start = current.nothing_starts();
+    let mut visited: Vec<RelationValues> = Vec::new();
+    let mut rels = current;
+    let mut restarted = false;
+    for _ in 0..2 * limit {
         let trial = DiscreteState {
             friction: (0..sys.frictions.len())
                 .map(|k| {
-                    let (sf, sb) = flags.friction[k];
+                    let fe = &sys.frictions[k];
+                    let rel = rels.friction[k];
+                    let (sf, sb) = fe.start_flags(pre_f[k], rel, initial);
                     FrictionState {
                         pre: Discrete {
                             mode: pre_f[k].mode,
                             start_forward: sf,
                             start_backward: sb,
                         },
-                        locked: sys.frictions[k].locked(free[k], pre_f[k], sf, sb),
+                        locked: fe.locked(free[k], pre_f[k], sf, sb),
                         free: free[k],
+                        rel,
                     }
                 })
                 .collect(),
             gears: (0..sys.lossy_gears.len())
                 .map(|k| {
-                    let (sf, sb, side) = flags.gears[k];
+                    let g = &sys.lossy_gears[k];
+                    let rel = rels.gears[k];
+                    let (sf, sb) = g.start_flags(pre_g[k], rel, initial);
                     GearState {
                         pre: Discrete {
                             mode: pre_g[k].mode,
                             start_forward: sf,
                             start_backward: sb,
                         },
-                        locked: sys.lossy_gears[k].locked(pre_g[k], sf, sb),
-                        tau_eta_pos: side,
+                        locked: g.locked(pre_g[k], sf, sb),
+                        rel,
                     }
                 })
                 .collect(),
@@ -284,47 +361,23 @@ fn solve_mixed(
         };
         let mm = cache.get(sys, &trial, t)?;
         evaluate(sys, &mm, &trial, t, x, horizon, ws);
-        let next = Flags {
-            friction: (0..sys.frictions.len())
-                .map(|k| {
-                    let v = &ws.friction[k];
-                    sys.frictions[k].start_flags(
-                        pre_f[k],
-                        Relations {
-                            sa: v.sa,
-                            w: v.w,
-                            tau0: v.tau0,
-                            tau0_max: v.tau0_max,
-                            w_small: sys.frictions[k].w_small,
-                            initial,
-                        },
-                    )
-                })
-                .collect(),
-            gears: (0..sys.lossy_gears.len())
-                .map(|k| {
-                    let v = &ws.gears[k];
-                    let (sf, sb) =
-                        sys.lossy_gears[k].start_flags(pre_g[k], v.sa, v.tau_a, v.w, initial);
-                    (sf, sb, v.tau_eta >= 0.0)
-                })
-                .collect(),
-        };
-        if next == flags {
-            return Ok(flags);
+        let next = rels.updated(sys, ws, initial);
+        if next == rels {
+            return Ok(rels);
         }
-        // Updating every element at once can cycle: when two elements hold the same motion
-        // (each alone breaks away, each alone holds), or at a breakaway exactly on the limit
-        // (sa = limit within round-off, no hysteresis). Starting is the consistent answer.
-        visited.push(flags.clone());
-        if visited.contains(&next) {
-            let started = next.or(&flags);
+        visited.push(rels.clone());
+        if !visited.contains(&next) {
+            rels = next;
+        } else if !restarted {
+            restarted = true;
+            visited.clear();
+            rels = locked_start.clone();
+        } else {
+            let started = next.or(&rels);
             if visited.contains(&started) {
                 return Ok(started);
             }
-            flags = started;
-        } else {
-            flags = next;
+            rels = started;
         }
     }
     Err(SimError::Numerical {

@@ -3,6 +3,7 @@
 
 mod crossings;
 mod iteration;
+pub mod relation;
 
 pub use crossings::{indicator_count, indicator_label, indicators, speed_rates};
 pub use iteration::{iterate, ModeCache, ModeChange};

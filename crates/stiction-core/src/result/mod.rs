@@ -394,7 +394,7 @@ fn gear_value(sys: &System, ws: &Workspace, disc: &DiscreteState, k: usize, var:
         GearVar::Locked => flag(st.locked),
         GearVar::StartForward => flag(st.pre.start_forward),
         GearVar::StartBackward => flag(st.pre.start_backward),
-        GearVar::TauEtaPos => flag(st.tau_eta_pos),
+        GearVar::TauEtaPos => flag(st.tau_eta_pos()),
         GearVar::Ideal => flag(sys.lossy_gears[k].ideal),
     }
 }

@@ -2,6 +2,8 @@
 //! the mode, as pure functions of the pre-values and the current continuous values. Brake and
 //! Clutch share them; the event iteration in `events/` drives them to a fixed point.
 
+use crate::events::relation;
+
 pub const BACKWARD: i8 = -1;
 pub const STUCK: i8 = 0;
 pub const FORWARD: i8 = 1;
@@ -27,25 +29,64 @@ impl Discrete {
 
 /// The continuous quantities the Boolean equations compare.
 #[derive(Debug, Clone, Copy)]
-pub struct Relations {
+pub struct Quantities {
     pub sa: f64,
     pub w: f64,
     pub tau0: f64,
     pub tau0_max: f64,
     pub w_small: f64,
-    pub initial: bool,
+}
+
+/// The relations (F1), (F2) and (F5) compare, each `g > 0` with hysteresis (see
+/// `events::relation`): `sa > tau0_max`, `sa > tau0`, `sa < −tau0_max`, `sa < −tau0`,
+/// `w > 0`, `w < 0`, `w > w_small`, `w < −w_small`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Relations(pub [bool; 8]);
+
+impl Relations {
+    pub const SA_ABOVE_MAX: usize = 0;
+    pub const SA_ABOVE: usize = 1;
+    pub const SA_BELOW_MAX: usize = 2;
+    pub const SA_BELOW: usize = 3;
+    pub const W_POS: usize = 4;
+    pub const W_NEG: usize = 5;
+    pub const W_ABOVE_SMALL: usize = 6;
+    pub const W_BELOW_SMALL: usize = 7;
+
+    /// The functions `g` of the relations, in the order of the constants above.
+    pub fn functions(q: &Quantities) -> [f64; 8] {
+        [
+            q.sa - q.tau0_max,
+            q.sa - q.tau0,
+            -q.sa - q.tau0_max,
+            -q.sa - q.tau0,
+            q.w,
+            -q.w,
+            q.w - q.w_small,
+            -q.w - q.w_small,
+        ]
+    }
+
+    /// The relations at `q`, from their previous values (literal at initialization).
+    pub fn update(self, q: &Quantities, initial: bool) -> Self {
+        Relations(relation::update(self.0, Self::functions(q), initial))
+    }
+
+    pub fn get(&self, i: usize) -> bool {
+        self.0[i]
+    }
 }
 
 /// (F1) and (F2).
-pub fn start_flags(pre: Discrete, r: Relations) -> (bool, bool) {
+pub fn start_flags(pre: Discrete, r: Relations, initial: bool) -> (bool, bool) {
     let forward = (pre.mode == STUCK
-        && (r.sa > r.tau0_max || (pre.start_forward && r.sa > r.tau0)))
-        || (pre.mode == BACKWARD && r.w > r.w_small)
-        || (r.initial && r.w > 0.0);
+        && (r.get(Relations::SA_ABOVE_MAX) || (pre.start_forward && r.get(Relations::SA_ABOVE))))
+        || (pre.mode == BACKWARD && r.get(Relations::W_ABOVE_SMALL))
+        || (initial && r.get(Relations::W_POS));
     let backward = (pre.mode == STUCK
-        && (r.sa < -r.tau0_max || (pre.start_backward && r.sa < -r.tau0)))
-        || (pre.mode == FORWARD && r.w < -r.w_small)
-        || (r.initial && r.w < 0.0);
+        && (r.get(Relations::SA_BELOW_MAX) || (pre.start_backward && r.get(Relations::SA_BELOW))))
+        || (pre.mode == FORWARD && r.get(Relations::W_BELOW_SMALL))
+        || (initial && r.get(Relations::W_NEG));
     (forward, backward)
 }
 
@@ -55,12 +96,21 @@ pub fn locked(free: bool, pre_mode: i8, start_forward: bool, start_backward: boo
 }
 
 /// (F5).
-pub fn mode(free: bool, pre_mode: i8, start_forward: bool, start_backward: bool, w: f64) -> i8 {
+pub fn mode(
+    free: bool,
+    pre_mode: i8,
+    start_forward: bool,
+    start_backward: bool,
+    r: Relations,
+) -> i8 {
     if free {
         FREE
-    } else if (pre_mode == FORWARD || pre_mode == FREE || start_forward) && w > 0.0 {
+    } else if (pre_mode == FORWARD || pre_mode == FREE || start_forward) && r.get(Relations::W_POS)
+    {
         FORWARD
-    } else if (pre_mode == BACKWARD || pre_mode == FREE || start_backward) && w < 0.0 {
+    } else if (pre_mode == BACKWARD || pre_mode == FREE || start_backward)
+        && r.get(Relations::W_NEG)
+    {
         BACKWARD
     } else {
         STUCK
@@ -108,14 +158,14 @@ mod tests {
     use super::*;
 
     fn rel(sa: f64, w: f64) -> Relations {
-        Relations {
+        let q = Quantities {
             sa,
             w,
             tau0: 10.0,
             tau0_max: 11.0,
             w_small: 1e10,
-            initial: false,
-        }
+        };
+        Relations::default().update(&q, true)
     }
 
     #[test]
@@ -125,36 +175,51 @@ mod tests {
             start_forward: false,
             start_backward: false,
         };
-        assert_eq!(start_flags(stuck, rel(10.5, 0.0)), (false, false));
-        assert_eq!(start_flags(stuck, rel(11.5, 0.0)), (true, false));
+        assert_eq!(start_flags(stuck, rel(10.5, 0.0), false), (false, false));
+        assert_eq!(start_flags(stuck, rel(11.5, 0.0), false), (true, false));
         let starting = Discrete {
             start_forward: true,
             ..stuck
         };
-        assert_eq!(start_flags(starting, rel(10.5, 0.0)), (true, false));
-        assert_eq!(start_flags(starting, rel(9.5, 0.0)), (false, false));
-        assert_eq!(start_flags(stuck, rel(-11.5, 0.0)), (false, true));
+        assert_eq!(start_flags(starting, rel(10.5, 0.0), false), (true, false));
+        assert_eq!(start_flags(starting, rel(9.5, 0.0), false), (false, false));
+        assert_eq!(start_flags(stuck, rel(-11.5, 0.0), false), (false, true));
+    }
+
+    #[test]
+    fn a_threshold_met_exactly_keeps_the_previous_decision() {
+        let q = |sa| Quantities {
+            sa,
+            w: 0.0,
+            tau0: 0.5,
+            tau0_max: 0.5,
+            w_small: 1e10,
+        };
+        let started = Relations::default().update(&q(0.7), false);
+        assert!(started.get(Relations::SA_ABOVE_MAX));
+        // another element now holds the motion: sa sits on the limit, within round-off
+        assert!(started
+            .update(&q(0.5 - 1e-16), false)
+            .get(Relations::SA_ABOVE_MAX));
+        assert!(!started.update(&q(0.4), false).get(Relations::SA_ABOVE_MAX));
     }
 
     #[test]
     fn initialization_starts_in_the_direction_of_motion() {
-        let r = Relations {
-            initial: true,
-            ..rel(0.0, -10.0)
-        };
-        let (sf, sb) = start_flags(Discrete::INITIAL, r);
+        let r = rel(0.0, -10.0);
+        let (sf, sb) = start_flags(Discrete::INITIAL, r, true);
         assert!(!sf && sb);
         assert!(!locked(false, UNKNOWN, sf, sb));
-        assert_eq!(mode(false, UNKNOWN, sf, sb, -10.0), BACKWARD);
+        assert_eq!(mode(false, UNKNOWN, sf, sb, r), BACKWARD);
         // at rest and engaged: locked and stuck
         assert!(locked(false, UNKNOWN, false, false));
-        assert_eq!(mode(false, UNKNOWN, false, false, 0.0), STUCK);
+        assert_eq!(mode(false, UNKNOWN, false, false, rel(0.0, 0.0)), STUCK);
     }
 
     #[test]
     fn leaving_free_takes_one_locked_pass() {
         assert!(locked(false, FREE, false, false));
-        assert_eq!(mode(false, FREE, false, false, 2.0), FORWARD);
+        assert_eq!(mode(false, FREE, false, false, rel(0.0, 2.0)), FORWARD);
         assert!(!locked(false, FORWARD, false, false));
     }
 }

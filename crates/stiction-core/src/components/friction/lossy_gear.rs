@@ -10,6 +10,7 @@
 use super::super::{heat_port, with_support, Component, Constructor, Ports};
 use super::logic::{Discrete, BACKWARD, FORWARD, FREE, STUCK};
 use crate::error::ModelResult;
+use crate::events::relation;
 use crate::model::Params;
 use crate::system::outputs::GearVar;
 use crate::system::{Builder, Out, Rel};
@@ -45,7 +46,56 @@ pub struct LossyGearElem {
 pub struct GearState {
     pub pre: Discrete,
     pub locked: bool,
-    pub tau_eta_pos: bool,
+    /// The values of its relations (they change only at events).
+    pub rel: GearRelations,
+}
+
+/// The relations of the LossyGear's Boolean equations, each `g > 0` with hysteresis (see
+/// `events::relation`): `sa > tauLossMax_p`, `sa < tauLossMin_m`, `w_a > 0`, `w_a < 0` and
+/// `tau_eta ≥ 0` (`tau_etaPos`, the driving side).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct GearRelations(pub [bool; 5]);
+
+impl GearRelations {
+    pub const SA_ABOVE_MAX_P: usize = 0;
+    pub const SA_BELOW_MIN_M: usize = 1;
+    pub const W_POS: usize = 2;
+    pub const W_NEG: usize = 3;
+    pub const TAU_ETA_POS: usize = 4;
+
+    /// `tau_etaPos(start = true)`; the others start false.
+    pub const INITIAL: GearRelations = GearRelations([false, false, false, false, true]);
+
+    /// The relations at the gear's current values, from their previous values (literal at
+    /// initialization).
+    pub fn update(
+        self,
+        sa: f64,
+        max_p: f64,
+        min_m: f64,
+        w_a: f64,
+        tau_eta: f64,
+        initial: bool,
+    ) -> Self {
+        let g = [sa - max_p, min_m - sa, w_a, -w_a, tau_eta];
+        let mut next = relation::update(self.0, g, initial);
+        // `tau_eta >= 0` holds at 0 itself
+        if initial {
+            next[Self::TAU_ETA_POS] = tau_eta >= 0.0;
+        }
+        GearRelations(next)
+    }
+
+    pub fn get(&self, i: usize) -> bool {
+        self.0[i]
+    }
+}
+
+impl GearState {
+    /// `tau_etaPos`: flange_a drives.
+    pub fn tau_eta_pos(&self) -> bool {
+        self.rel.get(GearRelations::TAU_ETA_POS)
+    }
 }
 
 impl GearState {
@@ -57,7 +107,7 @@ impl GearState {
             start_backward: false,
         },
         locked: false,
-        tau_eta_pos: true,
+        rel: GearRelations::INITIAL,
     };
 }
 
@@ -112,7 +162,7 @@ impl LossyGearElem {
     /// `tauLossMax`, backward `tauLossMin`; `tau_etaPos` says which flange drives.
     pub fn rolling_line(&self, st: &GearState, l: &Losses) -> (f64, f64) {
         let forward = st.pre.start_forward || (!st.pre.start_backward && st.pre.mode == FORWARD);
-        match (forward, st.tau_eta_pos) {
+        match (forward, st.tau_eta_pos()) {
             (true, true) => (1.0 - l.eta1, l.tbf1),         // quadrant 1
             (true, false) => (1.0 - 1.0 / l.eta2, l.tbf2),  // quadrant 2
             (false, true) => (1.0 - 1.0 / l.eta2, -l.tbf2), // quadrant 4
@@ -170,18 +220,11 @@ impl LossyGearElem {
         (max_p, min_m)
     }
 
-    pub fn start_flags(
-        &self,
-        pre: Discrete,
-        sa: f64,
-        tau_a: f64,
-        w_a: f64,
-        initial: bool,
-    ) -> (bool, bool) {
-        let (max_p, min_m) = self.rest_limits(tau_a);
+    pub fn start_flags(&self, pre: Discrete, r: GearRelations, initial: bool) -> (bool, bool) {
+        use GearRelations as R;
         (
-            (pre.mode == STUCK && sa > max_p) || (initial && w_a > 0.0),
-            (pre.mode == STUCK && sa < min_m) || (initial && w_a < 0.0),
+            (pre.mode == STUCK && r.get(R::SA_ABOVE_MAX_P)) || (initial && r.get(R::W_POS)),
+            (pre.mode == STUCK && r.get(R::SA_BELOW_MIN_M)) || (initial && r.get(R::W_NEG)),
         )
     }
 
@@ -189,12 +232,12 @@ impl LossyGearElem {
         !(self.ideal || pre.mode == FORWARD || sf || pre.mode == BACKWARD || sb)
     }
 
-    pub fn mode(&self, pre: Discrete, sf: bool, sb: bool, w_a: f64) -> i8 {
+    pub fn mode(&self, pre: Discrete, sf: bool, sb: bool, r: GearRelations) -> i8 {
         if self.ideal {
             FREE
-        } else if (pre.mode == FORWARD || sf) && w_a > 0.0 {
+        } else if (pre.mode == FORWARD || sf) && r.get(GearRelations::W_POS) {
             FORWARD
-        } else if (pre.mode == BACKWARD || sb) && w_a < 0.0 {
+        } else if (pre.mode == BACKWARD || sb) && r.get(GearRelations::W_NEG) {
             BACKWARD
         } else {
             STUCK

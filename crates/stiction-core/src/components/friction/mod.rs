@@ -51,6 +51,8 @@ pub struct FrictionState {
     pub pre: Discrete,
     pub locked: bool,
     pub free: bool,
+    /// The values of its relations (they change only at events).
+    pub rel: logic::Relations,
 }
 
 impl FrictionState {
@@ -59,6 +61,7 @@ impl FrictionState {
             pre: elem.initial,
             locked: false,
             free: true,
+            rel: logic::Relations::default(),
         }
     }
 }
@@ -100,14 +103,17 @@ impl FrictionElem {
     }
 
     /// (F1, F2), or the OneWayClutch's start condition (it never starts backward).
-    pub fn start_flags(&self, pre: Discrete, r: logic::Relations) -> (bool, bool) {
+    pub fn start_flags(&self, pre: Discrete, r: logic::Relations, initial: bool) -> (bool, bool) {
+        use logic::Relations as R;
         if self.one_way.is_none() {
-            return logic::start_flags(pre, r);
+            return logic::start_flags(pre, r, initial);
         }
         let pre_stuck = pre.mode == logic::STUCK;
         let forward = (pre_stuck
-            && (r.sa > r.tau0_max || (pre.start_forward && r.sa > r.tau0) || r.w > r.w_small))
-            || (r.initial && r.w > 0.0);
+            && (r.get(R::SA_ABOVE_MAX)
+                || (pre.start_forward && r.get(R::SA_ABOVE))
+                || r.get(R::W_ABOVE_SMALL)))
+            || (initial && r.get(R::W_POS));
         (forward, false)
     }
 
@@ -120,11 +126,13 @@ impl FrictionElem {
     }
 
     /// (F5); a OneWayClutch's "mode" is Stuck while `stuck = locked ∨ w_rel ≤ 0`, else Forward.
-    pub fn mode(&self, free: bool, pre: Discrete, sf: bool, sb: bool, w: f64) -> i8 {
+    pub fn mode(&self, free: bool, pre: Discrete, sf: bool, sb: bool, r: logic::Relations) -> i8 {
         match self.one_way {
-            Some(_) if self.locked(free, pre, sf, sb) || w <= 0.0 => logic::STUCK,
+            Some(_) if self.locked(free, pre, sf, sb) || !r.get(logic::Relations::W_POS) => {
+                logic::STUCK
+            }
             Some(_) => logic::FORWARD,
-            None => logic::mode(free, pre.mode, sf, sb, w),
+            None => logic::mode(free, pre.mode, sf, sb, r),
         }
     }
 

@@ -1,0 +1,71 @@
+//! Relations with hysteresis, as Modelica tools evaluate them at events (Dymola's event
+//! epsilon). A relation `g > 0` that is false becomes true only once `g > ε`; one that is true
+//! becomes false only once `g < −ε`. Within the band it keeps its previous value.
+//!
+//! Why: a stick/slip decision taken on round-off is arbitrary. After a stop the relative speed is
+//! zero to within 1e-17, and a stuck element's `sa` sits exactly on its threshold while another
+//! element holds the motion; comparing such values literally makes the mode depend on the last
+//! bit. With the band, the crossing is located where `g` clears ε, and the relations keep the
+//! value they had until then — the reference results show exactly this: after every stop in
+//! MSL LossyGearDemo2 the shaft drifts at ±1.0e-10 rad/s.
+
+/// The hysteresis band (absolute).
+pub const EVENT_EPSILON: f64 = 1.0e-10;
+
+/// The value of `g > 0` given its previous value.
+pub fn hysteresis(previous: bool, g: f64) -> bool {
+    if previous {
+        g > -EVENT_EPSILON
+    } else {
+        g > EVENT_EPSILON
+    }
+}
+
+/// Zero-crossing indicator of `g > 0` while it has the value `current`: it goes from ≤ 0 to
+/// above 0 where the relation flips.
+pub fn flip_indicator(current: bool, g: f64) -> f64 {
+    if current {
+        -g - EVENT_EPSILON
+    } else {
+        g - EVENT_EPSILON
+    }
+}
+
+/// Values of several relations `g_i > 0`: literal at initialization (there is no previous
+/// value), with hysteresis otherwise.
+pub fn update<const N: usize>(previous: [bool; N], g: [f64; N], initial: bool) -> [bool; N] {
+    std::array::from_fn(|i| {
+        if initial {
+            g[i] > 0.0
+        } else {
+            hysteresis(previous[i], g[i])
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_relation_flips_only_outside_the_band() {
+        assert!(!hysteresis(false, 0.5 * EVENT_EPSILON));
+        assert!(hysteresis(false, 2.0 * EVENT_EPSILON));
+        assert!(hysteresis(true, -0.5 * EVENT_EPSILON));
+        assert!(!hysteresis(true, -2.0 * EVENT_EPSILON));
+        // the indicator turns positive exactly where the value flips
+        for (current, g) in [
+            (false, 2e-10),
+            (false, 5e-11),
+            (true, -2e-10),
+            (true, -5e-11),
+        ] {
+            assert_eq!(
+                flip_indicator(current, g) > 0.0,
+                hysteresis(current, g) != current
+            );
+        }
+        assert_eq!(update([false, true], [0.0, 0.0], true), [false, false]);
+        assert_eq!(update([false, true], [0.0, 0.0], false), [false, true]);
+    }
+}

@@ -58,13 +58,6 @@ pub fn indicators(sys: &System, disc: &DiscreteState, ws: &Workspace, z: &mut [f
         } else {
             (NEVER, NEVER)
         };
-        // A speed the mode holds fixed cannot cross zero, and while starting its `sa` is then
-        // pinned to the threshold (a ≡ 0): watching either would fire events from round-off.
-        let (a, b) = if v.held && !st.locked {
-            (NEVER, NEVER)
-        } else {
-            (a, b)
-        };
         slot[1] = a;
         slot[2] = b;
     }
@@ -94,11 +87,6 @@ pub fn indicators(sys: &System, disc: &DiscreteState, ws: &Workspace, z: &mut [f
             (flip(G::W_NEG, -v.w), flip(G::SA_BELOW_MIN_M, below))
         } else {
             (NEVER, NEVER)
-        };
-        let (a, b) = if v.held && !st.locked {
-            (NEVER, NEVER)
-        } else {
-            (a, b)
         };
         slot[1] = a;
         slot[2] = b;

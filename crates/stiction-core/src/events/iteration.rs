@@ -200,7 +200,7 @@ pub fn iterate(
             .iter()
             .map(|fe| fe.normal_force(&ws.signals) <= 0.0)
             .collect();
-        let rels = solve_mixed(
+        let solved = solve_mixed(
             sys,
             cache,
             &pre_f,
@@ -216,25 +216,21 @@ pub fn iterate(
         )?;
         let new_f: Vec<Discrete> = (0..sys.frictions.len())
             .map(|k| {
-                let fe = &sys.frictions[k];
-                let r = rels.friction[k];
-                let (sf, sb) = fe.start_flags(pre_f[k], r, initial);
+                let st = &solved.friction[k];
+                let (sf, sb) = (st.pre.start_forward, st.pre.start_backward);
                 Discrete {
-                    mode: fe.mode(free[k], pre_f[k], sf, sb, r),
-                    start_forward: sf,
-                    start_backward: sb,
+                    mode: sys.frictions[k].mode(free[k], pre_f[k], sf, sb, st.rel),
+                    ..st.pre
                 }
             })
             .collect();
         let new_g: Vec<Discrete> = (0..sys.lossy_gears.len())
             .map(|k| {
-                let g = &sys.lossy_gears[k];
-                let r = rels.gears[k];
-                let (sf, sb) = g.start_flags(pre_g[k], r, initial);
+                let st = &solved.gears[k];
+                let (sf, sb) = (st.pre.start_forward, st.pre.start_backward);
                 Discrete {
-                    mode: g.mode(pre_g[k], sf, sb, r),
-                    start_forward: sf,
-                    start_backward: sb,
+                    mode: sys.lossy_gears[k].mode(pre_g[k], sf, sb, st.rel),
+                    ..st.pre
                 }
             })
             .collect();
@@ -246,7 +242,7 @@ pub fn iterate(
                 pre: p,
                 locked: fe.locked(free[k], p, p.start_forward, p.start_backward),
                 free: free[k],
-                rel: rels.friction[k],
+                rel: solved.friction[k].rel,
             };
         }
         for (k, g) in sys.lossy_gears.iter().enumerate() {
@@ -254,7 +250,7 @@ pub fn iterate(
             disc.gears[k] = GearState {
                 pre: p,
                 locked: g.locked(p, p.start_forward, p.start_backward),
-                rel: rels.gears[k],
+                rel: solved.gears[k].rel,
             };
         }
         if settled || initial {
@@ -296,7 +292,7 @@ pub fn iterate(
 }
 
 /// One evaluation of the mixed system: relation values consistent with the accelerations and
-/// torques they imply, for fixed `pre()` values. The fixed point starts from the relations'
+/// torques they imply, for fixed `pre()` values, and the state they imply. The fixed point starts from the relations'
 /// current values (the solution closest to the state before); if that cycles — an element that
 /// starts one way is pushed back the other way, each direction implying the opposite — it
 /// starts again from "nothing starts" (every stuck element locked); if that cycles too, two
@@ -316,54 +312,19 @@ fn solve_mixed(
     initial: bool,
     horizon: f64,
     ws: &mut Workspace,
-) -> Result<RelationValues, SimError> {
+) -> Result<DiscreteState, SimError> {
     let limit = 4 * (sys.frictions.len() + sys.lossy_gears.len()) + 10;
     let locked_start = current.nothing_starts();
     let mut visited: Vec<RelationValues> = Vec::new();
     let mut rels = current;
     let mut restarted = false;
     for _ in 0..2 * limit {
-        let trial = DiscreteState {
-            friction: (0..sys.frictions.len())
-                .map(|k| {
-                    let fe = &sys.frictions[k];
-                    let rel = rels.friction[k];
-                    let (sf, sb) = fe.start_flags(pre_f[k], rel, initial);
-                    FrictionState {
-                        pre: Discrete {
-                            mode: pre_f[k].mode,
-                            start_forward: sf,
-                            start_backward: sb,
-                        },
-                        locked: fe.locked(free[k], pre_f[k], sf, sb),
-                        free: free[k],
-                        rel,
-                    }
-                })
-                .collect(),
-            gears: (0..sys.lossy_gears.len())
-                .map(|k| {
-                    let g = &sys.lossy_gears[k];
-                    let rel = rels.gears[k];
-                    let (sf, sb) = g.start_flags(pre_g[k], rel, initial);
-                    GearState {
-                        pre: Discrete {
-                            mode: pre_g[k].mode,
-                            start_forward: sf,
-                            start_backward: sb,
-                        },
-                        locked: g.locked(pre_g[k], sf, sb),
-                        rel,
-                    }
-                })
-                .collect(),
-            relations: relations.to_vec(),
-        };
+        let trial = implied_state(sys, pre_f, pre_g, free, &rels, relations, initial);
         let mm = cache.get(sys, &trial, t)?;
         evaluate(sys, &mm, &trial, t, x, horizon, ws);
         let next = rels.updated(sys, ws, initial);
         if next == rels {
-            return Ok(rels);
+            return Ok(trial);
         }
         visited.push(rels.clone());
         if !visited.contains(&next) {
@@ -375,7 +336,9 @@ fn solve_mixed(
         } else {
             let started = next.or(&rels);
             if visited.contains(&started) {
-                return Ok(started);
+                return Ok(implied_state(
+                    sys, pre_f, pre_g, free, &started, relations, initial,
+                ));
             }
             rels = started;
         }
@@ -384,4 +347,53 @@ fn solve_mixed(
         time: t,
         message: "the stick/slip Booleans of coupled friction elements do not settle (mixed system has no consistent solution)".into(),
     })
+}
+
+/// The discrete state the relations imply with `pre()` fixed: each element's start flags and
+/// whether it is locked (its `pre.mode` stays the pre-value).
+fn implied_state(
+    sys: &System,
+    pre_f: &[Discrete],
+    pre_g: &[Discrete],
+    free: &[bool],
+    rels: &RelationValues,
+    relations: &[bool],
+    initial: bool,
+) -> DiscreteState {
+    DiscreteState {
+        friction: (0..sys.frictions.len())
+            .map(|k| {
+                let fe = &sys.frictions[k];
+                let rel = rels.friction[k];
+                let (sf, sb) = fe.start_flags(pre_f[k], rel, initial);
+                FrictionState {
+                    pre: Discrete {
+                        mode: pre_f[k].mode,
+                        start_forward: sf,
+                        start_backward: sb,
+                    },
+                    locked: fe.locked(free[k], pre_f[k], sf, sb),
+                    free: free[k],
+                    rel,
+                }
+            })
+            .collect(),
+        gears: (0..sys.lossy_gears.len())
+            .map(|k| {
+                let g = &sys.lossy_gears[k];
+                let rel = rels.gears[k];
+                let (sf, sb) = g.start_flags(pre_g[k], rel, initial);
+                GearState {
+                    pre: Discrete {
+                        mode: pre_g[k].mode,
+                        start_forward: sf,
+                        start_backward: sb,
+                    },
+                    locked: g.locked(pre_g[k], sf, sb),
+                    rel,
+                }
+            })
+            .collect(),
+        relations: relations.to_vec(),
+    }
 }

@@ -7,7 +7,7 @@ references (``compare``).
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any as _Any
 
 from .compare import CompareReport, compare
 from .components import (
@@ -48,9 +48,22 @@ from .components import (
     Torque,
     TorqueStep,
 )
-from .errors import ModelError
+from .errors import (
+    ChatteringError,
+    EventIterationError,
+    IntegratorError,
+    ModelError,
+    NonFiniteStateError,
+    SimulationCancelled,
+    SimulationError,
+    SingularSystemError,
+    StepLimitError,
+    StictionError,
+    UsageError,
+)
 from .model import Model
 from .result import Event, Result
+from .simulation import CancelHandle, Simulation, SimulationState
 
 try:
     from importlib.metadata import PackageNotFoundError, version
@@ -63,6 +76,8 @@ __all__ = [
     "Add",
     "BearingFriction",
     "Brake",
+    "CancelHandle",
+    "ChatteringError",
     "Clutch",
     "CompareReport",
     "Component",
@@ -73,6 +88,7 @@ __all__ = [
     "Damper",
     "ElastoBacklash",
     "Event",
+    "EventIterationError",
     "Feedback",
     "Fixed",
     "FixedTemperature",
@@ -81,11 +97,13 @@ __all__ = [
     "IdealGear",
     "IdealPlanetary",
     "Inertia",
+    "IntegratorError",
     "InverseSpeedDependentTorque",
     "LinearSpeedDependentTorque",
     "LossyGear",
     "Model",
     "ModelError",
+    "NonFiniteStateError",
     "OneWayClutch",
     "Product",
     "Pulse",
@@ -93,19 +111,27 @@ __all__ = [
     "Ramp",
     "Result",
     "SignTorque",
+    "Simulation",
+    "SimulationCancelled",
+    "SimulationError",
+    "SimulationState",
     "Sine",
+    "SingularSystemError",
     "Spring",
     "SpringDamper",
     "Step",
+    "StepLimitError",
+    "StictionError",
     "ThermalConductor",
     "TimeTable",
     "Torque",
     "TorqueStep",
+    "UsageError",
     "compare",
 ]
 
 
-def __getattr__(name: str) -> Any:
+def __getattr__(name: str) -> _Any:
     """Make factories on demand for engine types without a class here.
 
     For example ``st.OneWayClutch`` when the engine knows that type.

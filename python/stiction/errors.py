@@ -1,29 +1,106 @@
-"""The model-error type, shared by the compiled core and the Python layer.
+"""The exceptions stiction raises, one class per kind of failure.
 
-The real ``ModelError`` lives in the compiled module ``stiction._core`` so that errors
-raised in Rust and in Python are one class. When the compiled module is not built
-(pure-Python tests of the CSV and comparison code), a stand-in with the same base class
-is used instead.
+They are defined here, in Python, and the compiled core raises these very classes (it looks
+them up by name), so ``except stiction.ModelError`` catches an error from either side::
+
+    StictionError
+    ├── ModelError (also a ValueError)          the model is invalid
+    ├── UsageError (also a ValueError)          a call the running simulation cannot honour
+    └── SimulationError (also a RuntimeError)   a valid model could not be simulated
+        ├── SingularSystemError                 accelerations not determined in some mode
+        ├── EventIterationError                 no consistent stick/slip state at an event
+        ├── ChatteringError                     mode changes without end
+        ├── StepLimitError                      more integration steps than any sane run needs
+        ├── NonFiniteStateError                 the state became infinite or NaN
+        ├── IntegratorError                     the ODE integrator failed
+        └── SimulationCancelled                 the run was cancelled
 """
 
 from __future__ import annotations
 
-__all__ = ["ModelError", "core_available"]
+__all__ = [
+    "ChatteringError",
+    "EventIterationError",
+    "IntegratorError",
+    "ModelError",
+    "NonFiniteStateError",
+    "SimulationCancelled",
+    "SimulationError",
+    "SingularSystemError",
+    "StepLimitError",
+    "StictionError",
+    "UsageError",
+    "core_available",
+]
 
-try:
-    from ._core import ModelError
-except ModuleNotFoundError as exc:  # only "not built"; a broken build must still fail loudly
-    if exc.name != f"{__package__}._core":
-        raise
 
-    class ModelError(ValueError):  # type: ignore[no-redef]
-        """A model is invalid; the message names the component and parameter or port."""
+class StictionError(Exception):
+    """Base class of every error stiction raises on purpose."""
 
-    _CORE = False
-else:
-    _CORE = True
+
+class ModelError(StictionError, ValueError):
+    """The model is invalid; the message names the component and the parameter or port."""
+
+
+class UsageError(StictionError, ValueError):
+    """A request a running simulation cannot honour (unknown input or variable, a past time)."""
+
+
+class SimulationError(StictionError, RuntimeError):
+    """A valid model could not be simulated; the message says when and what failed."""
+
+
+class SingularSystemError(SimulationError):
+    """The accelerations are not determined in some mode (names the shafts without inertia)."""
+
+
+class EventIterationError(SimulationError):
+    """The event iteration found no consistent stick/slip state (names the elements)."""
+
+
+class ChatteringError(SimulationError):
+    """The model switches modes without end; the message names the last cause."""
+
+
+class StepLimitError(SimulationError):
+    """The run needed more integration steps than any sensible model does."""
+
+
+class NonFiniteStateError(SimulationError):
+    """The state became infinite or NaN (overflow, or a mode without a solution)."""
+
+
+class IntegratorError(SimulationError):
+    """The ODE integrator failed (step size too small, nonlinear solver failures, …)."""
+
+
+class SimulationCancelled(SimulationError):
+    """The run was cancelled (``Simulation.cancel`` from another thread)."""
+
+
+for _cls in (
+    StictionError,
+    ModelError,
+    UsageError,
+    SimulationError,
+    SingularSystemError,
+    EventIterationError,
+    ChatteringError,
+    StepLimitError,
+    NonFiniteStateError,
+    IntegratorError,
+    SimulationCancelled,
+):
+    _cls.__module__ = "stiction"
+del _cls
 
 
 def core_available() -> bool:
     """Tell whether the compiled engine is importable (true in any installation)."""
-    return _CORE
+    try:
+        from . import _core  # noqa: F401
+    except ModuleNotFoundError as exc:  # only "not built"; a broken build must still fail
+        if exc.name != f"{__package__}._core":
+            raise
+        return False
+    return True

@@ -14,12 +14,15 @@ import os
 import re
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from . import modelfile
 from .components import FACTORIES, Component, component_types
 from .errors import ModelError
 from .result import Result
+
+if TYPE_CHECKING:
+    from .simulation import Simulation
 
 __all__ = ["Model"]
 
@@ -41,6 +44,8 @@ class Model:
         self.components: dict[str, Component] = {}
         self.connections: list[tuple[str, str]] = []
         self.experiment: dict[str, Any] = {}
+        # Signal inputs left unconnected on purpose, set while the model runs: port -> start.
+        self.inputs: dict[str, float] = {}
         # Relative file names in parameters (a TimeTable CSV …) are relative to this.
         self.base_dir = Path(base_dir)
 
@@ -105,6 +110,20 @@ class Model:
         self.connections.append((a, b))
         return self
 
+    def input(self, port: str, start: float = 0.0) -> Model:
+        """Declare an unconnected signal input ("brake.f_normalized") an input of the model.
+
+        Its value is ``start`` until a ``Simulation`` (or an FMU host) sets it; a jump is an
+        event at that instant. An unconnected input that is not declared stays an error.
+        """
+        self._check_end(port)
+        if isinstance(start, bool) or not isinstance(start, (int, float)):
+            raise ModelError(f"input '{port}': start must be a number, got {start!r}")
+        if any(port in pair for pair in self.connections):
+            raise ModelError(f"input '{port}': the port is connected; a model input is left unconnected")
+        self.inputs[port] = float(start)
+        return self
+
     def __getitem__(self, name: str) -> Component:
         return self.components[name]
 
@@ -116,6 +135,7 @@ class Model:
             and self.components == other.components
             and self.connections == other.connections
             and self.experiment == other.experiment
+            and self.inputs == other.inputs
         )
 
     __hash__ = None  # type: ignore[assignment]  # mutable
@@ -133,6 +153,7 @@ class Model:
             self.experiment,
             ((n, c.type, c.params) for n, c in self.components.items()),
             self.connections,
+            self.inputs,
         )
 
     def save(self, path: str | os.PathLike[str]) -> None:
@@ -162,6 +183,8 @@ class Model:
             model.add(comp_name, comp)
         for a, b in data.connections:
             model.connect(a, b)
+        for port, start in data.inputs.items():
+            model.input(port, start)
         return model
 
     @classmethod
@@ -183,6 +206,15 @@ class Model:
             raise ModelError(message) from None
 
     # --- running ----------------------------------------------------------------------
+    def simulation(self, **experiment: float) -> Simulation:
+        """A resumable run of the model (``advance_to``, ``set_input``, ``get`` …).
+
+        Keyword arguments (``StopTime=2.0`` …) override the experiment for this run.
+        """
+        from .simulation import Simulation
+
+        return Simulation(self, **experiment)
+
     def check(self) -> None:
         """Let the engine validate the whole model without running it."""
         from . import _core

@@ -19,10 +19,12 @@ import tomli_w
 
 from .errors import ModelError
 
-__all__ = ["EXPERIMENT_KEYS", "ModelData", "dumps", "parse"]
+__all__ = ["EXPERIMENT_KEYS", "FORMAT_VERSION", "ModelData", "dumps", "parse"]
 
 EXPERIMENT_KEYS = ("StartTime", "StopTime", "Interval", "Tolerance", "Solver")
-_TOP_KEYS = ("name", "connect", "experiment", "components")
+# The model file format written here; every older one is read, a newer one refused by name.
+FORMAT_VERSION = 1
+_TOP_KEYS = ("format", "name", "connect", "inputs", "experiment", "components")
 _BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
 _INLINE_MAX = 110  # longer components are written as [components.<name>] sections instead
 
@@ -34,6 +36,7 @@ class ModelData(NamedTuple):
     experiment: dict[str, Any]
     components: list[tuple[str, str, dict[str, Any]]]  # (name, type, parameters)
     connections: list[tuple[str, str]]
+    inputs: dict[str, float]  # model input port -> start value
 
 
 def _suggest(word: str, choices: Iterable[str]) -> str:
@@ -54,6 +57,35 @@ def _connections(value: Any, where: str) -> list[tuple[str, str]]:
     return pairs
 
 
+def _inputs(value: Any, where: str) -> dict[str, float]:
+    if not isinstance(value, list):
+        raise ModelError(f"{where}: 'inputs' must be an array of ports (\"brake.f_normalized\")")
+    inputs: dict[str, float] = {}
+    for i, item in enumerate(value):
+        if isinstance(item, str):
+            port, start = item, 0.0
+        elif isinstance(item, dict) and isinstance(item.get("port"), str) and set(item) <= {"port", "start"}:
+            port, start = item["port"], item.get("start", 0.0)
+        else:
+            raise ModelError(
+                f'{where}: inputs[{i}] must be "component.port" or {{ port = "component.port", start = 0.0 }}'
+            )
+        if isinstance(start, bool) or not isinstance(start, (int, float)):
+            raise ModelError(f"{where}: inputs[{i}]: start must be a number, got {start!r}")
+        inputs[port] = float(start)
+    return inputs
+
+
+def _check_format(value: Any, where: str) -> None:
+    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+        raise ModelError(f"{where}: 'format' must be a format version (an integer from 1)")
+    if value > FORMAT_VERSION:
+        raise ModelError(
+            f"{where}: model file format {value} is newer than this version of stiction reads "
+            f"(format {FORMAT_VERSION}); update stiction"
+        )
+
+
 def parse(text: str, source: str = "model") -> ModelData:
     """Parse model-file text; ``source`` (usually the path) prefixes error messages."""
     try:
@@ -67,6 +99,8 @@ def parse(text: str, source: str = "model") -> ModelData:
                 f"{source}: unknown top-level key '{key}'{_suggest(key, _TOP_KEYS)}; "
                 f"expected {', '.join(_TOP_KEYS)}"
             )
+    if "format" in doc:
+        _check_format(doc["format"], source)
     name = doc.get("name")
     if name is not None and not isinstance(name, str):
         raise ModelError(f"{source}: 'name' must be a string, got {name!r}")
@@ -82,6 +116,7 @@ def parse(text: str, source: str = "model") -> ModelData:
             raise ModelError(f"{source}: experiment: '{key}' has the wrong kind of value {value!r}")
 
     connections = _connections(doc["connect"], source) if "connect" in doc else []
+    inputs = _inputs(doc["inputs"], source) if "inputs" in doc else {}
     components: list[tuple[str, str, dict[str, Any]]] = []
     table = doc.get("components", {})
     if not isinstance(table, dict):
@@ -90,6 +125,9 @@ def parse(text: str, source: str = "model") -> ModelData:
         if comp_name == "connect" and isinstance(entry, list):
             # `connect = [...]` written after [components] lands here; accept it.
             connections.extend(_connections(entry, source))
+            continue
+        if comp_name == "inputs" and isinstance(entry, list):
+            inputs.update(_inputs(entry, source))
             continue
         if not isinstance(entry, dict):
             raise ModelError(
@@ -101,7 +139,7 @@ def parse(text: str, source: str = "model") -> ModelData:
         if not isinstance(comp_type, str):
             raise ModelError(f"{source}: component '{comp_name}': missing 'type' (a string)")
         components.append((comp_name, comp_type, params))
-    return ModelData(name, dict(experiment), components, connections)
+    return ModelData(name, dict(experiment), components, connections, inputs)
 
 
 # --- writing --------------------------------------------------------------------------
@@ -132,9 +170,10 @@ def dumps(
     experiment: Mapping[str, Any],
     components: Iterable[tuple[str, str, Mapping[str, Any]]],
     connections: Iterable[tuple[str, str]],
+    inputs: Mapping[str, float] | None = None,
 ) -> str:
     """Write a model file; it parses back to the same data."""
-    lines = [f"name = {_scalar(name)}"]
+    lines = [f"format = {FORMAT_VERSION}", f"name = {_scalar(name)}"]
     pairs = list(connections)
     if pairs:
         lines.append("connect = [")
@@ -142,6 +181,10 @@ def dumps(
         lines.append("]")
     else:
         lines.append("connect = []")
+    if inputs:
+        lines.append("inputs = [")
+        lines.extend(f"  {{ port = {_scalar(p)}, start = {_scalar(float(v))} }}," for p, v in inputs.items())
+        lines.append("]")
     if experiment:
         lines += ["", "[experiment]"]
         lines.extend(f"{_key(k)} = {_value(v)}" for k, v in experiment.items())

@@ -1,4 +1,6 @@
-//! Errors of the core: every model error names the component and the parameter or port at fault.
+//! Errors of the core: every model error names the component and the parameter or port at fault;
+//! every simulation error says what failed, when, and which elements were involved. Each kind is
+//! its own variant so callers (Python, FMI, the CLI) can map it without reading messages.
 
 use thiserror::Error;
 
@@ -19,18 +21,70 @@ pub enum ModelError {
     /// A component-level problem that is not tied to one parameter (unknown type, port left open …).
     #[error("component '{component}': {message}")]
     Component { component: String, message: String },
-    /// The model file itself (syntax, experiment settings).
+    /// The model file itself (syntax, experiment settings, format version).
     #[error("{0}")]
     File(String),
 }
 
-/// A failure while simulating a valid model (singular system, event iteration not converging …).
+/// A failure while simulating a valid model.
 #[derive(Debug, Clone, Error, PartialEq)]
 pub enum SimError {
     #[error(transparent)]
     Model(#[from] ModelError),
-    #[error("at t = {time}: {message}")]
-    Numerical { time: f64, message: String },
+    /// The mode's linear system has no unique solution.
+    #[error("at t = {time}: the accelerations are not determined (singular system){detail}")]
+    SingularMode { time: f64, detail: String },
+    /// The event iteration found no consistent discrete state.
+    #[error("at t = {time}: {message} (elements: {})", elements.join(", "))]
+    EventIteration {
+        time: f64,
+        message: String,
+        elements: Vec<String>,
+    },
+    /// Mode changes without end at (almost) one instant.
+    #[error("at t = {time}: more than {limit} state events: the model chatters{last}")]
+    Chattering {
+        time: f64,
+        limit: usize,
+        last: String,
+    },
+    /// More integration steps than any sensible run needs.
+    #[error(
+        "at t = {time}: more than {limit} integration steps: the model is too stiff or chatters"
+    )]
+    StepLimit { time: f64, limit: usize },
+    /// The state became infinite or NaN.
+    #[error(
+        "at t = {time}: the state became infinite or NaN (overflow, or a mode without a solution)"
+    )]
+    NonFiniteState { time: f64 },
+    /// The ODE integrator itself failed (step size too small, nonlinear solver failures, …).
+    #[error("at t = {time}: integrator: {message}")]
+    Integrator { time: f64, message: String },
+    /// The run was cancelled (`Simulation::cancel`, Ctrl-C).
+    #[error("at t = {time}: cancelled")]
+    Cancelled { time: f64 },
+    /// A request the running simulation cannot honour (an unknown input or variable, a time
+    /// before the current one or past StopTime).
+    #[error("{0}")]
+    Usage(String),
+}
+
+impl SimError {
+    /// A short machine-readable name of the kind (the Python exception class is chosen by it).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            SimError::Model(_) => "ModelError",
+            SimError::SingularMode { .. } => "SingularSystemError",
+            SimError::EventIteration { .. } => "EventIterationError",
+            SimError::Chattering { .. } => "ChatteringError",
+            SimError::StepLimit { .. } => "StepLimitError",
+            SimError::NonFiniteState { .. } => "NonFiniteStateError",
+            SimError::Integrator { .. } => "IntegratorError",
+            SimError::Cancelled { .. } => "SimulationCancelled",
+            SimError::Usage(_) => "UsageError",
+        }
+    }
 }
 
 pub type ModelResult<T> = Result<T, ModelError>;

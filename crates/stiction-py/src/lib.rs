@@ -5,34 +5,33 @@ use std::collections::HashMap;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
-use pyo3::create_exception;
-use pyo3::exceptions::{PyKeyError, PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyKeyError, PyRuntimeError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use stiction_core::{ModelError as CoreModelError, ModelSpec, SimError, SimResult};
+use stiction_core::simulation::{CancelHandle, SimState};
+use stiction_core::{ModelError as CoreModelError, ModelSpec, SimError, SimResult, Simulation};
 
-create_exception!(
-    _core,
-    ModelError,
-    PyValueError,
-    "The model is invalid; the message names the component and the parameter or port."
-);
-create_exception!(
-    _core,
-    SimulationError,
-    PyRuntimeError,
-    "A valid model could not be simulated (singular system, no consistent mode, …)."
-);
+/// An exception of the class named `kind` in `stiction.errors` (one Python class per error
+/// kind; the classes live in Python so both sides raise the same ones).
+fn py_error(kind: &str, message: String) -> PyErr {
+    Python::attach(|py| {
+        let made = py
+            .import("stiction.errors")
+            .and_then(|m| m.getattr(kind))
+            .and_then(|cls| cls.call1((message.clone(),)));
+        match made {
+            Ok(instance) => PyErr::from_value(instance),
+            Err(_) => PyRuntimeError::new_err(message),
+        }
+    })
+}
 
 fn model_err(e: CoreModelError) -> PyErr {
-    ModelError::new_err(e.to_string())
+    py_error("ModelError", e.to_string())
 }
 
 fn sim_err(e: SimError) -> PyErr {
-    match e {
-        SimError::Model(m) => model_err(m),
-        other => SimulationError::new_err(other.to_string()),
-    }
+    py_error(e.kind(), e.to_string())
 }
 
 fn parse(
@@ -58,9 +57,10 @@ fn guarded<T>(f: impl FnOnce() -> Result<T, SimError>) -> PyResult<T> {
                 .cloned()
                 .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
                 .unwrap_or_default();
-            Err(SimulationError::new_err(format!(
-                "internal error in the engine (please report): {what}"
-            )))
+            Err(py_error(
+                "SimulationError",
+                format!("internal error in the engine (please report): {what}"),
+            ))
         }
     }
 }
@@ -106,7 +106,8 @@ impl RawResult {
         d.set_item("steps", s.steps)?;
         d.set_item("rejected_steps", s.rejected_steps)?;
         d.set_item("rhs_evals", s.rhs_evals)?;
-        d.set_item("events", s.state_events + s.time_events)?;
+        d.set_item("events", s.state_events + s.time_events + s.input_events)?;
+        d.set_item("input_events", s.input_events)?;
         d.set_item("state_events", s.state_events)?;
         d.set_item("time_events", s.time_events)?;
         d.set_item("factorizations", s.factorizations)?;
@@ -150,7 +151,7 @@ fn check(model_toml: &str, base_dir: &str) -> PyResult<()> {
     let spec = parse(model_toml, base_dir, &HashMap::new())?;
     guarded(|| {
         let sys = stiction_core::system::assemble(&spec)?;
-        stiction_core::solver::initial_state(&sys)?;
+        stiction_core::simulation::initial_state(&sys)?;
         Ok(())
     })
 }
@@ -168,13 +169,153 @@ fn component_types(py: Python<'_>) -> PyResult<Py<PyDict>> {
     Ok(out.unbind())
 }
 
+/// Moves a value into `Python::detach` that is not `Send` (a `Simulation` holds `Rc`s).
+/// SAFETY: `detach` runs the closure on the calling thread, and the `unsendable` pyclass that
+/// owns the value is only ever used from the thread that created it.
+struct OnThisThread<T>(T);
+unsafe impl<T> Send for OnThisThread<T> {}
+
+/// A resumable run: advance to a time, set inputs, read variables, save and restore state.
+#[pyclass(unsendable, module = "stiction._core", name = "Simulation")]
+struct PySimulation(Option<Simulation>);
+
+impl PySimulation {
+    fn sim(&mut self) -> PyResult<&mut Simulation> {
+        self.0.as_mut().ok_or_else(|| {
+            py_error(
+                "UsageError",
+                "the simulation was closed by result()".to_string(),
+            )
+        })
+    }
+}
+
+#[pymethods]
+impl PySimulation {
+    #[new]
+    #[pyo3(signature = (model_toml, base_dir = ".", overrides = None))]
+    fn new(
+        model_toml: &str,
+        base_dir: &str,
+        overrides: Option<HashMap<String, f64>>,
+    ) -> PyResult<Self> {
+        let spec = parse(model_toml, base_dir, &overrides.unwrap_or_default())?;
+        let sim = guarded(|| Simulation::from_spec(&spec))?;
+        Ok(Self(Some(sim)))
+    }
+
+    #[getter]
+    fn time(&mut self) -> PyResult<f64> {
+        Ok(self.sim()?.time())
+    }
+
+    #[getter]
+    fn stop_time(&mut self) -> PyResult<f64> {
+        Ok(self.sim()?.system().experiment.stop_time)
+    }
+
+    #[getter]
+    fn finished(&mut self) -> PyResult<bool> {
+        Ok(self.sim()?.finished())
+    }
+
+    /// Advances to `t` with the GIL released (Ctrl-C: cancel through a handle).
+    fn advance_to(&mut self, py: Python<'_>, t: f64) -> PyResult<()> {
+        let sim = OnThisThread(self.sim()?);
+        py.detach(move || {
+            let sim = sim;
+            guarded(|| sim.0.advance_to(t))
+        })
+    }
+
+    fn inputs(&mut self) -> PyResult<Vec<(String, f64)>> {
+        Ok(self.sim()?.inputs())
+    }
+
+    fn set_input(&mut self, name: &str, value: f64) -> PyResult<()> {
+        let sim = self.sim()?;
+        guarded(|| sim.set_input(name, value))
+    }
+
+    fn names(&mut self) -> PyResult<Vec<String>> {
+        Ok(self.sim()?.names())
+    }
+
+    fn values(&mut self) -> PyResult<Vec<f64>> {
+        let sim = self.sim()?;
+        guarded(|| sim.values())
+    }
+
+    fn get(&mut self, name: &str) -> PyResult<f64> {
+        let sim = self.sim()?;
+        guarded(|| sim.get(name))
+    }
+
+    fn cancel_handle(&mut self) -> PyResult<PyCancelHandle> {
+        Ok(PyCancelHandle(self.sim()?.cancel_handle()))
+    }
+
+    fn state(&mut self) -> PyResult<PyState> {
+        let sim = self.sim()?;
+        Ok(PyState(guarded(|| sim.state())?))
+    }
+
+    fn set_state(&mut self, state: &PyState) -> PyResult<()> {
+        let sim = self.sim()?;
+        guarded(|| sim.set_state(&state.0))
+    }
+
+    fn reset(&mut self) -> PyResult<()> {
+        let sim = self.sim()?;
+        guarded(|| sim.reset())
+    }
+
+    /// The rows recorded so far; the simulation is closed.
+    fn result(&mut self) -> PyResult<RawResult> {
+        let sim = self
+            .0
+            .take()
+            .ok_or_else(|| py_error("UsageError", "result() was called already".to_string()))?;
+        Ok(RawResult(sim.into_result()))
+    }
+}
+
+/// Cancels a running simulation from any thread.
+#[pyclass(frozen, module = "stiction._core", name = "CancelHandle")]
+struct PyCancelHandle(CancelHandle);
+
+#[pymethods]
+impl PyCancelHandle {
+    fn cancel(&self) {
+        self.0.cancel();
+    }
+}
+
+/// A saved simulation state (opaque; restore it with `Simulation.set_state`).
+#[pyclass(frozen, module = "stiction._core", name = "State")]
+struct PyState(SimState);
+
+#[pymethods]
+impl PyState {
+    #[getter]
+    fn time(&self) -> f64 {
+        self.0.cursor.now
+    }
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add_function(wrap_pyfunction!(component_types, m)?)?;
     m.add_class::<RawResult>()?;
-    m.add("ModelError", m.py().get_type::<ModelError>())?;
-    m.add("SimulationError", m.py().get_type::<SimulationError>())?;
+    m.add_class::<PySimulation>()?;
+    m.add_class::<PyCancelHandle>()?;
+    m.add_class::<PyState>()?;
+    // The exception classes are Python's (`stiction.errors`); re-exported here for old code.
+    let errors = m.py().import("stiction.errors")?;
+    for name in ["ModelError", "SimulationError"] {
+        m.add(name, errors.getattr(name)?)?;
+    }
     Ok(())
 }

@@ -39,8 +39,7 @@ impl ModeCache {
         if let Some(mm) = self.map.get(&key) {
             return Ok(mm.clone());
         }
-        let mm = ModeMatrix::factor(sys, &locked, &gears)
-            .map_err(|message| SimError::Numerical { time: t, message })?;
+        let mm = ModeMatrix::factor(sys, &locked, &gears, t)?;
         self.factorizations += 1;
         let mm = Rc::new(mm);
         self.map.insert(key, mm.clone());
@@ -164,7 +163,7 @@ pub fn iterate(
     // Relations of force laws are evaluated literally at the event (no linear solve needed:
     // the previous mode's matrix may not even be regular, e.g. before initialization).
     {
-        kinematics(sys, t, x, horizon, ws);
+        kinematics(sys, disc, t, x, horizon, ws);
         let mut z = [0.0; 4];
         for (k, law) in sys.laws.iter().enumerate() {
             let count = law.law.relation_count();
@@ -207,7 +206,7 @@ pub fn iterate(
             &pre_g,
             &free,
             RelationValues::of(disc),
-            &disc.relations,
+            disc,
             t,
             x,
             initial,
@@ -282,12 +281,12 @@ pub fn iterate(
         .map(|f| f.name.as_str())
         .chain(sys.lossy_gears.iter().map(|g| g.name.as_str()))
         .collect();
-    Err(SimError::Numerical {
+    Err(SimError::EventIteration {
         time: t,
         message: format!(
-            "event iteration did not reach a consistent mode after {MAX_PASSES} passes (elements: {})",
-            names.join(", ")
+            "event iteration did not reach a consistent mode after {MAX_PASSES} passes"
         ),
+        elements: names.into_iter().map(String::from).collect(),
     })
 }
 
@@ -306,7 +305,7 @@ fn solve_mixed(
     pre_g: &[Discrete],
     free: &[bool],
     current: RelationValues,
-    relations: &[bool],
+    carried: &DiscreteState,
     t: f64,
     x: &[f64],
     initial: bool,
@@ -319,7 +318,7 @@ fn solve_mixed(
     let mut rels = current;
     let mut restarted = false;
     for _ in 0..2 * limit {
-        let trial = implied_state(sys, pre_f, pre_g, free, &rels, relations, initial);
+        let trial = implied_state(sys, pre_f, pre_g, free, &rels, carried, initial);
         let mm = cache.get(sys, &trial, t)?;
         evaluate(sys, &mm, &trial, t, x, horizon, ws);
         let next = rels.updated(sys, ws, initial);
@@ -337,15 +336,21 @@ fn solve_mixed(
             let started = next.or(&rels);
             if visited.contains(&started) {
                 return Ok(implied_state(
-                    sys, pre_f, pre_g, free, &started, relations, initial,
+                    sys, pre_f, pre_g, free, &started, carried, initial,
                 ));
             }
             rels = started;
         }
     }
-    Err(SimError::Numerical {
+    Err(SimError::EventIteration {
         time: t,
         message: "the stick/slip Booleans of coupled friction elements do not settle (mixed system has no consistent solution)".into(),
+        elements: sys
+            .frictions
+            .iter()
+            .map(|f| f.name.clone())
+            .chain(sys.lossy_gears.iter().map(|g| g.name.clone()))
+            .collect(),
     })
 }
 
@@ -357,7 +362,7 @@ fn implied_state(
     pre_g: &[Discrete],
     free: &[bool],
     rels: &RelationValues,
-    relations: &[bool],
+    carried: &DiscreteState,
     initial: bool,
 ) -> DiscreteState {
     DiscreteState {
@@ -394,6 +399,7 @@ fn implied_state(
                 }
             })
             .collect(),
-        relations: relations.to_vec(),
+        relations: carried.relations.clone(),
+        inputs: carried.inputs.clone(),
     }
 }

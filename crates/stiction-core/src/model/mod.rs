@@ -5,4 +5,4 @@ mod params;
 mod spec;
 
 pub use params::{InitValue, Params};
-pub use spec::{ComponentSpec, Experiment, ModelSpec, PortRef};
+pub use spec::{ComponentSpec, Experiment, InputSpec, ModelSpec, PortRef, FORMAT_VERSION};

@@ -114,6 +114,17 @@ impl Experiment {
     }
 }
 
+/// The model file format this version reads and writes. Readers accept every older version and
+/// refuse a newer one by name.
+pub const FORMAT_VERSION: i64 = 1;
+
+/// A model input: an unconnected signal input port and its value until it is first set.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InputSpec {
+    pub port: PortRef,
+    pub start: f64,
+}
+
 /// A whole model as read from a file or built in Python.
 #[derive(Debug, Clone)]
 pub struct ModelSpec {
@@ -121,6 +132,8 @@ pub struct ModelSpec {
     pub experiment: Experiment,
     pub components: Vec<ComponentSpec>,
     pub connections: Vec<(PortRef, PortRef)>,
+    /// Signal inputs left unconnected on purpose: inputs of the model, set while it runs.
+    pub inputs: Vec<InputSpec>,
     /// Folder that relative file names in parameters (time tables) are resolved against.
     pub base_dir: PathBuf,
 }
@@ -135,9 +148,11 @@ impl ModelSpec {
             experiment: Experiment::default(),
             components: Vec::new(),
             connections: Vec::new(),
+            inputs: Vec::new(),
             base_dir: base_dir.into(),
         };
         let mut connect: Option<&toml::Value> = None;
+        let mut inputs: Option<&toml::Value> = None;
         for (key, value) in &doc {
             match key.as_str() {
                 "name" => {
@@ -157,13 +172,19 @@ impl ModelSpec {
                             connect = Some(comp);
                             continue;
                         }
+                        if name == "inputs" && comp.is_array() {
+                            inputs = Some(comp);
+                            continue;
+                        }
                         spec.components.push(read_component(name, comp)?);
                     }
                 }
                 "connect" => connect = Some(value),
+                "inputs" => inputs = Some(value),
+                "format" => check_format(value)?,
                 other => {
                     return Err(ModelError::File(format!(
-                        "unknown top-level key '{other}' (expected name, experiment, components, connect)"
+                        "unknown top-level key '{other}' (expected format, name, experiment, components, connect, inputs)"
                     )))
                 }
             }
@@ -171,9 +192,65 @@ impl ModelSpec {
         if let Some(list) = connect {
             spec.connections = read_connections(list)?;
         }
+        if let Some(list) = inputs {
+            spec.inputs = read_inputs(list)?;
+        }
         spec.experiment.validate()?;
         Ok(spec)
     }
+}
+
+fn check_format(value: &toml::Value) -> ModelResult<()> {
+    match value.as_integer() {
+        Some(v) if (1..=FORMAT_VERSION).contains(&v) => Ok(()),
+        Some(v) if v > FORMAT_VERSION => Err(ModelError::File(format!(
+            "model file format {v} is newer than this version of stiction reads (format {FORMAT_VERSION}); update stiction"
+        ))),
+        _ => Err(ModelError::File(format!(
+            "'format' must be a format version, an integer from 1 to {FORMAT_VERSION}"
+        ))),
+    }
+}
+
+/// `inputs = ["brake.f_normalized", { port = "motor.tau", start = 2.0 }]`.
+fn read_inputs(value: &toml::Value) -> ModelResult<Vec<InputSpec>> {
+    let bad = || {
+        ModelError::File(
+            "'inputs' must be a list of ports like [\"brake.f_normalized\"] or { port = \"brake.f_normalized\", start = 0.0 }".into(),
+        )
+    };
+    let list = value.as_array().ok_or_else(bad)?;
+    list.iter()
+        .map(|item| match item {
+            toml::Value::String(port) => Ok(InputSpec {
+                port: PortRef::parse(port)?,
+                start: 0.0,
+            }),
+            toml::Value::Table(t) => {
+                if let Some(key) = t.keys().find(|k| *k != "port" && *k != "start") {
+                    return Err(ModelError::File(format!(
+                        "inputs: unknown key '{key}' (port, start)"
+                    )));
+                }
+                let port = t.get("port").and_then(|p| p.as_str()).ok_or_else(bad)?;
+                let start = match t.get("start") {
+                    None => 0.0,
+                    Some(v) => v
+                        .as_float()
+                        .or_else(|| v.as_integer().map(|i| i as f64))
+                        .filter(|v| v.is_finite())
+                        .ok_or_else(|| {
+                            ModelError::File(format!("inputs: '{port}': start must be a number"))
+                        })?,
+                };
+                Ok(InputSpec {
+                    port: PortRef::parse(port)?,
+                    start,
+                })
+            }
+            _ => Err(bad()),
+        })
+        .collect()
 }
 
 fn read_experiment(value: &toml::Value) -> ModelResult<Experiment> {

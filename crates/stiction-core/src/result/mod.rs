@@ -25,6 +25,8 @@ pub struct Stats {
     pub rhs_evals: usize,
     pub state_events: usize,
     pub time_events: usize,
+    /// Events caused by setting a model input to a new value.
+    pub input_events: usize,
     pub factorizations: usize,
     pub wall_ms: f64,
 }
@@ -145,7 +147,9 @@ impl SimResult {
             let disc = &self.discs[id];
             if modes[id].is_none() {
                 // The run factored this mode already; it cannot be singular here.
-                modes[id] = ModeMatrix::factor(sys, &disc.locked_set(), &disc.gear_modes(sys)).ok();
+                modes[id] =
+                    ModeMatrix::factor(sys, &disc.locked_set(), &disc.gear_modes(sys), tr.t[r])
+                        .ok();
             }
             let Some(mm) = modes[id].as_ref() else {
                 recorder.data.push(tr.t[r]);
@@ -159,6 +163,13 @@ impl SimResult {
         }
         recorder.data
     }
+}
+
+/// Every output variable (time first, as in `SimResult::names`) at one evaluated instant.
+pub fn row_values(sys: &System, ws: &Workspace, disc: &DiscreteState) -> Vec<f64> {
+    let mut recorder = Recorder::new(sys, 1);
+    recorder.record(sys, ws, disc);
+    recorder.data
 }
 
 fn is_discrete(var: FrictionVar) -> bool {

@@ -6,7 +6,7 @@ use std::collections::HashMap;
 
 use super::flange::FlangeBuilder;
 use super::outputs::EnergyVar;
-use super::{InitEq, LawElem, NodeRef, Out, Rel, System};
+use super::{InitEq, LawElem, ModelInput, NodeRef, Out, Rel, System};
 use crate::components::friction::lossy_gear::LossyGearElem;
 use crate::components::friction::FrictionElem;
 use crate::components::{self, Component, PortKind, Ports};
@@ -454,6 +454,34 @@ pub fn assemble(spec: &ModelSpec) -> ModelResult<System> {
             signal_slot[i] = signal_slot[src];
         }
     }
+    // Model inputs: unconnected signal inputs with a slot of their own, set by the simulation.
+    let mut inputs: Vec<ModelInput> = Vec::new();
+    for input in &spec.inputs {
+        let what = format!("input {}", input.port);
+        let i = resolve(&input.port, &what)?;
+        let err = |message: String| ModelError::Connection {
+            connection: what.clone(),
+            message,
+        };
+        if ports[i].kind != PortKind::SignalIn {
+            return Err(err(format!(
+                "a model input must be a signal input port, not {}",
+                ports[i].kind.describe()
+            )));
+        }
+        if signal_slot[i].is_some() {
+            return Err(err(
+                "the port is connected (or declared an input twice); a model input is left unconnected".into(),
+            ));
+        }
+        signal_slot[i] = Some(slots);
+        inputs.push(ModelInput {
+            name: input.port.to_string(),
+            slot: slots,
+            start: input.start,
+        });
+        slots += 1;
+    }
 
     // Heat nodes.
     let mut heat_of_root: HashMap<usize, usize> = HashMap::new();
@@ -507,6 +535,7 @@ pub fn assemble(spec: &ModelSpec) -> ModelResult<System> {
             outputs: Vec::new(),
             flange_torques: Default::default(),
             time_events: Vec::new(),
+            inputs,
         },
         flanges: FlangeBuilder::default(),
         fixed_temperature: vec![None; heat_nodes],

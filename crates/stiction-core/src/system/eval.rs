@@ -11,15 +11,35 @@ use crate::components::friction::logic;
 use crate::components::friction::lossy_gear::{GearMode, GearState, Losses};
 use crate::components::friction::FrictionState;
 
-/// Discrete state between events: friction and gear states and the frozen relations of laws.
+/// Discrete state between events: friction and gear states, the frozen relations of laws, and
+/// the values of the model inputs (they change only at events, through `set_input`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct DiscreteState {
     pub friction: Vec<FrictionState>,
     pub gears: Vec<GearState>,
     pub relations: Vec<bool>,
+    pub inputs: Vec<f64>,
 }
 
 impl DiscreteState {
+    /// The `pre()` start values of every element and the inputs' start values.
+    pub fn initial(sys: &System) -> Self {
+        DiscreteState {
+            friction: sys.frictions.iter().map(FrictionState::initial).collect(),
+            gears: vec![GearState::INITIAL; sys.lossy_gears.len()],
+            relations: vec![false; sys.relation_count],
+            inputs: sys.inputs.iter().map(|i| i.start).collect(),
+        }
+    }
+
+    /// Whether this state has the shape of `sys`'s.
+    pub fn fits(&self, sys: &System) -> bool {
+        self.friction.len() == sys.frictions.len()
+            && self.gears.len() == sys.lossy_gears.len()
+            && self.relations.len() == sys.relation_count
+            && self.inputs.len() == sys.inputs.len()
+    }
+
     pub fn locked_set(&self) -> Vec<bool> {
         self.friction.iter().map(|f| f.locked).collect()
     }
@@ -164,14 +184,25 @@ impl Layout {
     }
 }
 
-/// What needs no linear solve: node angles and speeds, signals, the laws' relative coordinates
-/// (enough for the relations the event iteration evaluates literally).
-pub fn kinematics(sys: &System, t: f64, x: &[f64], horizon: f64, ws: &mut Workspace) {
+/// What needs no linear solve: node angles and speeds, signals (the model inputs' values from
+/// the discrete state), the laws' relative coordinates (enough for the relations the event
+/// iteration evaluates literally).
+pub fn kinematics(
+    sys: &System,
+    disc: &DiscreteState,
+    t: f64,
+    x: &[f64],
+    horizon: f64,
+    ws: &mut Workspace,
+) {
     let n = sys.nodes;
     ws.t = t;
     ws.horizon = horizon;
     ws.phi.copy_from_slice(&x[..n]);
     ws.w.copy_from_slice(&x[n..2 * n]);
+    for (input, value) in sys.inputs.iter().zip(&disc.inputs) {
+        ws.signals[input.slot] = *value;
+    }
     sys.signals.eval(t, horizon, &mut ws.signals);
     for (k, law) in sys.laws.iter().enumerate() {
         ws.law_phi[k] = law.rel.angle(&ws.phi);
@@ -193,7 +224,7 @@ pub fn evaluate(
     let lay = Layout::of(sys);
     let n = sys.nodes;
     ws.rhs_evals += 1;
-    kinematics(sys, t, x, horizon, ws);
+    kinematics(sys, disc, t, x, horizon, ws);
 
     // LossyGears: losses at the current speed (their slopes enter the solve below).
     for (k, g) in sys.lossy_gears.iter().enumerate() {

@@ -18,6 +18,7 @@ use nalgebra::{DMatrix, DVector, Dyn, LU};
 
 use super::{Rel, System};
 use crate::components::friction::lossy_gear::GearMode;
+use crate::error::SimError;
 
 pub struct ModeMatrix {
     lu: LU<f64, Dyn, Dyn>,
@@ -86,7 +87,8 @@ impl ModeMatrix {
         sys: &System,
         friction_locked: &[bool],
         gear_modes: &[GearMode],
-    ) -> Result<Self, String> {
+        time: f64,
+    ) -> Result<Self, SimError> {
         let n = sys.nodes;
         // (row, column) in row order.
         let mut rows: Vec<(&Rel, Column)> = Vec::new();
@@ -164,7 +166,10 @@ impl ModeMatrix {
             .map(|i| u[(i, i)].abs())
             .fold(f64::INFINITY, f64::min);
         if size > 0 && smallest <= 1e-13 * scale {
-            return Err(singular_message(sys, friction_locked));
+            return Err(SimError::SingularMode {
+                time,
+                detail: singular_detail(sys, friction_locked),
+            });
         }
         Ok(Self {
             lu,
@@ -242,7 +247,7 @@ impl ModeMatrix {
     }
 }
 
-fn singular_message(sys: &System, locked: &[bool]) -> String {
+fn singular_detail(sys: &System, locked: &[bool]) -> String {
     let massless: Vec<String> = (0..sys.nodes)
         .filter(|&i| sys.mass[i] == 0.0)
         .map(|i| format!("[{}]", sys.node_label(i)))
@@ -251,7 +256,7 @@ fn singular_message(sys: &System, locked: &[bool]) -> String {
         .filter(|&k| locked[k])
         .map(|k| sys.frictions[k].name.as_str())
         .collect();
-    let mut msg = String::from("the accelerations are not determined (singular system)");
+    let mut msg = String::new();
     if !massless.is_empty() {
         msg += &format!(
             "; shafts without inertia: {} — give each an Inertia or hold it with a constraint",

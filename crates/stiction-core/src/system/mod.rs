@@ -49,6 +49,16 @@ pub struct InitEq {
     pub constraint: bool,
 }
 
+/// A signal input of a component declared an input of the model: its value comes from the
+/// simulation (`Simulation::set_input`, an FMU host) instead of a connection.
+#[derive(Debug, Clone)]
+pub struct ModelInput {
+    /// `component.port`, e.g. `brake.f_normalized`.
+    pub name: String,
+    pub slot: usize,
+    pub start: f64,
+}
+
 pub struct System {
     pub name: String,
     pub experiment: Experiment,
@@ -69,6 +79,7 @@ pub struct System {
     pub outputs: Vec<(String, Out)>,
     pub flange_torques: FlangeTorques,
     pub time_events: Vec<f64>,
+    pub inputs: Vec<ModelInput>,
 }
 
 impl System {

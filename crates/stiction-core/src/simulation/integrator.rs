@@ -1,0 +1,179 @@
+//! The ODE integrator (diffsol) as one object a `Simulation` owns across calls: the problem
+//! (right-hand side, Jacobian-vector product, initial state) and the solver that borrows it,
+//! kept alive together so that a run advanced in pieces continues the very same steps.
+
+use std::cell::RefCell;
+use std::rc::Rc;
+
+use diffsol::{
+    Bdf, Closure, ConstantClosure, ExplicitRk, NalgebraLU, NalgebraMat, NalgebraVec, OdeBuilder,
+    OdeSolverEquations, OdeSolverProblem, Sdirk, UnitCallable,
+};
+use self_cell::self_cell;
+
+use super::Phase;
+use crate::error::SimError;
+use crate::system::eval::{derivative, evaluate};
+use crate::system::System;
+
+pub type M = NalgebraMat<f64>;
+pub type V = NalgebraVec<f64>;
+pub type LS = NalgebraLU<f64>;
+
+type RhsFn = Box<dyn Fn(&[f64], &[f64], f64, &mut [f64])>;
+type JacFn = Box<dyn Fn(&[f64], &[f64], f64, &[f64], &mut [f64])>;
+type InitFn = Box<dyn Fn(&[f64], f64, &mut [f64])>;
+
+/// The equations as diffsol sees them: closures over the run's current `Phase`.
+pub type Eqn = OdeSolverEquations<
+    M,
+    Closure<M, RhsFn, JacFn>,
+    ConstantClosure<M, InitFn>,
+    UnitCallable<M>,
+    UnitCallable<M>,
+    UnitCallable<M>,
+>;
+pub type Problem = OdeSolverProblem<Eqn>;
+
+/// The integration methods offered through the experiment's `Solver` setting.
+pub enum Integrator<'a> {
+    Tsit45(Box<ExplicitRk<'a, Eqn>>),
+    Bdf(Box<Bdf<'a, Eqn, LS>>),
+    Esdirk34(Box<Sdirk<'a, Eqn, LS>>),
+}
+
+impl Integrator<'_> {
+    /// The order used to pick a restart step size.
+    pub fn order(&self) -> usize {
+        match self {
+            Integrator::Tsit45(_) => 4,
+            Integrator::Bdf(_) => 1,
+            Integrator::Esdirk34(_) => 3,
+        }
+    }
+
+    pub fn implicit(&self) -> bool {
+        !matches!(self, Integrator::Tsit45(_))
+    }
+}
+
+self_cell!(
+    /// The problem and the solver that borrows it (diffsol's solvers hold `&Problem`).
+    pub struct IntegratorCell {
+        owner: Problem,
+        #[not_covariant]
+        dependent: Integrator,
+    }
+);
+
+/// Runs `$body` with `$s` bound to the concrete solver inside an `Integrator`.
+macro_rules! with_solver {
+    ($integrator:expr, $s:ident => $body:expr) => {
+        match $integrator {
+            $crate::simulation::integrator::Integrator::Tsit45(boxed) => {
+                let $s = &mut **boxed;
+                $body
+            }
+            $crate::simulation::integrator::Integrator::Bdf(boxed) => {
+                let $s = &mut **boxed;
+                $body
+            }
+            $crate::simulation::integrator::Integrator::Esdirk34(boxed) => {
+                let $s = &mut **boxed;
+                $body
+            }
+        }
+    };
+}
+pub(crate) use with_solver;
+
+pub fn integrator_error(time: f64, e: impl std::fmt::Display) -> SimError {
+    SimError::Integrator {
+        time,
+        message: e.to_string(),
+    }
+}
+
+/// The problem: `dx/dt` from one evaluation of the system in the current phase, and a
+/// Jacobian-vector product by forward differences for the implicit methods.
+pub fn problem(
+    sys: &std::sync::Arc<System>,
+    phase: &Rc<RefCell<Phase>>,
+    t0: f64,
+    x0: Vec<f64>,
+    tolerance: f64,
+) -> Result<Problem, SimError> {
+    let n = x0.len();
+    let (ph, sy) = (phase.clone(), sys.clone());
+    let rhs: RhsFn = Box::new(move |x, _p, t, y| {
+        let mut guard = ph.borrow_mut();
+        let Phase {
+            disc,
+            mm,
+            ws,
+            rhs_calls,
+            horizon,
+            ..
+        } = &mut *guard;
+        *rhs_calls += 1;
+        evaluate(&sy, mm, disc, t, x, *horizon, ws);
+        derivative(&sy, ws, y);
+    });
+    let (ph, sy) = (phase.clone(), sys.clone());
+    let jac_vec: JacFn = Box::new(move |x, _p, t, v, y| {
+        let mut guard = ph.borrow_mut();
+        let Phase {
+            disc,
+            mm,
+            ws,
+            rhs_calls,
+            probe,
+            f0,
+            horizon,
+        } = &mut *guard;
+        let horizon = *horizon;
+        let vnorm = v.iter().map(|a| a * a).sum::<f64>().sqrt();
+        if vnorm == 0.0 {
+            y.fill(0.0);
+            return;
+        }
+        let xnorm = x.iter().map(|a| a * a).sum::<f64>().sqrt();
+        let eps = f64::EPSILON.sqrt() * (1.0 + xnorm) / vnorm;
+        *rhs_calls += 2;
+        evaluate(&sy, mm, disc, t, x, horizon, ws);
+        derivative(&sy, ws, f0);
+        for i in 0..x.len() {
+            probe[i] = x[i] + eps * v[i];
+        }
+        evaluate(&sy, mm, disc, t, probe, horizon, ws);
+        derivative(&sy, ws, y);
+        for i in 0..y.len() {
+            y[i] = (y[i] - f0[i]) / eps;
+        }
+    });
+    let init: InitFn = Box::new(move |_p, _t, y| y.copy_from_slice(&x0));
+    OdeBuilder::<M>::new()
+        .t0(t0)
+        .rtol(tolerance)
+        .atol([tolerance])
+        .rhs_implicit(rhs, jac_vec)
+        .init(init, n)
+        .build()
+        .map_err(|e| integrator_error(t0, e))
+}
+
+/// The problem with a fresh solver of the named method.
+pub fn integrator(problem: Problem, method: &str) -> Result<IntegratorCell, SimError> {
+    let t0 = problem.t0;
+    IntegratorCell::try_new(problem, |p| {
+        Ok(match method {
+            "bdf" => Integrator::Bdf(Box::new(
+                p.bdf::<LS>().map_err(|e| integrator_error(t0, e))?,
+            )),
+            "esdirk34" => Integrator::Esdirk34(Box::new(
+                p.esdirk34::<LS>().map_err(|e| integrator_error(t0, e))?,
+            )),
+            _ => Integrator::Tsit45(Box::new(p.tsit45().map_err(|e| integrator_error(t0, e))?)),
+        })
+    })
+}

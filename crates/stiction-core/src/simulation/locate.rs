@@ -1,0 +1,197 @@
+//! Locating zero crossings inside one integrator step, on diffsol's dense output: the step is
+//! sampled at three interior points and its end; a crossing is bracketed and found by Illinois
+//! regula falsi that always returns the instant just *after* it (the event iteration then sees
+//! the relation changed, as Modelica requires). diffsol's own root finder is not used: it reports
+//! any sign change to a tolerance we do not control, while MSL semantics need the directional,
+//! frozen-relation crossings of `events::crossings`.
+
+use diffsol::{OdeSolverMethod, VectorCommon};
+
+use super::integrator::Eqn;
+use super::stepper::Stepper;
+use crate::error::SimError;
+use crate::events::speed_rates;
+
+impl Stepper {
+    /// The indicator `i` at time t on the dense output of the last step.
+    pub(super) fn indicator_at<'a, S>(
+        &mut self,
+        solver: &S,
+        t: f64,
+        i: usize,
+    ) -> Result<f64, SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        self.load(solver, t)?;
+        self.evaluate_here(t, true);
+        Ok(self.z[i])
+    }
+
+    /// Looks for a crossing in the last step at three interior points of the dense output and
+    /// at its end — a relation that flips and flips back within one step (a freewheel touching
+    /// lock for a millisecond) is still seen. Leaves the indicators at the step end in `z`.
+    pub(super) fn scan_step<'a, S>(
+        &mut self,
+        solver: &S,
+        t_prev: f64,
+        t_now: f64,
+        candidates: &mut Vec<(usize, f64, f64)>,
+    ) -> Result<Option<(f64, usize)>, SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        const SAMPLES: usize = 4;
+        self.z_scan.copy_from_slice(&self.z_prev);
+        // the rates at the step's start: those of the last sample (NaN right after an event)
+        self.dz_scan.copy_from_slice(&self.dz);
+        let mut a = t_prev;
+        for k in 1..=SAMPLES {
+            let t = if k == SAMPLES {
+                self.x.copy_from_slice(solver.state().y.inner().as_slice());
+                t_now
+            } else {
+                let t = t_prev + (t_now - t_prev) * k as f64 / SAMPLES as f64;
+                self.load(solver, t)?;
+                t
+            };
+            self.evaluate_here(t, true);
+            {
+                let guard = self.phase.borrow();
+                speed_rates(&self.sys, &guard.disc, &guard.ws, &mut self.dz);
+            }
+            candidates.clear();
+            for (i, (&za, &zb)) in self.z_scan.iter().zip(&self.z).enumerate() {
+                if za <= 0.0 && zb > 0.0 {
+                    candidates.push((i, za, zb));
+                }
+            }
+            if !candidates.is_empty() {
+                return self.locate(solver, a, t, candidates).map(Some);
+            }
+            // A speed indicator that rises and falls back between two samples: find its peak.
+            if let Some((t_peak, i)) = self.peak_between(solver, a, t)? {
+                let z_a = self.z_scan[i];
+                let z_peak = self.indicator_at(solver, t_peak, i)?;
+                if z_peak > 0.0 {
+                    candidates.clear();
+                    candidates.push((i, z_a, z_peak));
+                    return self.locate(solver, a, t_peak, candidates).map(Some);
+                }
+                // restore the sample at t
+                if k == SAMPLES {
+                    self.x.copy_from_slice(solver.state().y.inner().as_slice());
+                } else {
+                    self.load(solver, t)?;
+                }
+                self.evaluate_here(t, true);
+            }
+            self.z_scan.copy_from_slice(&self.z);
+            self.dz_scan.copy_from_slice(&self.dz);
+            a = t;
+        }
+        Ok(None)
+    }
+
+    /// The highest point between samples `a` and `b` of a speed indicator whose rate goes from
+    /// positive (at a, in `dz_scan`) to negative (at b, in `dz`) while it stays ≤ 0 at both ends:
+    /// the rate's zero, by bisection on the dense output.
+    fn peak_between<'a, S>(
+        &mut self,
+        solver: &S,
+        a: f64,
+        b: f64,
+    ) -> Result<Option<(f64, usize)>, SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let Some(i) = (0..self.dz.len()).find(|&i| {
+            self.dz_scan[i] > 0.0 && self.dz[i] < 0.0 && self.z_scan[i] <= 0.0 && self.z[i] <= 0.0
+        }) else {
+            return Ok(None);
+        };
+        let (mut lo, mut hi) = (a, b);
+        for _ in 0..60 {
+            if hi - lo <= 1e-9 * (b - a) {
+                break;
+            }
+            let mid = 0.5 * (lo + hi);
+            self.load(solver, mid)?;
+            self.evaluate_here(mid, false);
+            let rate = {
+                let guard = self.phase.borrow();
+                let mut dz = std::mem::take(&mut self.dz_probe);
+                speed_rates(&self.sys, &guard.disc, &guard.ws, &mut dz);
+                let r = dz[i];
+                self.dz_probe = dz;
+                r
+            };
+            if rate > 0.0 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        Ok(Some((0.5 * (lo + hi), i)))
+    }
+
+    /// Earliest instant in (a, b] at which one of `candidates` becomes > 0: Illinois regula falsi
+    /// on each, keeping the bracket so the returned time lies just after the crossing.
+    fn locate<'a, S>(
+        &mut self,
+        solver: &S,
+        a: f64,
+        b: f64,
+        candidates: &[(usize, f64, f64)],
+    ) -> Result<(f64, usize), SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let tol = 4.0 * f64::EPSILON * b.abs().max(1.0) + 1e-15;
+        let mut best = (b, candidates[0].0);
+        for (n, &(i, za0, zb0)) in candidates.iter().enumerate() {
+            let (mut ta, mut za) = (a, za0);
+            let (mut tb, mut zb) = (best.0, zb0);
+            if n > 0 && tb < b {
+                zb = self.indicator_at(solver, tb, i)?;
+                if zb <= 0.0 {
+                    continue; // crosses after the best found so far
+                }
+            }
+            let mut side = 0;
+            for iteration in 0..200 {
+                if tb - ta <= tol {
+                    break;
+                }
+                let mut tm = if iteration % 4 == 3 || zb == za {
+                    0.5 * (ta + tb)
+                } else {
+                    (ta * zb - tb * za) / (zb - za)
+                };
+                if !(tm > ta && tm < tb) {
+                    tm = 0.5 * (ta + tb);
+                }
+                let zm = self.indicator_at(solver, tm, i)?;
+                if zm > 0.0 {
+                    tb = tm;
+                    zb = zm;
+                    if side == -1 {
+                        za *= 0.5;
+                    }
+                    side = -1;
+                } else {
+                    ta = tm;
+                    za = zm;
+                    if side == 1 {
+                        zb *= 0.5;
+                    }
+                    side = 1;
+                }
+            }
+            if tb < best.0 || n == 0 {
+                best = (tb, i);
+            }
+        }
+        Ok(best)
+    }
+}

@@ -1,0 +1,399 @@
+//! A resumable simulation: initialize, `advance_to(t)` (stopping exactly at the events inside),
+//! set a model input (an event at that instant when it jumps), read any variable by name, save
+//! and restore the whole state, cancel from another thread. `simulate` is a loop over it.
+//!
+//! Continuous phases are integrated by diffsol step by step; zero crossings are located on its
+//! dense output (`locate`); at each event the event iteration finds the consistent discrete
+//! state and the integrator restarts. The integrator is *not* restarted where a piece of
+//! `advance_to` ends, so a run advanced in pieces is bit-identical to one call.
+
+mod init;
+mod integrator;
+mod locate;
+mod stepper;
+
+use std::cell::RefCell;
+use std::rc::Rc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::Instant;
+
+use diffsol::OdeSolverMethod;
+
+pub use init::initial_state;
+pub use stepper::Cursor;
+
+use integrator::{with_solver, IntegratorCell};
+use stepper::Stepper;
+
+use crate::components::friction::logic::UNKNOWN;
+use crate::components::friction::lossy_gear::GearState;
+use crate::error::{ModelError, SimError};
+use crate::events::{iterate, ModeCache};
+use crate::model::ModelSpec;
+use crate::result::{row_values, EventRecord, SimResult};
+use crate::system::eval::{evaluate, DiscreteState, Workspace};
+use crate::system::kkt::ModeMatrix;
+use crate::system::{assemble, System};
+
+/// Assembles and simulates a model with its `[experiment]` settings.
+pub fn simulate(spec: &ModelSpec) -> Result<SimResult, SimError> {
+    run(Arc::new(assemble(spec)?))
+}
+
+/// Simulates an assembled system from start to stop (a sweep assembles once, runs many times).
+pub fn run(sys: Arc<System>) -> Result<SimResult, SimError> {
+    let mut sim = Simulation::new(sys)?;
+    sim.run()?;
+    Ok(sim.into_result())
+}
+
+/// What the right-hand side reads: the frozen discrete state, its factored mode matrix and the
+/// workspace. Changed only between steps, at events.
+pub(crate) struct Phase {
+    disc: DiscreteState,
+    /// The first time event not handled yet: signals switch there only once it is handled
+    /// (Modelica freezes `time >= t0` between events), wherever the integrator evaluates.
+    horizon: f64,
+    mm: Rc<ModeMatrix>,
+    ws: Workspace,
+    rhs_calls: usize,
+    probe: Vec<f64>,
+    f0: Vec<f64>,
+}
+
+/// Receives every output row (grid points and both sides of each event) and every mode change
+/// as the run produces them: streaming metrics and result writers plug in here.
+pub trait Observer {
+    fn row(&mut self, t: f64, x: &[f64], disc: &DiscreteState);
+    fn event(&mut self, _event: &EventRecord) {}
+}
+
+/// Cancels a running simulation from another thread; the run stops after its current step
+/// with `SimError::Cancelled`.
+#[derive(Clone, Debug)]
+pub struct CancelHandle(Arc<AtomicBool>);
+
+impl CancelHandle {
+    pub fn cancel(&self) {
+        self.0.store(true, Ordering::Relaxed);
+    }
+}
+
+/// The whole state of a run at its current time: enough to continue from it later.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimState {
+    pub x: Vec<f64>,
+    pub disc: DiscreteState,
+    pub horizon: f64,
+    pub cursor: Cursor,
+}
+
+pub struct Simulation {
+    cell: IntegratorCell,
+    stepper: Stepper,
+    started: Instant,
+}
+
+/// Rows are kept in memory (states, and all variables once asked for): refuse what cannot fit.
+fn check_memory(sys: &System) -> Result<(), SimError> {
+    let exp = &sys.experiment;
+    let rows = (exp.stop_time - exp.start_time) / exp.interval + 2.0 * sys.time_events.len() as f64;
+    let width = (sys.outputs.len() + 1).max(sys.state_len() + 3) as f64;
+    if rows * width > 3.0e8 {
+        return Err(ModelError::File(format!(
+            "experiment: Interval = {} gives about {:.0} rows of {} values, more than fits in memory; use a larger Interval",
+            exp.interval, rows, width
+        ))
+        .into());
+    }
+    Ok(())
+}
+
+/// The initialization event log: every friction element's first mode, and the LossyGears that
+/// left `pre(mode) = Free` (an ideal one stays there).
+fn initialization_log(sys: &System, disc: &DiscreteState, t0: f64) -> Vec<EventRecord> {
+    let record = |component: &str, old_mode: i8, new_mode: i8| EventRecord {
+        time: t0,
+        component: component.to_string(),
+        old_mode,
+        new_mode,
+        cause: "initialization".into(),
+    };
+    let free = GearState::INITIAL.pre.mode;
+    disc.friction
+        .iter()
+        .zip(&sys.frictions)
+        .map(|(st, fe)| record(&fe.name, UNKNOWN, st.pre.mode))
+        .chain(
+            disc.gears
+                .iter()
+                .zip(&sys.lossy_gears)
+                .filter(|(st, _)| st.pre.mode != free)
+                .map(|(st, g)| record(&g.name, free, st.pre.mode)),
+        )
+        .collect()
+}
+
+impl Simulation {
+    /// Initializes a run of an assembled system: start values, MSL initialization
+    /// (`initial() = true`) and the event it triggers at the start time.
+    pub fn new(sys: Arc<System>) -> Result<Self, SimError> {
+        let started = Instant::now();
+        check_memory(&sys)?;
+        let exp = sys.experiment.clone();
+        let t0 = exp.start_time;
+        let x0 = initial_state(&sys)?;
+        let mut cache = ModeCache::default();
+        let mut disc = DiscreteState::initial(&sys);
+        let mut ws = Workspace::new(&sys);
+        let first_horizon = sys.time_events.first().copied().unwrap_or(f64::INFINITY);
+        for initial in [true, false] {
+            iterate(
+                &sys,
+                &mut cache,
+                &mut disc,
+                t0,
+                &x0,
+                initial,
+                first_horizon,
+                &mut ws,
+            )?;
+        }
+        let log = initialization_log(&sys, &disc, t0);
+        let mm = cache.get(&sys, &disc, t0)?;
+        let n = sys.state_len();
+        let phase = Rc::new(RefCell::new(Phase {
+            horizon: first_horizon,
+            disc,
+            mm,
+            ws,
+            rhs_calls: 0,
+            probe: vec![0.0; n],
+            f0: vec![0.0; n],
+        }));
+        let problem = integrator::problem(&sys, &phase, t0, x0.clone(), exp.tolerance)?;
+        let mut cell = integrator::integrator(problem, &exp.solver)?;
+        let mut stepper = Stepper::new(sys, phase, cache, x0);
+        stepper.log = log;
+        cell.with_dependent_mut(|_, integ| with_solver!(integ, s => stepper.start(s)))?;
+        Ok(Simulation {
+            cell,
+            stepper,
+            started,
+        })
+    }
+
+    /// Assembles a model and initializes a run of it.
+    pub fn from_spec(spec: &ModelSpec) -> Result<Self, SimError> {
+        Self::new(Arc::new(assemble(spec)?))
+    }
+
+    pub fn system(&self) -> &Arc<System> {
+        &self.stepper.sys
+    }
+
+    /// The time the run was advanced to.
+    pub fn time(&self) -> f64 {
+        self.stepper.now
+    }
+
+    /// Whether the run reached StopTime.
+    pub fn finished(&self) -> bool {
+        self.stepper.finished
+    }
+
+    /// Advances to `t` (at most StopTime): grid rows, state and time events on the way.
+    pub fn advance_to(&mut self, t: f64) -> Result<(), SimError> {
+        let exp = &self.stepper.sys.experiment;
+        let now = self.stepper.now;
+        if !t.is_finite() || t < now {
+            return Err(SimError::Usage(format!(
+                "advance_to({t}): the time must be finite and not before the current time {now}"
+            )));
+        }
+        if t > exp.stop_time * (1.0 + 1e-12) + 1e-12 {
+            return Err(SimError::Usage(format!(
+                "advance_to({t}): past StopTime = {}",
+                exp.stop_time
+            )));
+        }
+        let t = t.min(exp.stop_time);
+        let Simulation { cell, stepper, .. } = self;
+        cell.with_dependent_mut(|_, integ| {
+            let (order, implicit) = (integ.order(), integ.implicit());
+            with_solver!(integ, s => stepper.advance(s, t, order, implicit))
+        })
+    }
+
+    /// Runs to StopTime.
+    pub fn run(&mut self) -> Result<(), SimError> {
+        self.advance_to(self.stepper.sys.experiment.stop_time)
+    }
+
+    /// The model inputs and their current values.
+    pub fn inputs(&self) -> Vec<(String, f64)> {
+        let phase = self.stepper.phase.borrow();
+        self.stepper
+            .sys
+            .inputs
+            .iter()
+            .zip(&phase.disc.inputs)
+            .map(|(i, v)| (i.name.clone(), *v))
+            .collect()
+    }
+
+    /// Sets a model input from the current time on. A new value is an event at this instant
+    /// (left and right rows, the event iteration); the same value changes nothing.
+    pub fn set_input(&mut self, name: &str, value: f64) -> Result<(), SimError> {
+        let sys = self.stepper.sys.clone();
+        let Some(k) = sys.inputs.iter().position(|i| i.name == name) else {
+            let known: Vec<&str> = sys.inputs.iter().map(|i| i.name.as_str()).collect();
+            return Err(SimError::Usage(format!(
+                "'{name}' is not an input of the model (inputs: {})",
+                if known.is_empty() {
+                    "none".to_string()
+                } else {
+                    known.join(", ")
+                }
+            )));
+        };
+        if !value.is_finite() {
+            return Err(SimError::Usage(format!(
+                "input {name}: {value} is not a finite number"
+            )));
+        }
+        if self.stepper.phase.borrow().disc.inputs[k] == value {
+            return Ok(());
+        }
+        let Simulation { cell, stepper, .. } = self;
+        cell.with_dependent_mut(|_, integ| {
+            let (order, implicit) = (integ.order(), integ.implicit());
+            with_solver!(integ, s => stepper.set_input(s, k, value, name, order, implicit))
+        })
+    }
+
+    /// Names of every variable, as in the result (`time` first).
+    pub fn names(&self) -> Vec<String> {
+        std::iter::once("time".to_string())
+            .chain(self.stepper.sys.outputs.iter().map(|(n, _)| n.clone()))
+            .collect()
+    }
+
+    /// Every variable at the current time, in the order of `names`.
+    pub fn values(&mut self) -> Result<Vec<f64>, SimError> {
+        let Simulation { cell, stepper, .. } = self;
+        let x =
+            cell.with_dependent_mut(|_, integ| with_solver!(integ, s => stepper.state_now(s)))?;
+        let t = stepper.now;
+        let sys = stepper.sys.clone();
+        let mut phase = stepper.phase.borrow_mut();
+        let Phase {
+            disc,
+            mm,
+            ws,
+            horizon,
+            ..
+        } = &mut *phase;
+        evaluate(&sys, mm, disc, t, &x, *horizon, ws);
+        Ok(row_values(&sys, ws, disc))
+    }
+
+    /// One variable at the current time, by its MSL name (`J1.w`, `clutch1.mode`, …).
+    pub fn get(&mut self, name: &str) -> Result<f64, SimError> {
+        let Some(column) = self.names().iter().position(|n| n == name) else {
+            return Err(SimError::Usage(format!("unknown variable '{name}'")));
+        };
+        Ok(self.values()?[column])
+    }
+
+    pub fn cancel_handle(&self) -> CancelHandle {
+        CancelHandle(self.stepper.cancel.clone())
+    }
+
+    /// Stops the run at its next step (from this or any thread, through a `CancelHandle`).
+    pub fn cancel(&self) {
+        self.cancel_handle().cancel();
+    }
+
+    pub fn set_observer(&mut self, observer: Box<dyn Observer>) {
+        self.stepper.observer = Some(observer);
+    }
+
+    /// Whether rows are kept for `into_result` (a sweep computing metrics keeps none).
+    pub fn set_recording(&mut self, recording: bool) {
+        self.stepper.recording = recording;
+    }
+
+    /// The whole state at the current time.
+    pub fn state(&mut self) -> Result<SimState, SimError> {
+        let Simulation { cell, stepper, .. } = self;
+        let x =
+            cell.with_dependent_mut(|_, integ| with_solver!(integ, s => stepper.state_now(s)))?;
+        let phase = stepper.phase.borrow();
+        Ok(SimState {
+            x,
+            disc: phase.disc.clone(),
+            horizon: phase.horizon,
+            cursor: stepper.cursor(),
+        })
+    }
+
+    /// Continues from a saved state (of this model): the integrator restarts there.
+    pub fn set_state(&mut self, state: &SimState) -> Result<(), SimError> {
+        let sys = self.stepper.sys.clone();
+        if state.x.len() != sys.state_len() || !state.disc.fits(&sys) {
+            return Err(SimError::Usage("the state belongs to another model".into()));
+        }
+        let t = state.cursor.now;
+        let mm = self.stepper.cache.get(&sys, &state.disc, t)?;
+        {
+            let mut phase = self.stepper.phase.borrow_mut();
+            phase.disc = state.disc.clone();
+            phase.horizon = state.horizon;
+            phase.mm = mm;
+        }
+        let Simulation { cell, stepper, .. } = self;
+        stepper.x.copy_from_slice(&state.x);
+        stepper.set_cursor(&state.cursor);
+        stepper.evaluate_here(t, true);
+        stepper.z_prev.copy_from_slice(&stepper.z);
+        stepper.dz.fill(f64::NAN);
+        if stepper.finished {
+            return Ok(());
+        }
+        cell.with_dependent_mut(|_, integ| {
+            let (order, implicit) = (integ.order(), integ.implicit());
+            with_solver!(integ, s => stepper.restart_at(s, t, order, implicit, false))
+        })
+    }
+
+    /// Back to the start: initialized anew, with the same observer and recording setting.
+    pub fn reset(&mut self) -> Result<(), SimError> {
+        let mut fresh = Simulation::new(self.stepper.sys.clone())?;
+        fresh.stepper.observer = self.stepper.observer.take();
+        fresh.stepper.recording = self.stepper.recording;
+        fresh.stepper.cancel = self.stepper.cancel.clone();
+        fresh.stepper.cancel.store(false, Ordering::Relaxed);
+        *self = fresh;
+        Ok(())
+    }
+
+    /// The recorded rows, the event log and the run's statistics.
+    pub fn into_result(mut self) -> SimResult {
+        let (steps, rejected) = self.cell.with_dependent_mut(|_, integ| {
+            with_solver!(integ, s => {
+                let st = s.get_statistics();
+                (st.number_of_steps, st.number_of_error_test_failures)
+            })
+        });
+        let st = self.stepper;
+        let mut stats = st.stats;
+        stats.steps = steps;
+        stats.rejected_steps = rejected;
+        stats.rhs_evals = st.phase.borrow().rhs_calls;
+        stats.factorizations = st.cache.factorizations;
+        stats.wall_ms = self.started.elapsed().as_secs_f64() * 1e3;
+        SimResult::new(st.sys, st.trajectory, st.discs, st.log, stats)
+    }
+}

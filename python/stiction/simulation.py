@@ -1,0 +1,120 @@
+"""``Simulation``: a run that can be advanced in pieces, driven through inputs and read live.
+
+This is what a co-simulation master, an FMU host or an interactive session needs: advance to
+a time, set a model input (an event at that instant when its value jumps), read any variable,
+save and restore the whole state. Advancing in many small pieces gives exactly the result of
+one ``Model.simulate`` call: the integrator is not restarted where a piece ends.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from .errors import UsageError
+from .result import Result
+
+if TYPE_CHECKING:
+    from .model import Model
+
+__all__ = ["CancelHandle", "Simulation", "SimulationState"]
+
+
+class Simulation:
+    """A resumable run of a model; see ``Model.simulation``.
+
+    ``Simulation(model, StopTime=2.0)`` initializes the model (start values, MSL
+    initialization) at its StartTime. Keyword arguments override the experiment.
+    """
+
+    def __init__(self, model: Model, **experiment: float) -> None:
+        from . import _core
+
+        overrides = {k: float(v) for k, v in experiment.items()}
+        self._name = model.name
+        self._core = _core.Simulation(model.to_toml(), str(model.base_dir), overrides)
+
+    @property
+    def time(self) -> float:
+        """The time the run was advanced to."""
+        return float(self._core.time)
+
+    @property
+    def finished(self) -> bool:
+        """Whether the run reached its StopTime."""
+        return bool(self._core.finished)
+
+    def advance_to(self, t: float) -> None:
+        """Advance to ``t`` (at most StopTime), handling every event on the way."""
+        self._core.advance_to(float(t))
+
+    def run(self, StopTime: float | None = None) -> None:  # MSL name, hence capitalised
+        """Advance to ``StopTime`` (the experiment's when not given)."""
+        self._core.advance_to(self._core.stop_time if StopTime is None else float(StopTime))
+
+    @property
+    def inputs(self) -> dict[str, float]:
+        """The model inputs and their current values."""
+        return dict(self._core.inputs())
+
+    def set_input(self, name: str, value: float) -> None:
+        """Set a model input from the current time on; a new value is an event now."""
+        self._core.set_input(name, float(value))
+
+    def get(self, name: str) -> float:
+        """One variable at the current time, by its MSL name (``"J1.w"``)."""
+        return float(self._core.get(name))
+
+    def __getitem__(self, name: str) -> float:
+        return self.get(name)
+
+    def values(self) -> dict[str, float]:
+        """Every variable at the current time, by name."""
+        return dict(zip(self._core.names(), self._core.values()))
+
+    def cancel_handle(self) -> CancelHandle:
+        """A handle that cancels this run from another thread."""
+        return CancelHandle(self._core.cancel_handle())
+
+    def state(self) -> SimulationState:
+        """The whole state at the current time (restore it with ``set_state``)."""
+        return SimulationState(self._core.state())
+
+    def set_state(self, state: SimulationState) -> None:
+        """Continue from a saved state of this model (the integrator restarts there)."""
+        if not isinstance(state, SimulationState):
+            raise UsageError(f"set_state expects a state from Simulation.state(), got {state!r}")
+        self._core.set_state(state._core)
+
+    def reset(self) -> None:
+        """Back to the start, initialized anew."""
+        self._core.reset()
+
+    def result(self) -> Result:
+        """The rows recorded so far, as a ``Result``; the simulation is closed."""
+        return Result.from_core(self._core.result(), name=self._name)
+
+    def __repr__(self) -> str:
+        return f"<Simulation {self._name!r} at t = {self.time}>"
+
+
+class CancelHandle:
+    """Cancels a running ``Simulation`` from any thread (it raises ``SimulationCancelled``)."""
+
+    def __init__(self, core: object) -> None:
+        self._core = core
+
+    def cancel(self) -> None:
+        """Stop the run after its current step."""
+        self._core.cancel()  # type: ignore[attr-defined]
+
+
+class SimulationState:
+    """A saved state of a ``Simulation`` (opaque)."""
+
+    def __init__(self, core: object) -> None:
+        self._core = core
+
+    @property
+    def time(self) -> float:
+        """The time the state was saved at."""
+        return float(self._core.time)  # type: ignore[attr-defined]

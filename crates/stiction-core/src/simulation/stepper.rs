@@ -280,6 +280,28 @@ impl Stepper {
         Ok(())
     }
 
+    /// Records the grid points up to `target` while a step is processed only that far, leaving
+    /// out one that coincides with the `event` ahead (its two event rows will stand for it, as
+    /// when the step is processed at once).
+    fn emit_grid_before<'a, S>(
+        &mut self,
+        solver: &S,
+        target: f64,
+        event: f64,
+        t_step_end: f64,
+    ) -> Result<(), SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let eps = 1e-12 * event.abs().max(1.0);
+        let limit = if (target - event).abs() <= eps {
+            target.min(event - 2.0 * eps)
+        } else {
+            target
+        };
+        self.emit_grid(solver, limit, true, t_step_end)
+    }
+
     /// Skips grid points that coincide with an event (the two event rows stand for them).
     fn skip_grid_at(&mut self, t: f64) {
         let eps = 1e-12 * t.abs().max(1.0);
@@ -519,7 +541,7 @@ impl Stepper {
             let t_now = p.t_now;
             if let Some((t_e, _)) = p.located {
                 if t_e > target {
-                    self.emit_grid(solver, target, true, t_now)?;
+                    self.emit_grid_before(solver, target, t_e, t_now)?;
                     break;
                 }
                 let (t_e, cause) = self
@@ -535,7 +557,12 @@ impl Stepper {
                 continue;
             }
             if t_now > target {
-                self.emit_grid(solver, target, true, t_now)?;
+                let boundary = if p.at_time_event {
+                    t_now
+                } else {
+                    f64::INFINITY
+                };
+                self.emit_grid_before(solver, target, boundary, t_now)?;
                 break;
             }
             let p = self.pending.take().expect("a step is pending");

@@ -28,10 +28,11 @@ test-python:
 	$(PY) -m pytest -q
 
 lint: setup
+	$(PY) scripts/check_structure.py
 	cargo fmt --all --check
 	cargo clippy --release --all-targets -- -D warnings
-	$(VENV)/bin/ruff check python tests
-	$(VENV)/bin/ruff format --check python tests
+	$(VENV)/bin/ruff check python tests scripts
+	$(VENV)/bin/ruff format --check python tests scripts
 
 bench: setup
 	$(VENV)/bin/stiction bench

@@ -1,13 +1,16 @@
 //! stiction-core: rotational drivetrains with exact Coulomb friction, as the Modelica Standard
 //! Library defines it (state events, no smoothing). Pure Rust; the Python bindings are elsewhere.
 
+pub mod assembly;
 pub mod components;
+pub mod engine;
 pub mod error;
-pub mod events;
 pub mod model;
+pub mod rel;
 pub mod result;
 pub mod signals;
 pub mod simulation;
+pub mod switching;
 pub mod system;
 pub mod table;
 pub mod thermal;

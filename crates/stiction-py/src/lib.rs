@@ -150,7 +150,7 @@ fn simulate(
 fn check(model_toml: &str, base_dir: &str) -> PyResult<()> {
     let spec = parse(model_toml, base_dir, &HashMap::new())?;
     guarded(|| {
-        let sys = stiction_core::system::assemble(&spec)?;
+        let sys = stiction_core::assembly::assemble(&spec)?;
         stiction_core::simulation::initial_state(&sys)?;
         Ok(())
     })

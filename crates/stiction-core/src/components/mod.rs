@@ -3,19 +3,22 @@
 //! contributes masses, force laws, constraints, friction elements, start values and the output
 //! variables it reports under its MSL names. Adding a component = one file + one registry line.
 
+pub mod blocks;
 pub mod compliant;
 pub mod friction;
 pub mod gears;
+pub mod heat;
 pub mod inertia;
+pub mod signal_blocks;
 pub mod sources;
+pub mod timetable;
 
 use std::path::Path;
 
 use crate::error::{ModelError, ModelResult};
 use crate::model::{ComponentSpec, Params};
-use crate::signals;
 use crate::system::Builder;
-use crate::thermal;
+pub use crate::system::PortKind;
 
 /// The ports a component has once its conditional connectors are decided.
 #[derive(Debug, Default, Clone)]
@@ -72,25 +75,6 @@ pub fn heat_port(enabled: bool) -> Vec<&'static str> {
     }
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum PortKind {
-    Mechanical,
-    SignalIn,
-    SignalOut,
-    Heat,
-}
-
-impl PortKind {
-    pub fn describe(self) -> &'static str {
-        match self {
-            PortKind::Mechanical => "a flange",
-            PortKind::SignalIn => "a signal input",
-            PortKind::SignalOut => "a signal output",
-            PortKind::Heat => "a heat port",
-        }
-    }
-}
-
 /// The most time events one component may schedule in a run.
 pub const MAX_TIME_EVENTS: usize = 1_000_000;
 
@@ -118,8 +102,8 @@ pub fn registry() -> Vec<(&'static str, Constructor)> {
     r.extend(sources::REGISTRY);
     r.extend(friction::REGISTRY);
     r.extend(friction::lossy_gear::REGISTRY);
-    r.extend(signals::REGISTRY);
-    r.extend(thermal::REGISTRY);
+    r.extend(signal_blocks::REGISTRY);
+    r.extend(heat::REGISTRY);
     r
 }
 

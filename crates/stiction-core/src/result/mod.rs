@@ -3,9 +3,9 @@
 
 use std::sync::{Arc, OnceLock};
 
-use crate::components::friction::logic::{FORWARD, STUCK};
-use crate::system::eval::{evaluate, DiscreteState, Workspace};
-use crate::system::kkt::ModeMatrix;
+use crate::engine::eval::{evaluate, DiscreteState, Workspace};
+use crate::engine::kkt::ModeMatrix;
+use crate::switching::logic::{FORWARD, STUCK};
 use crate::system::outputs::{EnergyVar, FrictionVar, GearVar};
 use crate::system::{Out, System};
 
@@ -192,7 +192,7 @@ fn discrete_value(disc: &DiscreteState, k: usize, var: FrictionVar) -> f64 {
         FrictionVar::StartForward => flag(st.pre.start_forward),
         FrictionVar::StartBackward => flag(st.pre.start_backward),
         FrictionVar::Free => flag(st.free),
-        FrictionVar::Stuck => flag(st.pre.mode == crate::components::friction::logic::STUCK),
+        FrictionVar::Stuck => flag(st.pre.mode == crate::switching::logic::STUCK),
         _ => f64::NAN,
     }
 }

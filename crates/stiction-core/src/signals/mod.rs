@@ -1,24 +1,5 @@
-//! Causal signal blocks (Modelica.Blocks): sources, math and time tables. The graph is evaluated
-//! in dependency order; every block is a function of time and its inputs only.
-
-mod blocks;
-mod timetable;
-
-use crate::components::Constructor;
-
-/// All signal component types.
-pub const REGISTRY: &[(&str, Constructor)] = &[
-    ("Constant", blocks::constant),
-    ("Step", blocks::step),
-    ("Ramp", blocks::ramp),
-    ("Sine", blocks::sine),
-    ("Pulse", blocks::pulse),
-    ("Product", blocks::product),
-    ("Feedback", blocks::feedback),
-    ("Add", blocks::add),
-    ("Gain", blocks::gain),
-    ("TimeTable", timetable::time_table),
-];
+//! The signal graph at run time: causal blocks (Modelica.Blocks) evaluated in dependency order,
+//! each a function of time and its inputs only. The block components are in `components`.
 
 /// A block's output as a function of time and its inputs. `horizon` is the first time event not
 /// handled yet: Modelica freezes `time >= t0` between events, so a switch at or after the horizon

@@ -4,8 +4,8 @@
 
 use nalgebra::{DMatrix, DVector};
 
+use crate::engine::eval::Layout;
 use crate::error::ModelError;
-use crate::system::eval::Layout;
 use crate::system::{InitEq, System};
 
 pub fn initial_state(sys: &System) -> Result<Vec<f64>, ModelError> {

@@ -12,8 +12,8 @@ use diffsol::{
 use self_cell::self_cell;
 
 use super::Phase;
+use crate::engine::eval::{derivative, evaluate};
 use crate::error::SimError;
-use crate::system::eval::{derivative, evaluate};
 use crate::system::System;
 
 pub type M = NalgebraMat<f64>;

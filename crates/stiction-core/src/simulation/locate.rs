@@ -9,8 +9,8 @@ use diffsol::{OdeSolverMethod, VectorCommon};
 
 use super::integrator::Eqn;
 use super::stepper::Stepper;
+use crate::engine::speed_rates;
 use crate::error::SimError;
-use crate::events::speed_rates;
 
 impl Stepper {
     /// The indicator `i` at time t on the dense output of the last step.

@@ -7,6 +7,7 @@
 //! state and the integrator restarts. The integrator is *not* restarted where a piece of
 //! `advance_to` ends, so a run advanced in pieces is bit-identical to one call.
 
+mod event;
 mod init;
 mod integrator;
 mod locate;
@@ -26,15 +27,16 @@ pub use stepper::Cursor;
 use integrator::{with_solver, IntegratorCell};
 use stepper::Stepper;
 
-use crate::components::friction::logic::UNKNOWN;
-use crate::components::friction::lossy_gear::GearState;
+use crate::assembly::assemble;
+use crate::engine::eval::{evaluate, DiscreteState, Workspace};
+use crate::engine::kkt::ModeMatrix;
+use crate::engine::{iterate, ModeCache};
 use crate::error::{ModelError, SimError};
-use crate::events::{iterate, ModeCache};
 use crate::model::ModelSpec;
 use crate::result::{row_values, EventRecord, SimResult};
-use crate::system::eval::{evaluate, DiscreteState, Workspace};
-use crate::system::kkt::ModeMatrix;
-use crate::system::{assemble, System};
+use crate::switching::logic::UNKNOWN;
+use crate::switching::lossy_gear::GearState;
+use crate::system::System;
 
 /// Assembles and simulates a model with its `[experiment]` settings.
 pub fn simulate(spec: &ModelSpec) -> Result<SimResult, SimError> {

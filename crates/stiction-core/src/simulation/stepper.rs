@@ -8,16 +8,14 @@ use std::rc::Rc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
-use diffsol::{
-    NonLinearOp, OdeEquations, OdeSolverMethod, OdeSolverStopReason, Vector, VectorCommon,
-};
+use diffsol::{OdeSolverMethod, OdeSolverStopReason, Vector, VectorCommon};
 
 use super::integrator::{integrator_error, Eqn, V};
 use super::{Observer, Phase};
+use crate::engine::eval::{evaluate, DiscreteState};
+use crate::engine::{indicator_count, indicator_label, indicators, ModeCache};
 use crate::error::SimError;
-use crate::events::{indicator_count, indicator_label, indicators, iterate, ModeCache};
 use crate::result::{EventRecord, Stats, Trajectory};
-use crate::system::eval::{evaluate, DiscreteState};
 use crate::system::System;
 
 /// The most state events and steps a run may take (a runaway, not a model, needs more).
@@ -25,14 +23,14 @@ const MAX_EVENTS: usize = 50_000;
 const MAX_STEPS: usize = 5_000_000;
 
 /// A step taken but not yet processed to its end.
-struct Pending {
-    t_now: f64,
-    tstop: bool,
-    at_time_event: bool,
+pub(super) struct Pending {
+    pub(super) t_now: f64,
+    pub(super) tstop: bool,
+    pub(super) at_time_event: bool,
     /// A crossing inside the step, with its cause, unless it is handled with the time event.
-    located: Option<(f64, String)>,
+    pub(super) located: Option<(f64, String)>,
     /// The cause of a crossing that coincides with the pending time event.
-    tied_cause: Option<String>,
+    pub(super) tied_cause: Option<String>,
 }
 
 /// What changes the discrete state at an event besides the relations.
@@ -54,42 +52,42 @@ pub struct Cursor {
 }
 
 pub(super) struct Stepper {
-    pub sys: Arc<System>,
-    pub phase: Rc<RefCell<Phase>>,
-    pub cache: ModeCache,
-    pub trajectory: Trajectory,
-    pub recording: bool,
+    pub(super) sys: Arc<System>,
+    pub(super) phase: Rc<RefCell<Phase>>,
+    pub(super) cache: ModeCache,
+    pub(super) trajectory: Trajectory,
+    pub(super) recording: bool,
     /// Every discrete state the run went through; rows refer to them by index.
-    pub discs: Vec<DiscreteState>,
-    pub log: Vec<EventRecord>,
-    pub observer: Option<Box<dyn Observer>>,
-    pub z_prev: Vec<f64>,
-    pub z: Vec<f64>,
+    pub(super) discs: Vec<DiscreteState>,
+    pub(super) log: Vec<EventRecord>,
+    pub(super) observer: Option<Box<dyn Observer>>,
+    pub(super) z_prev: Vec<f64>,
+    pub(super) z: Vec<f64>,
     /// Indicators at the previous sample while scanning a step.
-    pub z_scan: Vec<f64>,
+    pub(super) z_scan: Vec<f64>,
     /// Rates of the speed indicators at the current and the previous sample.
-    pub dz: Vec<f64>,
-    pub dz_scan: Vec<f64>,
-    pub dz_probe: Vec<f64>,
+    pub(super) dz: Vec<f64>,
+    pub(super) dz_scan: Vec<f64>,
+    pub(super) dz_probe: Vec<f64>,
     /// State buffer (interpolated or current).
-    pub x: Vec<f64>,
+    pub(super) x: Vec<f64>,
     /// diffsol's vector for dense output, reused.
-    dense: Option<V>,
-    grid_k: usize,
-    pub stats: Stats,
+    pub(super) dense: Option<V>,
+    pub(super) grid_k: usize,
+    pub(super) stats: Stats,
     /// Where processing stands: the integrator's time unless a step is pending.
-    pub t_prev: f64,
+    pub(super) t_prev: f64,
     /// The time the user advanced to (≤ the integrator's).
-    pub now: f64,
+    pub(super) now: f64,
     /// The integrator's stop: the next time event, or StopTime.
-    stop: f64,
-    next_te: usize,
-    pending: Option<Pending>,
-    pub finished: bool,
+    pub(super) stop: f64,
+    pub(super) next_te: usize,
+    pub(super) pending: Option<Pending>,
+    pub(super) finished: bool,
     /// Time of the last recorded row (an input event there reuses it as its left row).
-    last_row: f64,
-    pub cancel: Arc<AtomicBool>,
-    candidates: Vec<(usize, f64, f64)>,
+    pub(super) last_row: f64,
+    pub(super) cancel: Arc<AtomicBool>,
+    pub(super) candidates: Vec<(usize, f64, f64)>,
 }
 
 impl Stepper {
@@ -167,7 +165,7 @@ impl Stepper {
         (e.start_time + k as f64 * e.interval).min(e.stop_time)
     }
 
-    fn grid_len(&self) -> usize {
+    pub(super) fn grid_len(&self) -> usize {
         let e = &self.sys.experiment;
         ((e.stop_time - e.start_time) / e.interval - 1e-9).ceil() as usize
     }
@@ -303,7 +301,7 @@ impl Stepper {
     }
 
     /// Skips grid points that coincide with an event (the two event rows stand for them).
-    fn skip_grid_at(&mut self, t: f64) {
+    pub(super) fn skip_grid_at(&mut self, t: f64) {
         let eps = 1e-12 * t.abs().max(1.0);
         while self.grid_k <= self.grid_len() && (self.grid_time(self.grid_k) - t).abs() <= eps {
             self.grid_k += 1;
@@ -339,127 +337,6 @@ impl Stepper {
                 time: t,
                 limit: MAX_STEPS,
             });
-        }
-        Ok(())
-    }
-
-    /// Left row (unless one was recorded at t already), the change the event brings, event
-    /// iteration, right row, log. `horizon` is the first time event still to come once this
-    /// event is handled.
-    pub(super) fn handle_event(
-        &mut self,
-        t: f64,
-        horizon: f64,
-        kind: EventKind,
-        cause: &str,
-    ) -> Result<(), SimError> {
-        self.skip_grid_at(t);
-        if !(matches!(kind, EventKind::Input(..)) && self.last_row == t) {
-            self.record_here(t);
-        }
-        let changes = {
-            let mut guard = self.phase.borrow_mut();
-            guard.horizon = horizon;
-            let Phase { disc, ws, .. } = &mut *guard;
-            if let EventKind::Input(k, value) = kind {
-                disc.inputs[k] = value;
-            }
-            iterate(
-                &self.sys,
-                &mut self.cache,
-                disc,
-                t,
-                &self.x,
-                false,
-                horizon,
-                ws,
-            )?
-        };
-        let disc = self.phase.borrow().disc.clone();
-        let mm = self.cache.get(&self.sys, &disc, t)?;
-        self.phase.borrow_mut().mm = mm;
-        self.record_here(t);
-        for c in changes {
-            let record = EventRecord {
-                time: c.time,
-                component: c.component,
-                old_mode: c.old_mode,
-                new_mode: c.new_mode,
-                cause: cause.to_string(),
-            };
-            if let Some(observer) = self.observer.as_mut() {
-                observer.event(&record);
-            }
-            self.log.push(record);
-        }
-        match kind {
-            EventKind::State => self.stats.state_events += 1,
-            EventKind::Time => self.stats.time_events += 1,
-            EventKind::Input(..) => self.stats.input_events += 1,
-        }
-        self.evaluate_here(t, true);
-        self.z_prev.copy_from_slice(&self.z);
-        self.dz.fill(f64::NAN);
-        Ok(())
-    }
-
-    /// Restarts the integrator at (t, self.x) after an event.
-    pub fn restart<'a, S>(
-        &mut self,
-        solver: &mut S,
-        t: f64,
-        order: usize,
-        implicit: bool,
-    ) -> Result<(), SimError>
-    where
-        S: OdeSolverMethod<'a, Eqn>,
-    {
-        self.restart_at(solver, t, order, implicit, true)
-    }
-
-    /// Restarts the integrator at (t, self.x); with `rewind`, t lies in the last step and the
-    /// integrator is first taken back there, otherwise (a restored state) it jumps.
-    pub fn restart_at<'a, S>(
-        &mut self,
-        solver: &mut S,
-        t: f64,
-        order: usize,
-        implicit: bool,
-        rewind: bool,
-    ) -> Result<(), SimError>
-    where
-        S: OdeSolverMethod<'a, Eqn>,
-    {
-        let now = solver.state().t;
-        let h_before = solver.state().h.abs();
-        if rewind && (now - t).abs() > 1e-12 * t.abs().max(1.0) {
-            solver
-                .state_mut_back(t)
-                .map_err(|e| integrator_error(t, e))?;
-        }
-        let problem = solver.problem();
-        {
-            let mut state = solver.state_mut();
-            *state.t = t;
-            state.y.inner_mut().as_mut_slice().copy_from_slice(&self.x);
-            problem.eqn.rhs().call_inplace(state.y, t, state.dy);
-            state.set_step_size(problem.h0, &problem.atol, problem.rtol, &problem.eqn, order);
-            // The step size the integrator had found before the event is a better first guess
-            // than the start heuristic (which overshoots and is rejected, event after event).
-            if h_before > 0.0 && h_before < state.h.abs() {
-                *state.h = h_before.copysign(*state.h);
-            }
-        }
-        if implicit {
-            // the Jacobian belongs to the old mode
-            let _ = solver.checkpoint();
-        }
-        self.t_prev = t;
-        self.pending = None;
-        if self.stop > t {
-            solver
-                .set_stop_time(self.stop)
-                .map_err(|e| integrator_error(t, e))?;
         }
         Ok(())
     }
@@ -581,65 +458,5 @@ impl Stepper {
             target
         };
         Ok(())
-    }
-
-    /// The integrator reached its stop: a time event, or the end of the run.
-    fn time_event<'a, S>(
-        &mut self,
-        solver: &mut S,
-        tied: Option<String>,
-        order: usize,
-        implicit: bool,
-    ) -> Result<(), SimError>
-    where
-        S: OdeSolverMethod<'a, Eqn>,
-    {
-        let events = &self.sys.time_events;
-        if self.next_te >= events.len() {
-            self.finished = true; // reached StopTime
-            return Ok(());
-        }
-        let t_event = self.stop;
-        self.next_te += 1;
-        let horizon = events.get(self.next_te).copied().unwrap_or(f64::INFINITY);
-        let next_stop = events
-            .get(self.next_te)
-            .copied()
-            .unwrap_or(self.sys.experiment.stop_time);
-        let cause = match &tied {
-            Some(c) => format!("time event; {c}"),
-            None => "time event".to_string(),
-        };
-        self.handle_event(t_event, horizon, EventKind::Time, &cause)?;
-        self.stop = next_stop;
-        self.restart(solver, t_event, order, implicit)
-    }
-
-    /// Sets model input `k` at the current time: the integrator goes back to `now` (a pending
-    /// step is discarded), and the new value acts from there through an event.
-    pub fn set_input<'a, S>(
-        &mut self,
-        solver: &mut S,
-        k: usize,
-        value: f64,
-        name: &str,
-        order: usize,
-        implicit: bool,
-    ) -> Result<(), SimError>
-    where
-        S: OdeSolverMethod<'a, Eqn>,
-    {
-        let t = self.now;
-        let x = self.state_now(solver)?;
-        self.x.copy_from_slice(&x);
-        self.pending = None;
-        self.t_prev = t;
-        let horizon = self.phase.borrow().horizon;
-        let cause = format!("input {name} set to {value}");
-        self.handle_event(t, horizon, EventKind::Input(k, value), &cause)?;
-        if self.finished {
-            return Ok(());
-        }
-        self.restart(solver, t, order, implicit)
     }
 }

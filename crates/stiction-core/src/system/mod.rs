@@ -2,24 +2,22 @@
 //! permanent constraints, friction elements, the signal graph, the thermal network, start-value
 //! equations and the output variables. Built once per model; many runs share it.
 
-mod assemble;
-pub mod eval;
-mod flange;
-pub mod kkt;
+mod builder;
+pub(crate) mod flange;
 pub mod law;
 pub mod outputs;
-pub mod rel;
 
-pub use assemble::{assemble, Builder};
+pub use crate::rel::{NodeRef, Rel};
+pub(crate) use builder::PortInfo;
+pub use builder::{Builder, PortKind};
 pub use flange::FlangeTorques;
 pub use law::{EnergyRole, ForceLaw, LawCtx};
 pub use outputs::Out;
-pub use rel::{NodeRef, Rel};
 
-use crate::components::friction::lossy_gear::LossyGearElem;
-use crate::components::friction::FrictionElem;
 use crate::model::{Experiment, InitValue};
 use crate::signals::SignalGraph;
+use crate::switching::friction::FrictionElem;
+use crate::switching::lossy_gear::LossyGearElem;
 use crate::thermal::ThermalNet;
 
 pub struct LawElem {

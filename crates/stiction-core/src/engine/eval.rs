@@ -6,10 +6,10 @@
 use nalgebra::DVector;
 
 use super::kkt::ModeMatrix;
-use super::{EnergyRole, LawCtx, System};
-use crate::components::friction::logic;
-use crate::components::friction::lossy_gear::{GearMode, GearState, Losses};
-use crate::components::friction::FrictionState;
+use crate::switching::friction::FrictionState;
+use crate::switching::logic;
+use crate::switching::lossy_gear::{GearMode, GearState, Losses};
+use crate::system::{EnergyRole, LawCtx, System};
 
 /// Discrete state between events: friction and gear states, the frozen relations of laws, and
 /// the values of the model inputs (they change only at events, through `set_input`).

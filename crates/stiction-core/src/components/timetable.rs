@@ -1,10 +1,10 @@
 //! A time table (MSL CombiTimeTable, one output column, linear interpolation): a measured
 //! normal-force or torque profile given inline or as a two-column CSV file.
 
-use super::Block;
-use crate::components::{Component, Ports};
+use super::{Component, Ports};
 use crate::error::ModelResult;
 use crate::model::Params;
+use crate::signals::Block;
 use crate::system::{Builder, Out};
 
 #[derive(Clone)]

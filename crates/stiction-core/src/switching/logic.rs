@@ -2,7 +2,7 @@
 //! the mode, as pure functions of the pre-values and the current continuous values. Brake and
 //! Clutch share them; the event iteration in `events/` drives them to a fixed point.
 
-use crate::events::relation;
+use super::relation;
 
 pub const BACKWARD: i8 = -1;
 pub const STUCK: i8 = 0;

@@ -4,10 +4,10 @@
 //! the current discrete state are watched, so a locked or free element never fires events from
 //! noise in its relative speed.
 
-use super::relation::flip_indicator;
-use crate::components::friction::logic::{Relations as R, BACKWARD, FORWARD, STUCK};
-use crate::components::friction::lossy_gear::GearRelations as G;
-use crate::system::eval::{DiscreteState, Workspace};
+use crate::engine::eval::{DiscreteState, Workspace};
+use crate::switching::logic::{Relations as R, BACKWARD, FORWARD, STUCK};
+use crate::switching::lossy_gear::GearRelations as G;
+use crate::switching::relation::flip_indicator;
 use crate::system::System;
 
 /// Three per friction element (engagement, and two mode-dependent ones), three per LossyGear
@@ -112,10 +112,7 @@ pub fn indicators(sys: &System, disc: &DiscreteState, ws: &Workspace, z: &mut [f
 /// back within one step shows as a rate changing sign, which the driver then inspects.
 pub fn speed_rates(sys: &System, disc: &DiscreteState, ws: &Workspace, dz: &mut [f64]) {
     dz.fill(f64::NAN);
-    let sign = |locked: bool,
-                free: bool,
-                held: bool,
-                pre: crate::components::friction::logic::Discrete| {
+    let sign = |locked: bool, free: bool, held: bool, pre: crate::switching::logic::Discrete| {
         if locked || free || held {
             None
         } else if pre.mode == FORWARD || (pre.mode == STUCK && pre.start_backward) {

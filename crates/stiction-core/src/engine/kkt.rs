@@ -16,9 +16,9 @@
 
 use nalgebra::{DMatrix, DVector, Dyn, LU};
 
-use super::{Rel, System};
-use crate::components::friction::lossy_gear::GearMode;
 use crate::error::SimError;
+use crate::switching::lossy_gear::GearMode;
+use crate::system::{Rel, System};
 
 pub struct ModeMatrix {
     lu: LU<f64, Dyn, Dyn>,

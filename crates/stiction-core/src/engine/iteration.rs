@@ -7,12 +7,12 @@
 use std::collections::HashMap;
 use std::rc::Rc;
 
-use crate::components::friction::logic::{Discrete, Quantities, Relations};
-use crate::components::friction::lossy_gear::{GearRelations, GearState};
-use crate::components::friction::FrictionState;
+use crate::engine::eval::{evaluate, kinematics, DiscreteState, Workspace};
+use crate::engine::kkt::ModeMatrix;
 use crate::error::SimError;
-use crate::system::eval::{evaluate, kinematics, DiscreteState, Workspace};
-use crate::system::kkt::ModeMatrix;
+use crate::switching::friction::FrictionState;
+use crate::switching::logic::{Discrete, Quantities, Relations};
+use crate::switching::lossy_gear::{GearRelations, GearState};
 use crate::system::System;
 
 /// Factored mode matrices by mode: a mode met again costs nothing.

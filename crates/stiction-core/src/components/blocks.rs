@@ -2,10 +2,10 @@
 
 use std::f64::consts::PI;
 
-use super::{reached, Block};
-use crate::components::{Component, Ports};
+use super::{Component, Ports};
 use crate::error::ModelResult;
 use crate::model::Params;
+use crate::signals::{reached, Block};
 use crate::system::{Builder, Out};
 
 /// A block component: its ports, the block itself, and its time events.

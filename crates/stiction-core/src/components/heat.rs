@@ -1,0 +1,132 @@
+//! Modelica.Thermal.HeatTransfer components: HeatCapacitor, ThermalConductor, Convection,
+//! FixedTemperature (kelvin and Celsius).
+
+use super::{Component, Constructor, Ports};
+use crate::error::ModelResult;
+use crate::model::{InitValue, Params};
+use crate::system::{Builder, Out};
+use crate::thermal::{Conductance, Link};
+
+struct HeatCapacitor {
+    c: f64,
+    t: InitValue,
+}
+
+impl Component for HeatCapacitor {
+    fn ports(&self) -> Ports {
+        Ports {
+            heat: vec!["port"],
+            ..Ports::default()
+        }
+    }
+
+    fn build(&self, b: &mut Builder) -> ModelResult<()> {
+        let node = b.heat_node("port")?;
+        b.add_heat_capacity(node, self.c, self.t);
+        b.output("T", Out::HeatT(node));
+        b.output("der_T", Out::HeatDerT(node));
+        b.output("port.T", Out::HeatT(node));
+        b.output("port.Q_flow", Out::HeatCapacitorFlow(node, self.c));
+        Ok(())
+    }
+}
+
+struct Conductor {
+    g: Option<f64>,
+    ports: (&'static str, &'static str),
+}
+
+impl Component for Conductor {
+    fn ports(&self) -> Ports {
+        Ports {
+            heat: vec![self.ports.0, self.ports.1],
+            signal_in: if self.g.is_none() { vec!["Gc"] } else { vec![] },
+            ..Ports::default()
+        }
+    }
+
+    fn build(&self, b: &mut Builder) -> ModelResult<()> {
+        let (pa, pb) = self.ports;
+        let a = b.heat_node(pa)?;
+        let c = b.heat_node(pb)?;
+        let g = match self.g {
+            Some(g) => Conductance::Constant(g),
+            None => {
+                let slot = b.signal_in("Gc")?;
+                b.output("Gc", Out::Signal(slot));
+                Conductance::Signal(slot)
+            }
+        };
+        let link = b.add_heat_link(Link { a, b: c, g });
+        b.output("Q_flow", Out::HeatLinkFlow(link, 1.0));
+        b.output("dT", Out::HeatDiff(a, c));
+        b.output(&format!("{pa}.T"), Out::HeatT(a));
+        b.output(&format!("{pa}.Q_flow"), Out::HeatLinkFlow(link, 1.0));
+        b.output(&format!("{pb}.T"), Out::HeatT(c));
+        b.output(&format!("{pb}.Q_flow"), Out::HeatLinkFlow(link, -1.0));
+        Ok(())
+    }
+}
+
+struct FixedTemperature {
+    t: f64,
+}
+
+impl Component for FixedTemperature {
+    fn ports(&self) -> Ports {
+        Ports {
+            heat: vec!["port"],
+            ..Ports::default()
+        }
+    }
+
+    fn build(&self, b: &mut Builder) -> ModelResult<()> {
+        let node = b.heat_node("port")?;
+        b.fix_temperature(node, self.t)?;
+        b.output("port.T", Out::HeatT(node));
+        // The source absorbs whatever flows into its node (Q_flow is positive into a component).
+        b.output("port.Q_flow", Out::HeatNodeInflow(node, 1.0));
+        Ok(())
+    }
+}
+
+fn heat_capacitor(p: &Params) -> ModelResult<Box<dyn Component>> {
+    let c = p.positive("C", p.required("C")?)?;
+    // MSL HeatCapacitor: T(start = 293.15); the start value is the initial temperature.
+    let t = p.init("T", 293.15)?;
+    Ok(Box::new(HeatCapacitor { c, t }))
+}
+
+fn thermal_conductor(p: &Params) -> ModelResult<Box<dyn Component>> {
+    let g = p.at_least("G", p.required("G")?, 0.0)?;
+    Ok(Box::new(Conductor {
+        g: Some(g),
+        ports: ("port_a", "port_b"),
+    }))
+}
+
+fn convection(_p: &Params) -> ModelResult<Box<dyn Component>> {
+    Ok(Box::new(Conductor {
+        g: None,
+        ports: ("solid", "fluid"),
+    }))
+}
+
+fn fixed_temperature(p: &Params) -> ModelResult<Box<dyn Component>> {
+    let t = p.positive("T", p.required("T")?)?;
+    Ok(Box::new(FixedTemperature { t }))
+}
+
+/// Thermal.HeatTransfer.Celsius.FixedTemperature: `T` in degrees Celsius.
+fn fixed_temperature_celsius(p: &Params) -> ModelResult<Box<dyn Component>> {
+    let t = p.at_least("T", p.required("T")?, -273.15)? + 273.15;
+    Ok(Box::new(FixedTemperature { t }))
+}
+
+pub const REGISTRY: &[(&str, Constructor)] = &[
+    ("HeatCapacitor", heat_capacitor),
+    ("ThermalConductor", thermal_conductor),
+    ("Convection", convection),
+    ("FixedTemperature", fixed_temperature),
+    ("Celsius.FixedTemperature", fixed_temperature_celsius),
+];

@@ -1,0 +1,194 @@
+//! The events of a run as the stepper handles them: state, time and input events, each with
+//! its left and right rows and the event iteration, and the integrator restarted after it.
+
+use diffsol::{NonLinearOp, OdeEquations, OdeSolverMethod, Vector};
+
+use super::integrator::{integrator_error, Eqn};
+use super::stepper::{EventKind, Stepper};
+use super::Phase;
+use crate::engine::iterate;
+use crate::error::SimError;
+use crate::result::EventRecord;
+
+impl Stepper {
+    /// Left row (unless one was recorded at t already), the change the event brings, event
+    /// iteration, right row, log. `horizon` is the first time event still to come once this
+    /// event is handled.
+    pub(super) fn handle_event(
+        &mut self,
+        t: f64,
+        horizon: f64,
+        kind: EventKind,
+        cause: &str,
+    ) -> Result<(), SimError> {
+        self.skip_grid_at(t);
+        if !(matches!(kind, EventKind::Input(..)) && self.last_row == t) {
+            self.record_here(t);
+        }
+        let changes = {
+            let mut guard = self.phase.borrow_mut();
+            guard.horizon = horizon;
+            let Phase { disc, ws, .. } = &mut *guard;
+            if let EventKind::Input(k, value) = kind {
+                disc.inputs[k] = value;
+            }
+            iterate(
+                &self.sys,
+                &mut self.cache,
+                disc,
+                t,
+                &self.x,
+                false,
+                horizon,
+                ws,
+            )?
+        };
+        let disc = self.phase.borrow().disc.clone();
+        let mm = self.cache.get(&self.sys, &disc, t)?;
+        self.phase.borrow_mut().mm = mm;
+        self.record_here(t);
+        for c in changes {
+            let record = EventRecord {
+                time: c.time,
+                component: c.component,
+                old_mode: c.old_mode,
+                new_mode: c.new_mode,
+                cause: cause.to_string(),
+            };
+            if let Some(observer) = self.observer.as_mut() {
+                observer.event(&record);
+            }
+            self.log.push(record);
+        }
+        match kind {
+            EventKind::State => self.stats.state_events += 1,
+            EventKind::Time => self.stats.time_events += 1,
+            EventKind::Input(..) => self.stats.input_events += 1,
+        }
+        self.evaluate_here(t, true);
+        self.z_prev.copy_from_slice(&self.z);
+        self.dz.fill(f64::NAN);
+        Ok(())
+    }
+
+    /// Restarts the integrator at (t, self.x) after an event.
+    pub fn restart<'a, S>(
+        &mut self,
+        solver: &mut S,
+        t: f64,
+        order: usize,
+        implicit: bool,
+    ) -> Result<(), SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        self.restart_at(solver, t, order, implicit, true)
+    }
+
+    /// Restarts the integrator at (t, self.x); with `rewind`, t lies in the last step and the
+    /// integrator is first taken back there, otherwise (a restored state) it jumps.
+    pub fn restart_at<'a, S>(
+        &mut self,
+        solver: &mut S,
+        t: f64,
+        order: usize,
+        implicit: bool,
+        rewind: bool,
+    ) -> Result<(), SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let now = solver.state().t;
+        let h_before = solver.state().h.abs();
+        if rewind && (now - t).abs() > 1e-12 * t.abs().max(1.0) {
+            solver
+                .state_mut_back(t)
+                .map_err(|e| integrator_error(t, e))?;
+        }
+        let problem = solver.problem();
+        {
+            let mut state = solver.state_mut();
+            *state.t = t;
+            state.y.inner_mut().as_mut_slice().copy_from_slice(&self.x);
+            problem.eqn.rhs().call_inplace(state.y, t, state.dy);
+            state.set_step_size(problem.h0, &problem.atol, problem.rtol, &problem.eqn, order);
+            // The step size the integrator had found before the event is a better first guess
+            // than the start heuristic (which overshoots and is rejected, event after event).
+            if h_before > 0.0 && h_before < state.h.abs() {
+                *state.h = h_before.copysign(*state.h);
+            }
+        }
+        if implicit {
+            // the Jacobian belongs to the old mode
+            let _ = solver.checkpoint();
+        }
+        self.t_prev = t;
+        self.pending = None;
+        if self.stop > t {
+            solver
+                .set_stop_time(self.stop)
+                .map_err(|e| integrator_error(t, e))?;
+        }
+        Ok(())
+    }
+
+    /// The integrator reached its stop: a time event, or the end of the run.
+    pub(super) fn time_event<'a, S>(
+        &mut self,
+        solver: &mut S,
+        tied: Option<String>,
+        order: usize,
+        implicit: bool,
+    ) -> Result<(), SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let events = &self.sys.time_events;
+        if self.next_te >= events.len() {
+            self.finished = true; // reached StopTime
+            return Ok(());
+        }
+        let t_event = self.stop;
+        self.next_te += 1;
+        let horizon = events.get(self.next_te).copied().unwrap_or(f64::INFINITY);
+        let next_stop = events
+            .get(self.next_te)
+            .copied()
+            .unwrap_or(self.sys.experiment.stop_time);
+        let cause = match &tied {
+            Some(c) => format!("time event; {c}"),
+            None => "time event".to_string(),
+        };
+        self.handle_event(t_event, horizon, EventKind::Time, &cause)?;
+        self.stop = next_stop;
+        self.restart(solver, t_event, order, implicit)
+    }
+
+    /// Sets model input `k` at the current time: the integrator goes back to `now` (a pending
+    /// step is discarded), and the new value acts from there through an event.
+    pub fn set_input<'a, S>(
+        &mut self,
+        solver: &mut S,
+        k: usize,
+        value: f64,
+        name: &str,
+        order: usize,
+        implicit: bool,
+    ) -> Result<(), SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let t = self.now;
+        let x = self.state_now(solver)?;
+        self.x.copy_from_slice(&x);
+        self.pending = None;
+        self.t_prev = t;
+        let horizon = self.phase.borrow().horizon;
+        let cause = format!("input {name} set to {value}");
+        self.handle_event(t, horizon, EventKind::Input(k, value), &cause)?;
+        if self.finished {
+            return Ok(());
+        }
+        self.restart(solver, t, order, implicit)
+    }
+}

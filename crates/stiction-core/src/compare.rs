@@ -1,0 +1,284 @@
+//! The MSL regression check: does a result stay inside the tube around a reference?
+//!
+//! This is the comparison the Modelica Association runs on the MAP-LIB reference results (CSV
+//! Compare, tube method, relative tolerance 2e-3), ported from `python/stiction/compare.py` with
+//! the same semantics so that `cargo test` and pytest give the same verdicts. For each signal:
+//!
+//! * `X = tol · (t_max − t_min)` of the reference is the tube half-width in time,
+//! * `Y = tol · max(y_max − y_min, 1e-15 · max(1, |y|max))` (finite values) its half-height,
+//! * the reference is a piecewise-linear curve (a repeated time is a vertical jump) and the tube
+//!   at time `t` is `[min − Y, max + Y]` of that curve over the window `[t − X, t + X]`.
+//!
+//! Every point of the tested signal must lie inside; a NaN never does. The width in time is what
+//! lets an event found slightly earlier or later than in the reference still pass.
+
+use std::path::{Path, PathBuf};
+
+use thiserror::Error;
+
+use crate::SimResult;
+
+/// Why a comparison could not be made at all (as opposed to a signal failing it).
+#[derive(Debug, Error)]
+pub enum CompareError {
+    /// A file (path, what is wrong): unreadable, or not names over rows of numbers.
+    #[error("{path}: {1}", path = .0.display())]
+    File(PathBuf, String),
+    /// A trajectory (the reference file or "result", what is wrong) the tube cannot be built
+    /// on: no time column, time running backward, no rows, a column of another length.
+    #[error("{0}: {1}")]
+    Trajectory(String, String),
+    #[error("tolerance must be positive, got {0}")]
+    Tolerance(f64),
+}
+
+/// Named columns over one time axis (`time`): a simulation result or a reference table.
+pub trait Columns {
+    fn column(&self, name: &str) -> Option<Vec<f64>>;
+}
+
+impl Columns for SimResult {
+    fn column(&self, name: &str) -> Option<Vec<f64>> {
+        SimResult::column(self, name)
+    }
+}
+
+/// A reference trajectory table as MAP-LIB stores it: a header of (quoted) names, `time`
+/// first, then one numeric row per output point, event instants written twice.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Reference {
+    /// The file it came from: every error about it names it.
+    pub path: PathBuf,
+    pub names: Vec<String>,
+    /// One column per name (`compare` rejects columns of unequal length).
+    pub columns: Vec<Vec<f64>>,
+}
+
+impl Reference {
+    pub fn read(path: impl AsRef<Path>) -> Result<Self, CompareError> {
+        let path = path.as_ref();
+        Self::parse(&read_text(path)?, path)
+    }
+
+    /// Parses CSV text; `path` only names the source in errors. Blank lines and `#` comments
+    /// are skipped, as `numpy.loadtxt` does for the Python reader.
+    pub fn parse(text: &str, path: impl Into<PathBuf>) -> Result<Self, CompareError> {
+        let path = path.into();
+        let fail = |line, msg| CompareError::File(path.clone(), format!("line {line}: {msg}"));
+        let mut lines = text.strip_prefix('\u{feff}').unwrap_or(text).lines();
+        let header = lines.next().filter(|h| !h.trim().is_empty());
+        let names = split_header(header.ok_or_else(|| fail(1, "empty file".into()))?);
+        let mut columns = vec![Vec::new(); names.len()];
+        for (line, text) in (2..).zip(lines) {
+            let cells: Vec<&str> = text.split('#').next().unwrap_or("").split(',').collect();
+            if cells.len() == 1 && cells[0].trim().is_empty() {
+                continue;
+            } else if cells.len() != names.len() {
+                let msg = format!("{} values for {} names", cells.len(), names.len());
+                return Err(fail(line, msg));
+            }
+            for (column, cell) in columns.iter_mut().zip(cells) {
+                let value = cell.trim().parse();
+                column.push(value.map_err(|_| fail(line, format!("'{cell}' is not a number")))?);
+            }
+        }
+        Ok(Self {
+            path,
+            names,
+            columns,
+        })
+    }
+}
+
+impl Columns for Reference {
+    fn column(&self, name: &str) -> Option<Vec<f64>> {
+        let i = self.names.iter().position(|n| n == name)?;
+        self.columns.get(i).cloned()
+    }
+}
+
+/// Reads an MSL `comparisonSignals.txt`: one name per line, `time` (first) left out.
+pub fn read_signal_list(path: impl AsRef<Path>) -> Result<Vec<String>, CompareError> {
+    let text = read_text(path.as_ref())?;
+    let lines = text.trim_start_matches('\u{feff}').split(['\n', '\r']);
+    let keep = |n: &&str| !n.is_empty() && !n.starts_with('#') && *n != "time";
+    let names = lines.map(str::trim).filter(keep);
+    Ok(names.map(String::from).collect())
+}
+
+/// Which side lacks a compared signal.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Side {
+    Result,
+    Reference,
+}
+
+/// The verdict for one signal.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SignalReport {
+    pub name: String,
+    pub passed: bool,
+    /// The largest distance of a point outside the tube, in tube half-heights Y: 0 when every
+    /// point is inside, infinite for a NaN.
+    pub max_excess: f64,
+    /// When that worst point is (None when passed or missing).
+    pub worst_time: Option<f64>,
+    pub points_outside: usize,
+    pub missing: Option<Side>,
+    /// The tube half-width X in time and half-height Y.
+    pub x_half: f64,
+    pub y_half: f64,
+}
+
+/// Checks `result` against `reference` on `signals` (`time` is skipped) with the tube method:
+/// one verdict per signal, in order; the check passes if every one does. A signal missing on
+/// either side fails; unusable input is an error.
+pub fn compare<S: AsRef<str>>(
+    result: &impl Columns,
+    reference: &Reference,
+    signals: &[S],
+    tolerance: f64,
+) -> Result<Vec<SignalReport>, CompareError> {
+    if tolerance.is_nan() || tolerance <= 0.0 {
+        return Err(CompareError::Tolerance(tolerance));
+    }
+    let ref_what = reference.path.display().to_string();
+    let t_ref = time_axis(reference, &ref_what)?;
+    let t = time_axis(result, "result")?;
+    let mut reports = Vec::new();
+    for name in signals.iter().map(AsRef::as_ref).filter(|n| *n != "time") {
+        let (y_ref, y) = match (reference.column(name), result.column(name)) {
+            (Some(y_ref), Some(y)) => (y_ref, y),
+            (y_ref, _) => {
+                let missing = Some(y_ref.map_or(Side::Reference, |_| Side::Result));
+                let name = name.to_string();
+                reports.push(SignalReport {
+                    name,
+                    missing,
+                    ..Default::default()
+                });
+                continue;
+            }
+        };
+        for (what, y, t) in [(ref_what.as_str(), &y_ref, &t_ref), ("result", &y, &t)] {
+            if y.len() != t.len() {
+                let msg = format!("'{name}' has {} values for {} times", y.len(), t.len());
+                return Err(trajectory(what, msg));
+            }
+        }
+        if t_ref.is_empty() {
+            return Err(trajectory(&ref_what, "the reference has no rows".into()));
+        }
+        reports.push(check_signal(name, (&t_ref, &y_ref), (&t, &y), tolerance));
+    }
+    Ok(reports)
+}
+
+/// One signal against its tube; the reference has rows and both sides have equal lengths.
+fn check_signal(
+    name: &str,
+    (t_ref, y_ref): (&[f64], &[f64]),
+    (t, y): (&[f64], &[f64]),
+    tol: f64,
+) -> SignalReport {
+    let x_half = tol * (t_ref[t_ref.len() - 1] - t_ref[0]);
+    let (lo, hi) = y_ref.iter().filter(|v| v.is_finite()).fold(EMPTY, extend);
+    let (lo, hi) = if lo <= hi { (lo, hi) } else { (0.0, 0.0) };
+    let y_half = tol * (hi - lo).max(1e-15 * lo.abs().max(hi.abs()).max(1.0));
+    let mut report = SignalReport {
+        name: name.into(),
+        passed: true,
+        x_half,
+        y_half,
+        ..Default::default()
+    };
+    for (&ti, &yi) in t.iter().zip(y) {
+        // The reference points in the window and the curve at its ends (interpolated). A window
+        // holds about 2·tol of the rows, so a plain scan is cheap.
+        let (start, stop) = (ti - x_half, ti + x_half);
+        let first = t_ref.partition_point(|&v| v < start);
+        let end = t_ref.partition_point(|&v| v <= stop).max(first);
+        let ends = [interp(start, t_ref, y_ref), interp(stop, t_ref, y_ref)];
+        let curve = ends.iter().chain(&y_ref[first..end]);
+        let (lo, hi) = curve.fold(EMPTY, extend);
+        let (below, above) = ((lo - y_half) - yi, yi - (hi + y_half));
+        let e = extend((below, below), &above).1 / y_half;
+        let excess = if e.is_nan() { f64::INFINITY } else { e };
+        if excess > 0.0 {
+            report.points_outside += 1;
+            if report.passed || excess > report.max_excess {
+                (report.passed, report.max_excess, report.worst_time) = (false, excess, Some(ti));
+            }
+        }
+    }
+    report
+}
+
+/// `numpy.interp` on a non-decreasing `xp`: at a repeated time (an event written twice) the
+/// value after the jump; beyond either end, the end value.
+fn interp(x: f64, xp: &[f64], fp: &[f64]) -> f64 {
+    let (n, k) = (xp.len(), xp.partition_point(|&v| v <= x)); // k points at or before x
+    if x.is_nan() {
+        return x;
+    } else if k == 0 || k == n || xp[k - 1] == x {
+        return fp[k.saturating_sub(1)];
+    }
+    let slope = (fp[k] - fp[k - 1]) / (xp[k] - xp[k - 1]);
+    let at = |i: usize| slope * (x - xp[i]) + fp[i];
+    // numpy's fallbacks for infinite values: from the right end, then a flat infinite piece
+    match (at(k - 1), at(k)) {
+        (v, _) if !v.is_nan() => v,
+        (_, v) if !v.is_nan() || fp[k - 1] != fp[k] => v,
+        _ => fp[k - 1],
+    }
+}
+
+/// No values yet: (min, max) of an empty set.
+const EMPTY: (f64, f64) = (f64::INFINITY, f64::NEG_INFINITY);
+
+/// Widens (min, max) by `v` as `numpy.minimum` / `maximum` do: a NaN wins, so a NaN in the
+/// reference window makes the tube NaN and fails the point.
+fn extend((lo, hi): (f64, f64), &v: &f64) -> (f64, f64) {
+    if lo.is_nan() || v.is_nan() {
+        (f64::NAN, f64::NAN)
+    } else {
+        (lo.min(v), hi.max(v))
+    }
+}
+
+fn time_axis(source: &impl Columns, what: &str) -> Result<Vec<f64>, CompareError> {
+    let t = source
+        .column("time")
+        .ok_or_else(|| trajectory(what, "no 'time' column".into()))?;
+    match t.windows(2).position(|w| w[1] < w[0]) {
+        Some(i) => Err(trajectory(what, format!("time decreases after row {i}"))),
+        None => Ok(t),
+    }
+}
+
+fn trajectory(what: &str, message: String) -> CompareError {
+    CompareError::Trajectory(what.into(), message)
+}
+
+fn read_text(path: &Path) -> Result<String, CompareError> {
+    let error = |e: std::io::Error| CompareError::File(path.into(), e.to_string());
+    std::fs::read_to_string(path).map_err(error)
+}
+
+/// Splits a CSV header row into names: fields may be quoted, `""` is a quote inside quotes.
+fn split_header(line: &str) -> Vec<String> {
+    let (mut names, mut field) = (Vec::new(), String::new());
+    let (mut quoted, mut at_start) = (false, true);
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '"' if quoted && chars.next_if_eq(&'"').is_some() => field.push('"'),
+            '"' if quoted || at_start => quoted = !quoted,
+            ',' if !quoted => names.push(std::mem::take(&mut field).trim().to_string()),
+            _ => field.push(c),
+        }
+        at_start = c == ',' && !quoted;
+    }
+    names.push(field.trim().to_string());
+    names
+}

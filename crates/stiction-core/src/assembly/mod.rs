@@ -298,8 +298,7 @@ pub fn assemble(spec: &ModelSpec) -> ModelResult<System> {
             laws: Vec::new(),
             relation_count: 0,
             constraints: Vec::new(),
-            frictions: Vec::new(),
-            lossy_gears: Vec::new(),
+            switching: Vec::new(),
             signals: SignalGraph {
                 slots,
                 blocks: Vec::new(),

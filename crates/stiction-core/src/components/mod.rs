@@ -12,6 +12,8 @@ pub mod inertia;
 pub mod signal_blocks;
 pub mod sources;
 pub mod timetable;
+#[cfg(test)]
+mod toy_stop;
 
 use std::path::Path;
 
@@ -104,6 +106,8 @@ pub fn registry() -> Vec<(&'static str, Constructor)> {
     r.extend(friction::lossy_gear::REGISTRY);
     r.extend(signal_blocks::REGISTRY);
     r.extend(heat::REGISTRY);
+    #[cfg(test)]
+    r.extend(toy_stop::REGISTRY);
     r
 }
 

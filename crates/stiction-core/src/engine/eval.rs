@@ -6,17 +6,14 @@
 use nalgebra::DVector;
 
 use super::kkt::ModeMatrix;
-use crate::switching::friction::FrictionState;
-use crate::switching::logic;
-use crate::switching::lossy_gear::{GearMode, GearState, Losses};
+use crate::switching::element::{ElementValues, Kinematics, ModeKey, Solved, SwitchState};
 use crate::system::{EnergyRole, LawCtx, System};
 
-/// Discrete state between events: friction and gear states, the frozen relations of laws, and
-/// the values of the model inputs (they change only at events, through `set_input`).
+/// Discrete state between events: the switching elements' states, the frozen relations of
+/// laws, and the values of the model inputs (they change only at events, through `set_input`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct DiscreteState {
-    pub friction: Vec<FrictionState>,
-    pub gears: Vec<GearState>,
+    pub switching: Vec<SwitchState>,
     pub relations: Vec<bool>,
     pub inputs: Vec<f64>,
 }
@@ -25,8 +22,7 @@ impl DiscreteState {
     /// The `pre()` start values of every element and the inputs' start values.
     pub fn initial(sys: &System) -> Self {
         DiscreteState {
-            friction: sys.frictions.iter().map(FrictionState::initial).collect(),
-            gears: vec![GearState::INITIAL; sys.lossy_gears.len()],
+            switching: sys.switching.iter().map(|e| e.initial_state()).collect(),
             relations: vec![false; sys.relation_count],
             inputs: sys.inputs.iter().map(|i| i.start).collect(),
         }
@@ -34,62 +30,19 @@ impl DiscreteState {
 
     /// Whether this state has the shape of `sys`'s.
     pub fn fits(&self, sys: &System) -> bool {
-        self.friction.len() == sys.frictions.len()
-            && self.gears.len() == sys.lossy_gears.len()
+        self.switching.len() == sys.switching.len()
             && self.relations.len() == sys.relation_count
             && self.inputs.len() == sys.inputs.len()
     }
 
-    pub fn locked_set(&self) -> Vec<bool> {
-        self.friction.iter().map(|f| f.locked).collect()
-    }
-
-    /// How each LossyGear enters the linear system, with its losses at rest: the key of the
-    /// factored mode (exact unless the loss table depends on the speed).
-    pub fn gear_modes(&self, sys: &System) -> Vec<GearMode> {
-        sys.lossy_gears
+    /// How each switching element enters the linear system: the key of the factored mode.
+    pub fn mode_keys(&self, sys: &System) -> Vec<ModeKey> {
+        sys.switching
             .iter()
-            .zip(&self.gears)
-            .map(|(g, st)| g.mode_in(st, &g.losses_at_rest()))
+            .zip(&self.switching)
+            .map(|(e, st)| e.mode_key(st))
             .collect()
     }
-}
-
-/// Values of one LossyGear at an instant.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct GearValues {
-    pub tau_a: f64,
-    pub tau_b: f64,
-    pub tau_support: f64,
-    pub w: f64,
-    pub a: f64,
-    pub sa: f64,
-    pub tau_loss: f64,
-    pub tau_eta: f64,
-    pub losses: Losses,
-    /// `c1` of the rolling loss line at this speed.
-    pub slope: f64,
-    pub loss_max_p: f64,
-    pub loss_min_m: f64,
-    pub loss: f64,
-    /// The mode's rows hold this gear's speed fixed.
-    pub held: bool,
-}
-
-#[derive(Debug, Clone, Copy, Default)]
-pub struct FrictionValues {
-    pub phi: f64,
-    pub w: f64,
-    pub a: f64,
-    pub fn_: f64,
-    pub tau0: f64,
-    pub tau0_max: f64,
-    pub tau: f64,
-    pub mu: f64,
-    pub sa: f64,
-    pub loss: f64,
-    /// The mode's rows hold this element's relative speed fixed.
-    pub held: bool,
 }
 
 /// Everything known at one instant. Allocated once per run and reused.
@@ -104,8 +57,8 @@ pub struct Workspace {
     pub law_w: Vec<f64>,
     pub law_tau: Vec<f64>,
     pub constraint_tau: Vec<f64>,
-    pub friction: Vec<FrictionValues>,
-    pub gears: Vec<GearValues>,
+    /// The values of each switching element.
+    pub elements: Vec<ElementValues>,
     pub heat_in: Vec<f64>,
     pub temps: Vec<f64>,
     pub heat_net: Vec<f64>,
@@ -131,8 +84,7 @@ impl Workspace {
             law_w: vec![0.0; sys.laws.len()],
             law_tau: vec![0.0; sys.laws.len()],
             constraint_tau: vec![0.0; sys.constraints.len()],
-            friction: vec![FrictionValues::default(); sys.frictions.len()],
-            gears: vec![GearValues::default(); sys.lossy_gears.len()],
+            elements: vec![ElementValues::default(); sys.switching.len()],
             heat_in: vec![0.0; sys.thermal.nodes],
             temps: vec![0.0; sys.thermal.nodes],
             heat_net: vec![0.0; sys.thermal.nodes],
@@ -211,7 +163,7 @@ pub fn kinematics(
 }
 
 /// Evaluates everything at (t, x) in discrete state `disc`, whose mode `mm` was factored for.
-/// (A LossyGear whose losses depend on its speed gets a matrix factored for this instant.)
+/// (A LossyGear whose losses depend on its speed changes the factored matrix by a rank-one term.)
 pub fn evaluate(
     sys: &System,
     mm: &ModeMatrix,
@@ -226,113 +178,48 @@ pub fn evaluate(
     ws.rhs_evals += 1;
     kinematics(sys, disc, t, x, horizon, ws);
 
-    // LossyGears: losses at the current speed (their slopes enter the solve below).
-    for (k, g) in sys.lossy_gears.iter().enumerate() {
-        let v = &mut ws.gears[k];
-        v.w = g.lock_row.dot(&ws.w);
-        v.losses = g.losses(v.w);
-        v.slope = g.mode_in(&disc.gears[k], &v.losses).c1;
-    }
-
-    // Generalized forces of laws and sliding friction.
-    let m = sys.constraints.len();
-    let size = mm.size;
+    // Generalized forces of laws and switching elements.
     let mut rhs = std::mem::replace(&mut ws.rhs, DVector::zeros(0));
-    if rhs.len() != size {
-        rhs = DVector::zeros(size);
+    if rhs.len() != mm.size {
+        rhs = DVector::zeros(mm.size);
     }
     rhs.fill(0.0);
-    let f = rhs.as_mut_slice();
+    let f = &mut rhs.as_mut_slice()[..n];
     for (k, law) in sys.laws.iter().enumerate() {
-        ws.law_phi[k] = law.rel.angle(&ws.phi);
-        ws.law_w[k] = law.rel.dot(&ws.w);
         let tau = law.law.tau(&ws.law_ctx(sys, disc, k));
         ws.law_tau[k] = tau;
-        law.rel.apply(tau, &mut f[..n]);
+        law.rel.apply(tau, f);
     }
-    for (k, fe) in sys.frictions.iter().enumerate() {
-        let st = &disc.friction[k];
-        let v = &mut ws.friction[k];
-        v.phi = fe.rel.angle(&ws.phi);
-        v.w = fe.rel.dot(&ws.w);
-        v.fn_ = fe.reported_normal_force(&ws.signals, st.free);
-        (v.tau0, v.tau0_max) = fe.limits(v.fn_, st.free);
-        let (mu, tau) = fe.sliding(
-            v.w,
-            v.fn_,
-            st.pre.mode,
-            st.pre.start_forward,
-            st.pre.start_backward,
-        );
-        v.mu = mu;
-        v.tau = if st.free { 0.0 } else { tau };
-        if !st.locked {
-            fe.rel.apply(v.tau, &mut f[..n]);
-        }
+    let kin = Kinematics {
+        phi: &ws.phi,
+        w: &ws.w,
+        signals: &ws.signals,
+    };
+    for ((e, st), v) in sys
+        .switching
+        .iter()
+        .zip(&disc.switching)
+        .zip(&mut ws.elements)
+    {
+        e.forces(st, &kin, v, f);
     }
-    // A rolling gear's constant loss part c0 acts through ℓ.
-    for (k, g) in sys.lossy_gears.iter().enumerate() {
-        let st = &disc.gears[k];
-        if !g.ideal && !st.locked {
-            let (_, c0) = g.rolling_line(st, &ws.gears[k].losses);
-            g.loss_col.apply(c0, &mut f[..n]);
-        }
-    }
-    if sys.lossy_gears.is_empty() {
-        mm.solve(&mut rhs);
-    } else {
-        let gears = &ws.gears;
-        mm.solve_with_gear_slopes(sys, |k| gears[k].slope, &mut rhs);
-    }
+    let elements = &ws.elements;
+    mm.solve_with_slopes(sys, |k| elements[k].slope, &mut rhs);
+    let m = sys.constraints.len();
     ws.a.copy_from_slice(&rhs.as_slice()[..n]);
     ws.constraint_tau.copy_from_slice(&rhs.as_slice()[n..n + m]);
-    for (k, row) in mm.friction_row.iter().enumerate() {
-        if disc.friction[k].locked {
-            // a locked element whose row depends on others carries no torque
-            ws.friction[k].tau = row.map_or(0.0, |r| rhs[n + r]);
-        }
-    }
-    for (k, g) in sys.lossy_gears.iter().enumerate() {
-        let st = &disc.gears[k];
-        let v = &mut ws.gears[k];
-        v.tau_a = rhs[n + mm.gear_row[k]];
-        v.held = mm.gear_held[k];
-        v.a = g.lock_row.dot(&ws.a);
-        v.tau_loss = if g.ideal {
-            0.0
-        } else if st.locked {
-            mm.gear_lock_row[k].map_or(0.0, |r| rhs[n + r])
-        } else {
-            let (c1, c0) = g.rolling_line(st, &v.losses);
-            c1 * v.tau_a + c0
+    let multiplier = |row: Option<usize>| row.map(|r| rhs[n + r]);
+    for (k, (e, st)) in sys.switching.iter().zip(&disc.switching).enumerate() {
+        let rows = &mm.element_rows[k];
+        let solved = Solved {
+            a: &ws.a,
+            permanent: multiplier(rows.permanent),
+            lock: multiplier(rows.lock),
+            held: rows.held,
         };
-        v.sa = if st.locked {
-            v.tau_loss
-        } else {
-            v.a + v.tau_loss
-        };
-        v.tau_b = -g.ratio * (v.tau_a - v.tau_loss);
-        v.tau_support = -v.tau_a - v.tau_b;
-        v.tau_eta = g.tau_eta(st, v.tau_a, v.losses.tbf_a);
-        (v.loss_max_p, v.loss_min_m) = g.rest_limits(v.tau_a);
-        v.loss = v.tau_loss * v.w;
+        e.solved(st, &solved, &mut ws.elements[k]);
     }
     ws.rhs = rhs;
-
-    for (k, fe) in sys.frictions.iter().enumerate() {
-        let st = &disc.friction[k];
-        let v = &mut ws.friction[k];
-        v.a = fe.rel.dot(&ws.a);
-        v.held = mm.friction_held[k];
-        v.sa = if st.locked {
-            v.tau
-        } else {
-            fe.sa_from_accel(st.free, st.pre, v.a, v.tau0, v.tau0_max)
-        };
-        // A OneWayClutch dissipates nothing while stuck (spec §10.8).
-        let stuck_one_way = fe.one_way.is_some() && st.pre.mode == logic::STUCK;
-        v.loss = if stuck_one_way { 0.0 } else { v.tau * v.w };
-    }
 
     // Heat and energy.
     ws.heat_in.iter_mut().for_each(|q| *q = 0.0);
@@ -350,15 +237,9 @@ pub fn evaluate(
             ws.heat_in[node] += law.law.loss_power(&ctx, ws.law_tau[k]);
         }
     }
-    for (k, fe) in sys.frictions.iter().enumerate() {
-        loss += ws.friction[k].loss;
-        if let Some(node) = fe.heat_node {
-            ws.heat_in[node] += ws.friction[k].loss;
-        }
-    }
-    for (g, v) in sys.lossy_gears.iter().zip(&ws.gears) {
+    for (e, v) in sys.switching.iter().zip(&ws.elements) {
         loss += v.loss;
-        if let Some(node) = g.heat_node {
+        if let Some(node) = e.heat_node() {
             ws.heat_in[node] += v.loss;
         }
     }

@@ -10,9 +10,9 @@ use std::rc::Rc;
 use crate::engine::eval::{evaluate, kinematics, DiscreteState, Workspace};
 use crate::engine::kkt::ModeMatrix;
 use crate::error::SimError;
-use crate::switching::friction::FrictionState;
-use crate::switching::logic::{Discrete, Quantities, Relations};
-use crate::switching::lossy_gear::{GearRelations, GearState};
+use crate::switching::element::SwitchState;
+use crate::switching::logic::Discrete;
+use crate::switching::relation::RelationSet;
 use crate::system::System;
 
 /// Factored mode matrices by mode: a mode met again costs nothing.
@@ -29,19 +29,16 @@ impl ModeCache {
         disc: &DiscreteState,
         t: f64,
     ) -> Result<Rc<ModeMatrix>, SimError> {
-        let locked = disc.locked_set();
-        let gears = disc.gear_modes(sys);
-        let key: Vec<u64> = locked
+        let keys = disc.mode_keys(sys);
+        let key: Vec<u64> = keys
             .iter()
-            .map(|&l| l as u64)
-            .chain(gears.iter().flat_map(|g| [g.locked as u64, g.c1.to_bits()]))
+            .flat_map(|k| [k.locked as u64, k.slope.to_bits()])
             .collect();
         if let Some(mm) = self.map.get(&key) {
             return Ok(mm.clone());
         }
-        let mm = ModeMatrix::factor(sys, &locked, &gears, t)?;
+        let mm = Rc::new(ModeMatrix::factor(sys, &keys, t)?);
         self.factorizations += 1;
-        let mm = Rc::new(mm);
         self.map.insert(key, mm.clone());
         Ok(mm)
     }
@@ -58,89 +55,37 @@ pub struct ModeChange {
 
 const MAX_PASSES: usize = 50;
 
-/// What the mixed system iterates on: the relations of each friction element and LossyGear.
-#[derive(Debug, Clone, PartialEq)]
-struct RelationValues {
-    friction: Vec<Relations>,
-    gears: Vec<GearRelations>,
+/// What the mixed system iterates on: the relations of every switching element.
+type RelationValues = Vec<RelationSet>;
+
+fn relations_of(disc: &DiscreteState) -> RelationValues {
+    disc.switching.iter().map(|st| st.rel).collect()
 }
 
-impl RelationValues {
-    fn of(disc: &DiscreteState) -> Self {
-        RelationValues {
-            friction: disc.friction.iter().map(|f| f.rel).collect(),
-            gears: disc.gears.iter().map(|g| g.rel).collect(),
-        }
-    }
+/// Every relation true in either (start conditions set in either), except those an element
+/// takes from the first only. Speeds do not change within an event, so theirs agree anyway.
+fn union(sys: &System, a: &RelationValues, b: &RelationValues) -> RelationValues {
+    (sys.switching.iter().zip(a.iter().zip(b)))
+        .map(|(e, (a, b))| a.union_keeping(*b, e.own_relations()))
+        .collect()
+}
 
-    /// Every relation true in either (start conditions set in either); the driving side of
-    /// `self`. Speeds do not change within an event, so their relations agree anyway.
-    fn or(&self, other: &RelationValues) -> RelationValues {
-        let or = |a: &[bool], b: &[bool], i: usize| a[i] || b[i];
-        RelationValues {
-            friction: self
-                .friction
-                .iter()
-                .zip(&other.friction)
-                .map(|(a, b)| Relations(std::array::from_fn(|i| or(&a.0, &b.0, i))))
-                .collect(),
-            gears: self
-                .gears
-                .iter()
-                .zip(&other.gears)
-                .map(|(a, b)| {
-                    let mut r = GearRelations(std::array::from_fn(|i| or(&a.0, &b.0, i)));
-                    r.0[GearRelations::TAU_ETA_POS] = a.get(GearRelations::TAU_ETA_POS);
-                    r
-                })
-                .collect(),
-        }
-    }
+/// The same with every start condition on `sa` false: each element that was stuck locks.
+fn nothing_starts(sys: &System, r: &RelationValues) -> RelationValues {
+    (sys.switching.iter().zip(r))
+        .map(|(e, r)| r.cleared(e.start_relations()))
+        .collect()
+}
 
-    /// The same with every start condition on `sa` false: each element that was stuck locks.
-    fn nothing_starts(&self) -> RelationValues {
-        let mut r = self.clone();
-        for f in &mut r.friction {
-            for i in [
-                Relations::SA_ABOVE_MAX,
-                Relations::SA_ABOVE,
-                Relations::SA_BELOW_MAX,
-                Relations::SA_BELOW,
-            ] {
-                f.0[i] = false;
-            }
-        }
-        for g in &mut r.gears {
-            g.0[GearRelations::SA_ABOVE_MAX_P] = false;
-            g.0[GearRelations::SA_BELOW_MIN_M] = false;
-        }
-        r
-    }
+/// The relations at the values in `ws`, from `r` (literal at initialization).
+fn updated(sys: &System, r: &RelationValues, ws: &Workspace, initial: bool) -> RelationValues {
+    (sys.switching.iter().zip(r).zip(&ws.elements))
+        .map(|((e, r), v)| e.relations(*r, v, initial))
+        .collect()
+}
 
-    /// The relations at the values in `ws`, from these (literal at initialization).
-    fn updated(&self, sys: &System, ws: &Workspace, initial: bool) -> RelationValues {
-        RelationValues {
-            friction: (0..sys.frictions.len())
-                .map(|k| {
-                    let v = &ws.friction[k];
-                    let q = Quantities {
-                        sa: v.sa,
-                        w: v.w,
-                        tau0: v.tau0,
-                        tau0_max: v.tau0_max,
-                        w_small: sys.frictions[k].w_small,
-                    };
-                    self.friction[k].update(&q, initial)
-                })
-                .collect(),
-            gears: (0..sys.lossy_gears.len())
-                .map(|k| {
-                    let v = &ws.gears[k];
-                    self.gears[k].update(v.sa, v.loss_max_p, v.loss_min_m, v.w, v.tau_eta, initial)
-                })
-                .collect(),
-        }
-    }
+fn element_names(sys: &System) -> Vec<String> {
+    sys.switching.iter().map(|e| e.name().to_string()).collect()
 }
 
 /// Solves the discrete equations at (t, x). With `initial`, this is MSL's initialization: one
@@ -157,8 +102,7 @@ pub fn iterate(
     horizon: f64,
     ws: &mut Workspace,
 ) -> Result<Vec<ModeChange>, SimError> {
-    let before_f: Vec<i8> = disc.friction.iter().map(|f| f.pre.mode).collect();
-    let before_g: Vec<i8> = disc.gears.iter().map(|g| g.pre.mode).collect();
+    let before: Vec<i8> = disc.switching.iter().map(|st| st.pre.mode).collect();
 
     // Relations of force laws are evaluated literally at the event (no linear solve needed:
     // the previous mode's matrix may not even be regular, e.g. before initialization).
@@ -181,113 +125,86 @@ pub fn iterate(
     if !initial {
         let mm = cache.get(sys, disc, t)?;
         evaluate(sys, &mm, disc, t, x, horizon, ws);
-        let now = RelationValues::of(disc).updated(sys, ws, false);
-        for (st, rel) in disc.friction.iter_mut().zip(now.friction) {
-            st.rel = rel;
-        }
-        for (st, rel) in disc.gears.iter_mut().zip(now.gears) {
+        let now = updated(sys, &relations_of(disc), ws, false);
+        for (st, rel) in disc.switching.iter_mut().zip(now) {
             st.rel = rel;
         }
     }
 
     for _pass in 0..MAX_PASSES {
-        let pre_f: Vec<Discrete> = disc.friction.iter().map(|f| f.pre).collect();
-        let pre_g: Vec<Discrete> = disc.gears.iter().map(|g| g.pre).collect();
+        let pre: Vec<Discrete> = disc.switching.iter().map(|st| st.pre).collect();
         // free = (fn <= 0), from the signals at the event (evaluated above).
         let free: Vec<bool> = sys
-            .frictions
+            .switching
             .iter()
-            .map(|fe| fe.normal_force(&ws.signals) <= 0.0)
+            .map(|e| e.is_free(&ws.signals))
             .collect();
-        let solved = solve_mixed(
+        let rels = relations_of(disc);
+        let ctx = Mixed {
             sys,
-            cache,
-            &pre_f,
-            &pre_g,
-            &free,
-            RelationValues::of(disc),
-            disc,
+            pre: &pre,
+            free: &free,
+            carried: disc,
             t,
             x,
             initial,
             horizon,
-            ws,
-        )?;
-        let new_f: Vec<Discrete> = (0..sys.frictions.len())
-            .map(|k| {
-                let st = &solved.friction[k];
+        };
+        let solved = solve_mixed(&ctx, cache, rels, ws)?;
+        let new: Vec<Discrete> = (sys.switching.iter().zip(&solved.switching))
+            .zip(pre.iter().zip(&free))
+            .map(|((e, st), (pre, &free))| {
                 let (sf, sb) = (st.pre.start_forward, st.pre.start_backward);
                 Discrete {
-                    mode: sys.frictions[k].mode(free[k], pre_f[k], sf, sb, st.rel),
+                    mode: e.mode(free, *pre, sf, sb, st.rel),
                     ..st.pre
                 }
             })
             .collect();
-        let new_g: Vec<Discrete> = (0..sys.lossy_gears.len())
-            .map(|k| {
-                let st = &solved.gears[k];
-                let (sf, sb) = (st.pre.start_forward, st.pre.start_backward);
-                Discrete {
-                    mode: sys.lossy_gears[k].mode(pre_g[k], sf, sb, st.rel),
-                    ..st.pre
-                }
-            })
-            .collect();
-        let settled = new_f == pre_f && new_g == pre_g;
+        let settled = new == pre;
         // With pre() = the new values, `locked` uses pre(mode) = mode, as between events.
-        for (k, fe) in sys.frictions.iter().enumerate() {
-            let p = new_f[k];
-            disc.friction[k] = FrictionState {
+        for (k, e) in sys.switching.iter().enumerate() {
+            let p = new[k];
+            disc.switching[k] = SwitchState {
                 pre: p,
-                locked: fe.locked(free[k], p, p.start_forward, p.start_backward),
+                locked: e.locked(free[k], p, p.start_forward, p.start_backward),
                 free: free[k],
-                rel: solved.friction[k].rel,
-            };
-        }
-        for (k, g) in sys.lossy_gears.iter().enumerate() {
-            let p = new_g[k];
-            disc.gears[k] = GearState {
-                pre: p,
-                locked: g.locked(p, p.start_forward, p.start_backward),
-                rel: solved.gears[k].rel,
+                rel: solved.switching[k].rel,
             };
         }
         if settled || initial {
-            let changes = sys
-                .frictions
-                .iter()
-                .map(|f| &f.name)
-                .zip(before_f.iter().zip(&new_f).map(|(b, n)| (*b, n.mode)))
-                .chain(
-                    sys.lossy_gears
-                        .iter()
-                        .map(|g| &g.name)
-                        .zip(before_g.iter().zip(&new_g).map(|(b, n)| (*b, n.mode))),
-                )
-                .filter(|(_, (old, new))| old != new)
-                .map(|(name, (old, new))| ModeChange {
+            let changes = (sys.switching.iter().zip(before.iter().zip(&new)))
+                .filter(|(_, (old, new))| **old != new.mode)
+                .map(|(e, (old, new))| ModeChange {
                     time: t,
-                    component: name.clone(),
-                    old_mode: old,
-                    new_mode: new,
+                    component: e.name().to_string(),
+                    old_mode: *old,
+                    new_mode: new.mode,
                 })
                 .collect();
             return Ok(changes);
         }
     }
-    let names: Vec<&str> = sys
-        .frictions
-        .iter()
-        .map(|f| f.name.as_str())
-        .chain(sys.lossy_gears.iter().map(|g| g.name.as_str()))
-        .collect();
     Err(SimError::EventIteration {
         time: t,
         message: format!(
             "event iteration did not reach a consistent mode after {MAX_PASSES} passes"
         ),
-        elements: names.into_iter().map(String::from).collect(),
+        elements: element_names(sys),
     })
+}
+
+/// What stays fixed while the mixed system is solved at one event instant.
+struct Mixed<'a> {
+    sys: &'a System,
+    pre: &'a [Discrete],
+    free: &'a [bool],
+    /// The discrete state the laws' relations and the inputs are taken from.
+    carried: &'a DiscreteState,
+    t: f64,
+    x: &'a [f64],
+    initial: bool,
+    horizon: f64,
 }
 
 /// One evaluation of the mixed system: relation values consistent with the accelerations and
@@ -297,31 +214,23 @@ pub fn iterate(
 /// starts again from "nothing starts" (every stuck element locked); if that cycles too, two
 /// elements hold the same motion and each alone breaks away while each alone holds: starting
 /// is then the consistent answer.
-#[allow(clippy::too_many_arguments)]
 fn solve_mixed(
-    sys: &System,
+    ctx: &Mixed,
     cache: &mut ModeCache,
-    pre_f: &[Discrete],
-    pre_g: &[Discrete],
-    free: &[bool],
     current: RelationValues,
-    carried: &DiscreteState,
-    t: f64,
-    x: &[f64],
-    initial: bool,
-    horizon: f64,
     ws: &mut Workspace,
 ) -> Result<DiscreteState, SimError> {
-    let limit = 4 * (sys.frictions.len() + sys.lossy_gears.len()) + 10;
-    let locked_start = current.nothing_starts();
+    let sys = ctx.sys;
+    let limit = 4 * sys.switching.len() + 10;
+    let locked_start = nothing_starts(sys, &current);
     let mut visited: Vec<RelationValues> = Vec::new();
     let mut rels = current;
     let mut restarted = false;
     for _ in 0..2 * limit {
-        let trial = implied_state(sys, pre_f, pre_g, free, &rels, carried, initial);
-        let mm = cache.get(sys, &trial, t)?;
-        evaluate(sys, &mm, &trial, t, x, horizon, ws);
-        let next = rels.updated(sys, ws, initial);
+        let trial = implied_state(ctx, &rels);
+        let mm = cache.get(sys, &trial, ctx.t)?;
+        evaluate(sys, &mm, &trial, ctx.t, ctx.x, ctx.horizon, ws);
+        let next = updated(sys, &rels, ws, ctx.initial);
         if next == rels {
             return Ok(trial);
         }
@@ -333,73 +242,42 @@ fn solve_mixed(
             visited.clear();
             rels = locked_start.clone();
         } else {
-            let started = next.or(&rels);
+            let started = union(sys, &next, &rels);
             if visited.contains(&started) {
-                return Ok(implied_state(
-                    sys, pre_f, pre_g, free, &started, carried, initial,
-                ));
+                return Ok(implied_state(ctx, &started));
             }
             rels = started;
         }
     }
     Err(SimError::EventIteration {
-        time: t,
+        time: ctx.t,
         message: "the stick/slip Booleans of coupled friction elements do not settle (mixed system has no consistent solution)".into(),
-        elements: sys
-            .frictions
-            .iter()
-            .map(|f| f.name.clone())
-            .chain(sys.lossy_gears.iter().map(|g| g.name.clone()))
-            .collect(),
+        elements: element_names(sys),
     })
 }
 
 /// The discrete state the relations imply with `pre()` fixed: each element's start flags and
 /// whether it is locked (its `pre.mode` stays the pre-value).
-fn implied_state(
-    sys: &System,
-    pre_f: &[Discrete],
-    pre_g: &[Discrete],
-    free: &[bool],
-    rels: &RelationValues,
-    carried: &DiscreteState,
-    initial: bool,
-) -> DiscreteState {
+fn implied_state(ctx: &Mixed, rels: &RelationValues) -> DiscreteState {
+    let switching = (ctx.sys.switching.iter().zip(rels))
+        .zip(ctx.pre.iter().zip(ctx.free))
+        .map(|((e, &rel), (&pre, &free))| {
+            let (sf, sb) = e.start_flags(pre, rel, ctx.initial);
+            SwitchState {
+                pre: Discrete {
+                    mode: pre.mode,
+                    start_forward: sf,
+                    start_backward: sb,
+                },
+                locked: e.locked(free, pre, sf, sb),
+                free,
+                rel,
+            }
+        })
+        .collect();
     DiscreteState {
-        friction: (0..sys.frictions.len())
-            .map(|k| {
-                let fe = &sys.frictions[k];
-                let rel = rels.friction[k];
-                let (sf, sb) = fe.start_flags(pre_f[k], rel, initial);
-                FrictionState {
-                    pre: Discrete {
-                        mode: pre_f[k].mode,
-                        start_forward: sf,
-                        start_backward: sb,
-                    },
-                    locked: fe.locked(free[k], pre_f[k], sf, sb),
-                    free: free[k],
-                    rel,
-                }
-            })
-            .collect(),
-        gears: (0..sys.lossy_gears.len())
-            .map(|k| {
-                let g = &sys.lossy_gears[k];
-                let rel = rels.gears[k];
-                let (sf, sb) = g.start_flags(pre_g[k], rel, initial);
-                GearState {
-                    pre: Discrete {
-                        mode: pre_g[k].mode,
-                        start_forward: sf,
-                        start_backward: sb,
-                    },
-                    locked: g.locked(pre_g[k], sf, sb),
-                    rel,
-                }
-            })
-            .collect(),
-        relations: carried.relations.clone(),
-        inputs: carried.inputs.clone(),
+        switching,
+        relations: ctx.carried.relations.clone(),
+        inputs: ctx.carried.inputs.clone(),
     }
 }

@@ -17,32 +17,28 @@
 use nalgebra::{DMatrix, DVector, Dyn, LU};
 
 use crate::error::SimError;
-use crate::switching::lossy_gear::GearMode;
+use crate::switching::element::{Column, ModeKey};
 use crate::system::{Rel, System};
+
+/// Where a switching element's multipliers sit in the solution of one mode.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ElementRows {
+    /// Row of its permanent row's multiplier (a LossyGear's `τa`).
+    pub permanent: Option<usize>,
+    /// Row of its lock multiplier, when locked and independent of the rows before.
+    pub lock: Option<usize>,
+    /// The mode's rows hold its relative motion: its speed cannot change, so it is not watched
+    /// for zero crossings (no events from round-off).
+    pub held: bool,
+}
 
 pub struct ModeMatrix {
     lu: LU<f64, Dyn, Dyn>,
     pub size: usize,
-    /// Row of each friction element's multiplier (its torque) when locked and kept.
-    pub friction_row: Vec<Option<usize>>,
-    /// Row of each LossyGear's torque `τa`.
-    pub gear_row: Vec<usize>,
-    /// Row of each locked LossyGear's stuck loss torque `sa`, when kept.
-    pub gear_lock_row: Vec<Option<usize>>,
-    /// The gear modes this matrix was factored for.
-    pub gear_modes: Vec<GearMode>,
-    /// Friction elements (and gears) whose relative motion the mode's rows hold fixed: their
-    /// speed cannot change, so it is not watched for zero crossings (no events from round-off).
-    pub friction_held: Vec<bool>,
-    pub gear_held: Vec<bool>,
-}
-
-/// How a row's multiplier acts on the nodes: along the row itself, the row plus `s·ℓ`, or
-/// only along `ℓ` (a stuck LossyGear's loss torque).
-enum Column<'a> {
-    Same,
-    Plus(&'a Rel, f64),
-    Only(&'a Rel),
+    /// Each switching element's rows.
+    pub element_rows: Vec<ElementRows>,
+    /// The mode this matrix was factored for.
+    pub keys: Vec<ModeKey>,
 }
 
 /// Keeps rows that are linearly independent of those kept before (Gram–Schmidt).
@@ -83,12 +79,7 @@ impl Independent {
 }
 
 impl ModeMatrix {
-    pub fn factor(
-        sys: &System,
-        friction_locked: &[bool],
-        gear_modes: &[GearMode],
-        time: f64,
-    ) -> Result<Self, SimError> {
+    pub fn factor(sys: &System, keys: &[ModeKey], time: f64) -> Result<Self, SimError> {
         let n = sys.nodes;
         // (row, column) in row order.
         let mut rows: Vec<(&Rel, Column)> = Vec::new();
@@ -97,43 +88,29 @@ impl ModeMatrix {
             basis.accept(&c.rel, n);
             rows.push((&c.rel, Column::Same));
         }
-        let mut gear_row = Vec::new();
-        for (g, mode) in sys.lossy_gears.iter().zip(gear_modes) {
-            basis.accept(&g.row, n);
-            gear_row.push(rows.len());
-            let column = if !mode.locked && mode.c1 != 0.0 {
-                Column::Plus(&g.loss_col, mode.c1)
-            } else {
-                Column::Same
-            };
-            rows.push((&g.row, column));
-        }
-        let mut friction_row = vec![None; sys.frictions.len()];
-        for (k, fe) in sys.frictions.iter().enumerate() {
-            if friction_locked[k] && basis.accept(&fe.rel, n) {
-                friction_row[k] = Some(rows.len());
-                rows.push((&fe.rel, Column::Same));
+        let mut element_rows = vec![ElementRows::default(); sys.switching.len()];
+        for (k, (e, key)) in sys.switching.iter().zip(keys).enumerate() {
+            if let Some((rel, column)) = e.permanent_row(*key) {
+                basis.accept(rel, n);
+                element_rows[k].permanent = Some(rows.len());
+                rows.push((rel, column));
             }
         }
-        let mut gear_lock_row = vec![None; sys.lossy_gears.len()];
-        for (k, (g, mode)) in sys.lossy_gears.iter().zip(gear_modes).enumerate() {
-            if mode.locked && basis.accept(&g.lock_row, n) {
-                gear_lock_row[k] = Some(rows.len());
-                // the stuck loss torque acts through ℓ
-                rows.push((&g.lock_row, Column::Only(&g.loss_col)));
+        let mut ranks: Vec<u8> = sys.switching.iter().map(|e| e.lock_rank()).collect();
+        ranks.sort_unstable();
+        ranks.dedup();
+        for rank in ranks {
+            for (k, (e, key)) in sys.switching.iter().zip(keys).enumerate() {
+                if key.locked && e.lock_rank() == rank && basis.accept(e.motion(), n) {
+                    element_rows[k].lock = Some(rows.len());
+                    rows.push((e.motion(), e.lock_column()));
+                }
             }
         }
         // Elements whose motion the kept rows hold: their speed cannot change in this mode.
-        let friction_held = sys
-            .frictions
-            .iter()
-            .map(|fe| basis.depends(&fe.rel, n))
-            .collect();
-        let gear_held = sys
-            .lossy_gears
-            .iter()
-            .map(|g| basis.depends(&g.lock_row, n))
-            .collect();
+        for (e, rows) in sys.switching.iter().zip(&mut element_rows) {
+            rows.held = basis.depends(e.motion(), n);
+        }
         let size = n + rows.len();
         let mut m = DMatrix::<f64>::zeros(size, size);
         for i in 0..n {
@@ -168,18 +145,14 @@ impl ModeMatrix {
         if size > 0 && smallest <= 1e-13 * scale {
             return Err(SimError::SingularMode {
                 time,
-                detail: singular_detail(sys, friction_locked),
+                detail: singular_detail(sys, keys),
             });
         }
         Ok(Self {
             lu,
             size,
-            friction_held,
-            gear_held,
-            friction_row,
-            gear_row,
-            gear_lock_row,
-            gear_modes: gear_modes.to_vec(),
+            element_rows,
+            keys: keys.to_vec(),
         })
     }
 
@@ -190,51 +163,47 @@ impl ModeMatrix {
         }
     }
 
-    /// Solves with rolling LossyGears whose loss slope `c1` differs from the factored one (the
-    /// losses depend on the speed): each such gear's column changes by `Δc1·ℓ`, a rank-one
-    /// change, so the factored matrix serves through the Woodbury identity instead of a new
-    /// factorization per evaluation.
-    /// `slope(k)` is gear k's current `c1`. Allocates only when a slope has changed.
-    pub fn solve_with_gear_slopes(
+    /// Solves with elements whose loss slope differs from the factored one (a LossyGear whose
+    /// losses depend on the speed): each such element's permanent column changes by `Δs·ℓ`, a
+    /// rank-one change, so the factored matrix serves through the Woodbury identity instead of
+    /// a new factorization per evaluation. `slope(k)` is element k's current slope.
+    /// Allocates only when a slope has changed.
+    pub fn solve_with_slopes(
         &self,
         sys: &System,
         slope: impl Fn(usize) -> f64,
         rhs: &mut DVector<f64>,
     ) {
-        let n = sys.nodes;
-        let differs = |k: usize, mode: &GearMode| !mode.locked && slope(k) != mode.c1;
         self.solve(rhs);
-        if !self
-            .gear_modes
+        let changed: Vec<(&Rel, usize, f64)> = sys
+            .switching
             .iter()
+            .zip(&self.keys)
             .enumerate()
-            .any(|(k, mode)| differs(k, mode))
-        {
+            .filter(|(k, (_, key))| !key.locked && slope(*k) != key.slope)
+            .filter_map(|(k, (e, key))| {
+                let row = self.element_rows[k].permanent?;
+                Some((e.slope_column()?, sys.nodes + row, slope(k) - key.slope))
+            })
+            .collect();
+        if changed.is_empty() {
             return;
         }
-        let changed: Vec<(usize, f64)> = self
-            .gear_modes
-            .iter()
-            .enumerate()
-            .filter(|(k, mode)| differs(*k, mode))
-            .map(|(k, mode)| (k, slope(k) - mode.c1))
-            .collect();
-        // Z = A⁻¹U with U's columns Δc1·ℓ in the node rows.
+        // Z = A⁻¹U with U's columns Δs·ℓ in the node rows.
         let z: Vec<DVector<f64>> = changed
             .iter()
-            .map(|&(k, dc1)| {
+            .map(|&(column, _, ds)| {
                 let mut u = DVector::zeros(self.size);
-                for &(i, c) in &sys.lossy_gears[k].loss_col.terms {
-                    u[i] += dc1 * c;
+                for &(i, c) in &column.terms {
+                    u[i] += ds * c;
                 }
                 self.solve(&mut u);
                 u
             })
             .collect();
-        let rows: Vec<usize> = changed.iter().map(|&(k, _)| n + self.gear_row[k]).collect();
         let m = changed.len();
-        let s = DMatrix::from_fn(m, m, |i, j| (i == j) as u8 as f64 + z[j][rows[i]]);
-        let y = DVector::from_iterator(m, rows.iter().map(|&r| rhs[r]));
+        let s = DMatrix::from_fn(m, m, |i, j| (i == j) as u8 as f64 + z[j][changed[i].1]);
+        let y = DVector::from_iterator(m, changed.iter().map(|&(_, r, _)| rhs[r]));
         match s.lu().solve(&y) {
             Some(w) => {
                 for (j, zj) in z.iter().enumerate() {
@@ -247,14 +216,17 @@ impl ModeMatrix {
     }
 }
 
-fn singular_detail(sys: &System, locked: &[bool]) -> String {
+fn singular_detail(sys: &System, keys: &[ModeKey]) -> String {
     let massless: Vec<String> = (0..sys.nodes)
         .filter(|&i| sys.mass[i] == 0.0)
         .map(|i| format!("[{}]", sys.node_label(i)))
         .collect();
-    let locked: Vec<&str> = (0..locked.len())
-        .filter(|&k| locked[k])
-        .map(|k| sys.frictions[k].name.as_str())
+    let locked: Vec<&str> = sys
+        .switching
+        .iter()
+        .zip(keys)
+        .filter(|(_, key)| key.locked)
+        .map(|(e, _)| e.name())
         .collect();
     let mut msg = String::new();
     if !massless.is_empty() {
@@ -264,7 +236,7 @@ fn singular_detail(sys: &System, locked: &[bool]) -> String {
         );
     }
     if !locked.is_empty() {
-        msg += &format!("; locked friction elements: {}", locked.join(", "));
+        msg += &format!("; locked elements: {}", locked.join(", "));
     }
     msg
 }

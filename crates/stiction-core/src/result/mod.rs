@@ -5,8 +5,10 @@ use std::sync::{Arc, OnceLock};
 
 use crate::engine::eval::{evaluate, DiscreteState, Workspace};
 use crate::engine::kkt::ModeMatrix;
+use crate::switching::element::is_discrete;
+use crate::switching::element::ElementValues;
 use crate::switching::logic::{FORWARD, STUCK};
-use crate::system::outputs::{EnergyVar, FrictionVar, GearVar};
+use crate::system::outputs::{EnergyVar, SwitchVar};
 use crate::system::{Out, System};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -128,10 +130,15 @@ impl SimResult {
         match flat {
             Flat::Phi(node, s, offset) => Some(rows.map(|r| s * tr.x(r)[node] + offset).collect()),
             Flat::W(node, s) => Some(rows.map(|r| s * tr.x(r)[n + node]).collect()),
-            Flat::Friction(k, var, s) if is_discrete(var) => Some(
-                rows.map(|r| s * discrete_value(&self.discs[tr.disc[r] as usize], k, var))
-                    .collect(),
-            ),
+            Flat::Switch(k, var, s) if is_discrete(var) => {
+                let e = &self.system.switching[k];
+                let none = ElementValues::default();
+                let value = |r: usize| {
+                    let st = &self.discs[tr.disc[r] as usize].switching[k];
+                    s * e.variable(st, &none, var)
+                };
+                Some(rows.map(value).collect())
+            }
             _ => None,
         }
     }
@@ -147,9 +154,7 @@ impl SimResult {
             let disc = &self.discs[id];
             if modes[id].is_none() {
                 // The run factored this mode already; it cannot be singular here.
-                modes[id] =
-                    ModeMatrix::factor(sys, &disc.locked_set(), &disc.gear_modes(sys), tr.t[r])
-                        .ok();
+                modes[id] = ModeMatrix::factor(sys, &disc.mode_keys(sys), tr.t[r]).ok();
             }
             let Some(mm) = modes[id].as_ref() else {
                 recorder.data.push(tr.t[r]);
@@ -172,31 +177,6 @@ pub fn row_values(sys: &System, ws: &Workspace, disc: &DiscreteState) -> Vec<f64
     recorder.data
 }
 
-fn is_discrete(var: FrictionVar) -> bool {
-    matches!(
-        var,
-        FrictionVar::Mode
-            | FrictionVar::Locked
-            | FrictionVar::StartForward
-            | FrictionVar::StartBackward
-            | FrictionVar::Free
-            | FrictionVar::Stuck
-    )
-}
-
-fn discrete_value(disc: &DiscreteState, k: usize, var: FrictionVar) -> f64 {
-    let st = &disc.friction[k];
-    match var {
-        FrictionVar::Mode => st.pre.mode as f64,
-        FrictionVar::Locked => flag(st.locked),
-        FrictionVar::StartForward => flag(st.pre.start_forward),
-        FrictionVar::StartBackward => flag(st.pre.start_backward),
-        FrictionVar::Free => flag(st.free),
-        FrictionVar::Stuck => flag(st.pre.mode == crate::switching::logic::STUCK),
-        _ => f64::NAN,
-    }
-}
-
 /// An output expression compiled for the hot loop: the common cases (a node's angle, speed or
 /// acceleration, a friction quantity, a signal …) become direct lookups with a scale factor.
 #[derive(Debug, Clone, Copy)]
@@ -204,7 +184,7 @@ enum Flat {
     Phi(usize, f64, f64),
     W(usize, f64),
     A(usize, f64),
-    Friction(usize, FrictionVar, f64),
+    Switch(usize, SwitchVar, f64),
     Signal(usize, f64),
     LawTau(usize, f64),
     Flange(usize, f64),
@@ -230,7 +210,7 @@ fn compile(out: &Out, scale: f64, general: &mut Vec<Out>) -> Flat {
             let (node, c) = single(rel).expect("checked");
             Flat::A(node, scale * c)
         }
-        Out::Friction(k, var) => Flat::Friction(*k, *var, scale),
+        Out::Switch(k, var) => Flat::Switch(*k, *var, scale),
         Out::Signal(slot) => Flat::Signal(*slot, scale),
         Out::LawTau(k, s) => Flat::LawTau(*k, scale * s),
         Out::FlangeTau(p) => Flat::Flange(*p, scale),
@@ -283,7 +263,7 @@ impl Recorder {
             Flat::Phi(node, s, offset) => s * ws.phi[node] + offset,
             Flat::W(node, s) => s * ws.w[node],
             Flat::A(node, s) => s * ws.a[node],
-            Flat::Friction(k, var, s) => s * friction_value(ws, disc, k, var),
+            Flat::Switch(k, var, s) => s * switch_value(sys, ws, disc, k, var),
             Flat::Signal(slot, s) => s * ws.signals[slot],
             Flat::LawTau(k, s) => s * ws.law_tau[k],
             Flat::Flange(p, s) => s * tau[p],
@@ -292,34 +272,14 @@ impl Recorder {
     }
 }
 
-fn friction_value(ws: &Workspace, disc: &DiscreteState, k: usize, var: FrictionVar) -> f64 {
-    let v = &ws.friction[k];
-    match var {
-        FrictionVar::Tau => v.tau,
-        FrictionVar::Mu => v.mu,
-        FrictionVar::Fn => v.fn_,
-        FrictionVar::Sa => v.sa,
-        FrictionVar::Tau0 => v.tau0,
-        FrictionVar::Tau0Max => v.tau0_max,
-        FrictionVar::LossPower => v.loss,
-        FrictionVar::Mode
-        | FrictionVar::Locked
-        | FrictionVar::StartForward
-        | FrictionVar::StartBackward
-        | FrictionVar::Free
-        | FrictionVar::Stuck => discrete_value(disc, k, var),
-        FrictionVar::W => v.w,
-        FrictionVar::A => v.a,
-        FrictionVar::Phi => v.phi,
-    }
-}
-
-fn flag(b: bool) -> f64 {
-    if b {
-        1.0
-    } else {
-        0.0
-    }
+fn switch_value(
+    sys: &System,
+    ws: &Workspace,
+    disc: &DiscreteState,
+    k: usize,
+    var: SwitchVar,
+) -> f64 {
+    sys.switching[k].variable(&disc.switching[k], &ws.elements[k], var)
 }
 
 /// The value of one output expression at an evaluated instant.
@@ -339,8 +299,7 @@ pub fn value(
             .law
             .loss_power(&ws.law_ctx(sys, disc, *k), ws.law_tau[*k]),
         Out::ConstraintTau(k, s) => s * ws.constraint_tau[*k],
-        Out::Friction(k, var) => friction_value(ws, disc, *k, *var),
-        Out::Gear(k, var) => gear_value(sys, ws, disc, *k, *var),
+        Out::Switch(k, var) => switch_value(sys, ws, disc, *k, *var),
         Out::Scaled(inner, s) => s * value(inner, sys, ws, disc, flange_tau),
         Out::Signal(slot) => ws.signals[*slot],
         Out::FlangeTau(p) => flange_tau.get(*p).copied().unwrap_or(f64::NAN),
@@ -378,35 +337,6 @@ pub fn value(
             EnergyVar::Work => ws.energy[3],
         },
         Out::Const(c) => *c,
-    }
-}
-
-fn gear_value(sys: &System, ws: &Workspace, disc: &DiscreteState, k: usize, var: GearVar) -> f64 {
-    let v = &ws.gears[k];
-    let st = &disc.gears[k];
-    match var {
-        GearVar::TauA => v.tau_a,
-        GearVar::TauB => v.tau_b,
-        GearVar::TauSupport => v.tau_support,
-        GearVar::W => v.w,
-        GearVar::A => v.a,
-        GearVar::Sa => v.sa,
-        GearVar::TauLoss => v.tau_loss,
-        GearVar::TauEta => v.tau_eta,
-        GearVar::Eta1 => v.losses.eta1,
-        GearVar::Eta2 => v.losses.eta2,
-        GearVar::Tbf1 => v.losses.tbf1,
-        GearVar::Tbf2 => v.losses.tbf2,
-        GearVar::TbfA => v.losses.tbf_a,
-        GearVar::LossMaxP => v.loss_max_p,
-        GearVar::LossMinM => v.loss_min_m,
-        GearVar::LossPower => v.loss,
-        GearVar::Mode => st.pre.mode as f64,
-        GearVar::Locked => flag(st.locked),
-        GearVar::StartForward => flag(st.pre.start_forward),
-        GearVar::StartBackward => flag(st.pre.start_backward),
-        GearVar::TauEtaPos => flag(st.tau_eta_pos()),
-        GearVar::Ideal => flag(sys.lossy_gears[k].ideal),
     }
 }
 

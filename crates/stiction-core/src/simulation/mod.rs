@@ -34,8 +34,6 @@ use crate::engine::{iterate, ModeCache};
 use crate::error::{ModelError, SimError};
 use crate::model::ModelSpec;
 use crate::result::{row_values, EventRecord, SimResult};
-use crate::switching::logic::UNKNOWN;
-use crate::switching::lossy_gear::GearState;
 use crate::system::System;
 
 /// Assembles and simulates a model with its `[experiment]` settings.
@@ -112,28 +110,19 @@ fn check_memory(sys: &System) -> Result<(), SimError> {
     Ok(())
 }
 
-/// The initialization event log: every friction element's first mode, and the LossyGears that
-/// left `pre(mode) = Free` (an ideal one stays there).
+/// The initialization event log: every element whose mode differs from the one it reports as
+/// before the start (every friction element's first mode, from Unknown; the LossyGears that
+/// left `pre(mode) = Free` — an ideal one stays there).
 fn initialization_log(sys: &System, disc: &DiscreteState, t0: f64) -> Vec<EventRecord> {
-    let record = |component: &str, old_mode: i8, new_mode: i8| EventRecord {
-        time: t0,
-        component: component.to_string(),
-        old_mode,
-        new_mode,
-        cause: "initialization".into(),
-    };
-    let free = GearState::INITIAL.pre.mode;
-    disc.friction
-        .iter()
-        .zip(&sys.frictions)
-        .map(|(st, fe)| record(&fe.name, UNKNOWN, st.pre.mode))
-        .chain(
-            disc.gears
-                .iter()
-                .zip(&sys.lossy_gears)
-                .filter(|(st, _)| st.pre.mode != free)
-                .map(|(st, g)| record(&g.name, free, st.pre.mode)),
-        )
+    (sys.switching.iter().zip(&disc.switching))
+        .filter(|(e, st)| st.pre.mode != e.log_start_mode())
+        .map(|(e, st)| EventRecord {
+            time: t0,
+            component: e.name().to_string(),
+            old_mode: e.log_start_mode(),
+            new_mode: st.pre.mode,
+            cause: "initialization".into(),
+        })
         .collect()
 }
 

@@ -2,7 +2,11 @@
 //! its parameters, its discrete state between events, and MSL's `PartialFriction` rules applied
 //! to it (the OneWayClutch's own one-directional rules included).
 
-use super::logic::{self, Discrete};
+use super::element::{
+    slip_rate_sign, ElementValues, Kinematics, Solved, SwitchState, SwitchingElement, NEVER,
+};
+use super::logic::{self, relation_index as R, Discrete, Relations};
+use super::relation::flip_indicator;
 use crate::rel::Rel;
 use crate::table::Table1D;
 
@@ -35,27 +39,6 @@ pub struct FrictionElem {
 #[derive(Debug, Clone, Copy)]
 pub struct OneWay {
     pub tau0_max_low: f64,
-}
-
-/// The discrete state of a friction element between events (its relations frozen).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct FrictionState {
-    pub pre: Discrete,
-    pub locked: bool,
-    pub free: bool,
-    /// The values of its relations (they change only at events).
-    pub rel: logic::Relations,
-}
-
-impl FrictionState {
-    pub fn initial(elem: &FrictionElem) -> Self {
-        FrictionState {
-            pre: elem.initial,
-            locked: false,
-            free: true,
-            rel: logic::Relations::default(),
-        }
-    }
 }
 
 impl FrictionElem {
@@ -95,8 +78,7 @@ impl FrictionElem {
     }
 
     /// (F1, F2), or the OneWayClutch's start condition (it never starts backward).
-    pub fn start_flags(&self, pre: Discrete, r: logic::Relations, initial: bool) -> (bool, bool) {
-        use logic::Relations as R;
+    fn friction_start_flags(&self, pre: Discrete, r: Relations, initial: bool) -> (bool, bool) {
         if self.one_way.is_none() {
             return logic::start_flags(pre, r, initial);
         }
@@ -110,7 +92,7 @@ impl FrictionElem {
     }
 
     /// (F3); a OneWayClutch locks whenever it was stuck and does not start, engaged or not.
-    pub fn locked(&self, free: bool, pre: Discrete, sf: bool, sb: bool) -> bool {
+    fn friction_locked(&self, free: bool, pre: Discrete, sf: bool, sb: bool) -> bool {
         match self.one_way {
             Some(_) => pre.mode == logic::STUCK && !sf,
             None => logic::locked(free, pre.mode, sf, sb),
@@ -118,11 +100,9 @@ impl FrictionElem {
     }
 
     /// (F5); a OneWayClutch's "mode" is Stuck while `stuck = locked ∨ w_rel ≤ 0`, else Forward.
-    pub fn mode(&self, free: bool, pre: Discrete, sf: bool, sb: bool, r: logic::Relations) -> i8 {
+    fn friction_mode(&self, free: bool, pre: Discrete, sf: bool, sb: bool, r: Relations) -> i8 {
         match self.one_way {
-            Some(_) if self.locked(free, pre, sf, sb) || !r.get(logic::Relations::W_POS) => {
-                logic::STUCK
-            }
+            Some(_) if self.friction_locked(free, pre, sf, sb) || !r.get(R::W_POS) => logic::STUCK,
             Some(_) => logic::FORWARD,
             None => logic::mode(free, pre.mode, sf, sb, r),
         }
@@ -149,6 +129,149 @@ impl FrictionElem {
                     tau0_max,
                 )
             }
+        }
+    }
+}
+
+impl SwitchingElement for FrictionElem {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn initial_state(&self) -> SwitchState {
+        SwitchState {
+            pre: self.initial,
+            locked: false,
+            free: true,
+            rel: Relations::default(),
+        }
+    }
+
+    /// Every friction element's first mode is logged, from Unknown.
+    fn log_start_mode(&self) -> i8 {
+        logic::UNKNOWN
+    }
+
+    fn heat_node(&self) -> Option<usize> {
+        self.heat_node
+    }
+
+    fn motion(&self) -> &Rel {
+        &self.rel
+    }
+
+    fn forces(&self, st: &SwitchState, k: &Kinematics, v: &mut ElementValues, f: &mut [f64]) {
+        v.phi = self.rel.angle(k.phi);
+        v.w = self.rel.dot(k.w);
+        v.fn_ = self.reported_normal_force(k.signals, st.free);
+        (v.tau0, v.tau0_max) = self.limits(v.fn_, st.free);
+        let (sf, sb) = (st.pre.start_forward, st.pre.start_backward);
+        let (mu, tau) = self.sliding(v.w, v.fn_, st.pre.mode, sf, sb);
+        v.mu = mu;
+        v.tau = if st.free { 0.0 } else { tau };
+        if !st.locked {
+            self.rel.apply(v.tau, f);
+        }
+    }
+
+    fn solved(&self, st: &SwitchState, s: &Solved, v: &mut ElementValues) {
+        if st.locked {
+            // a locked element whose row depends on others carries no torque
+            v.tau = s.lock.unwrap_or(0.0);
+        }
+        v.a = self.rel.dot(s.a);
+        v.held = s.held;
+        v.sa = if st.locked {
+            v.tau
+        } else {
+            self.sa_from_accel(st.free, st.pre, v.a, v.tau0, v.tau0_max)
+        };
+        // A OneWayClutch dissipates nothing while stuck (spec §10.8).
+        let stuck_one_way = self.one_way.is_some() && st.pre.mode == logic::STUCK;
+        v.loss = if stuck_one_way { 0.0 } else { v.tau * v.w };
+    }
+
+    fn is_free(&self, signals: &[f64]) -> bool {
+        self.normal_force(signals) <= 0.0
+    }
+
+    fn relations(&self, previous: Relations, v: &ElementValues, initial: bool) -> Relations {
+        let q = logic::Quantities {
+            sa: v.sa,
+            w: v.w,
+            tau0: v.tau0,
+            tau0_max: v.tau0_max,
+            w_small: self.w_small,
+        };
+        logic::relations(previous, &q, initial)
+    }
+
+    fn start_relations(&self) -> &'static [usize] {
+        R::STARTS
+    }
+
+    fn start_flags(&self, pre: Discrete, r: Relations, initial: bool) -> (bool, bool) {
+        self.friction_start_flags(pre, r, initial)
+    }
+
+    fn locked(&self, free: bool, pre: Discrete, sf: bool, sb: bool) -> bool {
+        self.friction_locked(free, pre, sf, sb)
+    }
+
+    fn mode(&self, free: bool, pre: Discrete, sf: bool, sb: bool, r: Relations) -> i8 {
+        self.friction_mode(free, pre, sf, sb, r)
+    }
+
+    /// Engagement (`free = fn <= 0`), and the relations that end the current state.
+    fn indicators(&self, st: &SwitchState, v: &ElementValues, signals: &[f64], z: &mut [f64]) {
+        let one_way = self.one_way.is_some();
+        let normal_force = self.normal_force(signals);
+        z[0] = if st.free { normal_force } else { -normal_force };
+        let flip = |i: usize, g: f64| flip_indicator(st.rel.get(i), g);
+        let (a, b) = if st.free && !one_way {
+            (NEVER, NEVER)
+        } else if st.locked && one_way {
+            // a freewheel never breaks away backward
+            (flip(R::SA_ABOVE_MAX, v.sa - v.tau0_max), NEVER)
+        } else if st.locked {
+            (
+                flip(R::SA_ABOVE_MAX, v.sa - v.tau0_max),
+                flip(R::SA_BELOW_MAX, -v.sa - v.tau0_max),
+            )
+        } else if st.pre.mode == logic::FORWARD {
+            (flip(R::W_POS, v.w), NEVER)
+        } else if st.pre.mode == logic::BACKWARD {
+            (flip(R::W_NEG, -v.w), NEVER)
+        } else if st.pre.mode == logic::STUCK && st.pre.start_forward {
+            (flip(R::W_POS, v.w), flip(R::SA_ABOVE, v.sa - v.tau0))
+        } else if st.pre.mode == logic::STUCK && st.pre.start_backward {
+            (flip(R::W_NEG, -v.w), flip(R::SA_BELOW, -v.sa - v.tau0))
+        } else {
+            (NEVER, NEVER)
+        };
+        z[1] = a;
+        z[2] = b;
+    }
+
+    fn speed_rate(&self, st: &SwitchState, v: &ElementValues) -> Option<f64> {
+        let free = st.free && self.one_way.is_none();
+        if st.locked || free || v.held {
+            return None;
+        }
+        slip_rate_sign(st.pre).map(|s| s * v.a)
+    }
+
+    fn indicator_label(&self, st: &SwitchState, slot: usize) -> &'static str {
+        match slot {
+            0 if st.free => "normal force became positive (engages)",
+            0 => "normal force reached 0 (released)",
+            1 if st.locked => "torque exceeded the static limit forward (sa > tau0_max)",
+            2 if st.locked => "torque exceeded the static limit backward (sa < -tau0_max)",
+            1 if st.pre.mode == logic::FORWARD => "forward slip speed reached 0",
+            1 if st.pre.mode == logic::BACKWARD => "backward slip speed reached 0",
+            1 if st.pre.start_forward => "started sliding forward (w > 0)",
+            1 => "started sliding backward (w < 0)",
+            _ => "start torque fell below the sliding torque (hysteresis)",
         }
     }
 }

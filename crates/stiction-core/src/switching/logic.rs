@@ -2,7 +2,7 @@
 //! the mode, as pure functions of the pre-values and the current continuous values. Brake and
 //! Clutch share them; the event iteration in `events/` drives them to a fixed point.
 
-use super::relation;
+pub use super::relation::RelationSet as Relations;
 
 pub const BACKWARD: i8 = -1;
 pub const STUCK: i8 = 0;
@@ -38,12 +38,9 @@ pub struct Quantities {
 }
 
 /// The relations (F1), (F2) and (F5) compare, each `g > 0` with hysteresis (see
-/// `events::relation`): `sa > tau0_max`, `sa > tau0`, `sa < −tau0_max`, `sa < −tau0`,
-/// `w > 0`, `w < 0`, `w > w_small`, `w < −w_small`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct Relations(pub [bool; 8]);
-
-impl Relations {
+/// `relation`): `sa > tau0_max`, `sa > tau0`, `sa < −tau0_max`, `sa < −tau0`,
+/// `w > 0`, `w < 0`, `w > w_small`, `w < −w_small`. Their indices in a `RelationSet`:
+pub mod relation_index {
     pub const SA_ABOVE_MAX: usize = 0;
     pub const SA_ABOVE: usize = 1;
     pub const SA_BELOW_MAX: usize = 2;
@@ -52,41 +49,40 @@ impl Relations {
     pub const W_NEG: usize = 5;
     pub const W_ABOVE_SMALL: usize = 6;
     pub const W_BELOW_SMALL: usize = 7;
+    /// The start conditions on `sa`.
+    pub const STARTS: &[usize] = &[SA_ABOVE_MAX, SA_ABOVE, SA_BELOW_MAX, SA_BELOW];
+}
+use relation_index as R;
 
-    /// The functions `g` of the relations, in the order of the constants above.
-    pub fn functions(q: &Quantities) -> [f64; 8] {
-        [
-            q.sa - q.tau0_max,
-            q.sa - q.tau0,
-            -q.sa - q.tau0_max,
-            -q.sa - q.tau0,
-            q.w,
-            -q.w,
-            q.w - q.w_small,
-            -q.w - q.w_small,
-        ]
-    }
+/// The functions `g` of the relations, in the order of `relation_index`.
+pub fn relation_functions(q: &Quantities) -> [f64; 8] {
+    [
+        q.sa - q.tau0_max,
+        q.sa - q.tau0,
+        -q.sa - q.tau0_max,
+        -q.sa - q.tau0,
+        q.w,
+        -q.w,
+        q.w - q.w_small,
+        -q.w - q.w_small,
+    ]
+}
 
-    /// The relations at `q`, from their previous values (literal at initialization).
-    pub fn update(self, q: &Quantities, initial: bool) -> Self {
-        Relations(relation::update(self.0, Self::functions(q), initial))
-    }
-
-    pub fn get(&self, i: usize) -> bool {
-        self.0[i]
-    }
+/// The relations at `q`, from their previous values (literal at initialization).
+pub fn relations(previous: Relations, q: &Quantities, initial: bool) -> Relations {
+    previous.update(&relation_functions(q), initial)
 }
 
 /// (F1) and (F2).
 pub fn start_flags(pre: Discrete, r: Relations, initial: bool) -> (bool, bool) {
     let forward = (pre.mode == STUCK
-        && (r.get(Relations::SA_ABOVE_MAX) || (pre.start_forward && r.get(Relations::SA_ABOVE))))
-        || (pre.mode == BACKWARD && r.get(Relations::W_ABOVE_SMALL))
-        || (initial && r.get(Relations::W_POS));
+        && (r.get(R::SA_ABOVE_MAX) || (pre.start_forward && r.get(R::SA_ABOVE))))
+        || (pre.mode == BACKWARD && r.get(R::W_ABOVE_SMALL))
+        || (initial && r.get(R::W_POS));
     let backward = (pre.mode == STUCK
-        && (r.get(Relations::SA_BELOW_MAX) || (pre.start_backward && r.get(Relations::SA_BELOW))))
-        || (pre.mode == FORWARD && r.get(Relations::W_BELOW_SMALL))
-        || (initial && r.get(Relations::W_NEG));
+        && (r.get(R::SA_BELOW_MAX) || (pre.start_backward && r.get(R::SA_BELOW))))
+        || (pre.mode == FORWARD && r.get(R::W_BELOW_SMALL))
+        || (initial && r.get(R::W_NEG));
     (forward, backward)
 }
 
@@ -105,12 +101,9 @@ pub fn mode(
 ) -> i8 {
     if free {
         FREE
-    } else if (pre_mode == FORWARD || pre_mode == FREE || start_forward) && r.get(Relations::W_POS)
-    {
+    } else if (pre_mode == FORWARD || pre_mode == FREE || start_forward) && r.get(R::W_POS) {
         FORWARD
-    } else if (pre_mode == BACKWARD || pre_mode == FREE || start_backward)
-        && r.get(Relations::W_NEG)
-    {
+    } else if (pre_mode == BACKWARD || pre_mode == FREE || start_backward) && r.get(R::W_NEG) {
         BACKWARD
     } else {
         STUCK
@@ -165,7 +158,7 @@ mod tests {
             tau0_max: 11.0,
             w_small: 1e10,
         };
-        Relations::default().update(&q, true)
+        relations(Relations::default(), &q, true)
     }
 
     #[test]
@@ -195,13 +188,11 @@ mod tests {
             tau0_max: 0.5,
             w_small: 1e10,
         };
-        let started = Relations::default().update(&q(0.7), false);
-        assert!(started.get(Relations::SA_ABOVE_MAX));
+        let started = relations(Relations::default(), &q(0.7), false);
+        assert!(started.get(R::SA_ABOVE_MAX));
         // another element now holds the motion: sa sits on the limit, within round-off
-        assert!(started
-            .update(&q(0.5 - 1e-16), false)
-            .get(Relations::SA_ABOVE_MAX));
-        assert!(!started.update(&q(0.4), false).get(Relations::SA_ABOVE_MAX));
+        assert!(relations(started, &q(0.5 - 1e-16), false).get(R::SA_ABOVE_MAX));
+        assert!(!relations(started, &q(0.4), false).get(R::SA_ABOVE_MAX));
     }
 
     #[test]

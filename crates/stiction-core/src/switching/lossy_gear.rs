@@ -1,8 +1,13 @@
 //! The LossyGear as the engine sees it (spec §5.5): efficiencies and bearing friction by
 //! quadrant, its discrete state and relations, and its stick/roll rules.
 
+pub use super::element::Losses;
+use super::element::{
+    common_variable, slip_rate_sign, Column, ElementValues, Kinematics, ModeKey, Solved,
+    SwitchState, SwitchVar, SwitchingElement, NEVER,
+};
 use super::logic::{Discrete, BACKWARD, FORWARD, FREE, STUCK};
-use super::relation;
+use super::relation::{flip_indicator, RelationSet};
 use crate::rel::Rel;
 use crate::table::Table1D;
 
@@ -30,94 +35,17 @@ pub struct LossyGearElem {
     pub heat_node: Option<usize>,
 }
 
-/// Discrete state between events: `pre()` of mode and start flags, `locked`, and the frozen
-/// relation `tau_etaPos = tau_eta ≥ 0` that picks the driving side.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct GearState {
-    pub pre: Discrete,
-    pub locked: bool,
-    /// The values of its relations (they change only at events).
-    pub rel: GearRelations,
-}
-
 /// The relations of the LossyGear's Boolean equations, each `g > 0` with hysteresis (see
-/// `events::relation`): `sa > tauLossMax_p`, `sa < tauLossMin_m`, `w_a > 0`, `w_a < 0` and
-/// `tau_eta ≥ 0` (`tau_etaPos`, the driving side).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct GearRelations(pub [bool; 5]);
-
-impl GearRelations {
+/// `relation`): `sa > tauLossMax_p`, `sa < tauLossMin_m`, `w_a > 0`, `w_a < 0` and
+/// `tau_eta ≥ 0` (`tau_etaPos`, the driving side). Their indices in a `RelationSet`:
+pub mod relation_index {
     pub const SA_ABOVE_MAX_P: usize = 0;
     pub const SA_BELOW_MIN_M: usize = 1;
     pub const W_POS: usize = 2;
     pub const W_NEG: usize = 3;
     pub const TAU_ETA_POS: usize = 4;
-
-    /// `tau_etaPos(start = true)`; the others start false.
-    pub const INITIAL: GearRelations = GearRelations([false, false, false, false, true]);
-
-    /// The relations at the gear's current values, from their previous values (literal at
-    /// initialization).
-    pub fn update(
-        self,
-        sa: f64,
-        max_p: f64,
-        min_m: f64,
-        w_a: f64,
-        tau_eta: f64,
-        initial: bool,
-    ) -> Self {
-        let g = [sa - max_p, min_m - sa, w_a, -w_a, tau_eta];
-        let mut next = relation::update(self.0, g, initial);
-        // `tau_eta >= 0` holds at 0 itself
-        if initial {
-            next[Self::TAU_ETA_POS] = tau_eta >= 0.0;
-        }
-        GearRelations(next)
-    }
-
-    pub fn get(&self, i: usize) -> bool {
-        self.0[i]
-    }
 }
-
-impl GearState {
-    /// `tau_etaPos`: flange_a drives.
-    pub fn tau_eta_pos(&self) -> bool {
-        self.rel.get(GearRelations::TAU_ETA_POS)
-    }
-}
-
-impl GearState {
-    /// `mode(start = 2, fixed = true)`, `tau_etaPos(start = true)`.
-    pub const INITIAL: GearState = GearState {
-        pre: Discrete {
-            mode: FREE,
-            start_forward: false,
-            start_backward: false,
-        },
-        locked: false,
-        rel: GearRelations::INITIAL,
-    };
-}
-
-/// Efficiencies and bearing friction at one speed.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct Losses {
-    pub eta1: f64,
-    pub eta2: f64,
-    pub tbf1: f64,
-    pub tbf2: f64,
-    pub tbf_a: f64,
-}
-
-/// How the gear enters the linear system in one mode: locked, or rolling with `τa`'s column
-/// `row + c1·ℓ`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct GearMode {
-    pub locked: bool,
-    pub c1: f64,
-}
+use relation_index as G;
 
 pub fn tbf_a(eta1: f64, eta2: f64, tbf1: f64, tbf2: f64) -> f64 {
     if (eta1 - 1.0).abs() <= 1e-15 && (eta2 - 1.0).abs() <= 1e-15 {
@@ -150,9 +78,9 @@ impl LossyGearElem {
 
     /// The loss torque while rolling, `c1·τa + c0`, by quadrant: forward motion uses
     /// `tauLossMax`, backward `tauLossMin`; `tau_etaPos` says which flange drives.
-    pub fn rolling_line(&self, st: &GearState, l: &Losses) -> (f64, f64) {
+    pub fn rolling_line(&self, st: &SwitchState, l: &Losses) -> (f64, f64) {
         let forward = st.pre.start_forward || (!st.pre.start_backward && st.pre.mode == FORWARD);
-        match (forward, st.tau_eta_pos()) {
+        match (forward, st.rel.get(G::TAU_ETA_POS)) {
             (true, true) => (1.0 - l.eta1, l.tbf1),         // quadrant 1
             (true, false) => (1.0 - 1.0 / l.eta2, l.tbf2),  // quadrant 2
             (false, true) => (1.0 - 1.0 / l.eta2, -l.tbf2), // quadrant 4
@@ -160,23 +88,16 @@ impl LossyGearElem {
         }
     }
 
-    pub fn mode_in(&self, st: &GearState, l: &Losses) -> GearMode {
-        if self.ideal {
-            GearMode {
-                locked: false,
-                c1: 0.0,
-            }
-        } else if st.locked {
-            GearMode {
-                locked: true,
-                c1: 0.0,
-            }
+    /// How the gear enters the linear system at these losses: locked, or rolling with the
+    /// loss slope `c1` in `τa`'s column `row + c1·ℓ`.
+    pub fn mode_at(&self, st: &SwitchState, l: &Losses) -> ModeKey {
+        let locked = !self.ideal && st.locked;
+        let slope = if self.ideal || locked {
+            0.0
         } else {
-            GearMode {
-                locked: false,
-                c1: self.rolling_line(st, l).0,
-            }
-        }
+            self.rolling_line(st, l).0
+        };
+        ModeKey { locked, slope }
     }
 
     /// The losses at zero speed: the key of the factored mode (exact for a one-row table).
@@ -185,7 +106,7 @@ impl LossyGearElem {
     }
 
     /// `tau_eta`: flange_a torque less the bearing friction share, deciding the driving side.
-    pub fn tau_eta(&self, st: &GearState, tau_a: f64, tbf_a: f64) -> f64 {
+    pub fn tau_eta(&self, st: &SwitchState, tau_a: f64, tbf_a: f64) -> f64 {
         if self.ideal || st.locked {
             tau_a
         } else if st.pre.start_forward || st.pre.mode == FORWARD {
@@ -210,27 +131,207 @@ impl LossyGearElem {
         (max_p, min_m)
     }
 
-    pub fn start_flags(&self, pre: Discrete, r: GearRelations, initial: bool) -> (bool, bool) {
-        use GearRelations as R;
+    fn loss_torque(&self, st: &SwitchState, s: &Solved, v: &ElementValues) -> f64 {
+        if self.ideal {
+            0.0
+        } else if st.locked {
+            s.lock.unwrap_or(0.0)
+        } else {
+            let (c1, c0) = self.rolling_line(st, &v.losses);
+            c1 * v.tau + c0
+        }
+    }
+}
+
+/// `tauLossMin_m` and `tauLossMax_p` are kept as the element's static limits `tau0`, `tau0_max`.
+impl SwitchingElement for LossyGearElem {
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// `mode(start = 2, fixed = true)`, `tau_etaPos(start = true)`.
+    fn initial_state(&self) -> SwitchState {
+        let mut rel = RelationSet::default();
+        rel.set(G::TAU_ETA_POS, true);
+        SwitchState {
+            pre: Discrete {
+                mode: FREE,
+                start_forward: false,
+                start_backward: false,
+            },
+            locked: false,
+            free: false,
+            rel,
+        }
+    }
+
+    fn heat_node(&self) -> Option<usize> {
+        self.heat_node
+    }
+
+    fn motion(&self) -> &Rel {
+        &self.lock_row
+    }
+
+    fn permanent_row(&self, key: ModeKey) -> Option<(&Rel, Column<'_>)> {
+        let column = if !key.locked && key.slope != 0.0 {
+            Column::Plus(&self.loss_col, key.slope)
+        } else {
+            Column::Same
+        };
+        Some((&self.row, column))
+    }
+
+    /// The stuck loss torque acts through ℓ.
+    fn lock_column(&self) -> Column<'_> {
+        Column::Only(&self.loss_col)
+    }
+
+    /// Locked friction elements come before locked gears, as in the reference results: a
+    /// bearing stuck together with a gear carries the load first.
+    fn lock_rank(&self) -> u8 {
+        1
+    }
+
+    /// Keyed by the losses at rest: exact unless the loss table depends on the speed.
+    fn mode_key(&self, st: &SwitchState) -> ModeKey {
+        self.mode_at(st, &self.losses_at_rest())
+    }
+
+    fn slope_column(&self) -> Option<&Rel> {
+        Some(&self.loss_col)
+    }
+
+    fn forces(&self, st: &SwitchState, k: &Kinematics, v: &mut ElementValues, f: &mut [f64]) {
+        v.phi = self.lock_row.angle(k.phi);
+        v.w = self.lock_row.dot(k.w);
+        v.losses = self.losses(v.w);
+        v.slope = self.mode_at(st, &v.losses).slope;
+        if !self.ideal && !st.locked {
+            // a rolling gear's constant loss part c0 acts through ℓ
+            let (_, c0) = self.rolling_line(st, &v.losses);
+            self.loss_col.apply(c0, f);
+        }
+    }
+
+    fn solved(&self, st: &SwitchState, s: &Solved, v: &mut ElementValues) {
+        v.tau = s.permanent.unwrap_or(0.0);
+        v.held = s.held;
+        v.a = self.lock_row.dot(s.a);
+        v.tau_loss = self.loss_torque(st, s, v);
+        v.sa = if st.locked {
+            v.tau_loss
+        } else {
+            v.a + v.tau_loss
+        };
+        v.tau_b = -self.ratio * (v.tau - v.tau_loss);
+        v.tau_support = -v.tau - v.tau_b;
+        v.tau_eta = self.tau_eta(st, v.tau, v.losses.tbf_a);
+        (v.tau0_max, v.tau0) = self.rest_limits(v.tau);
+        v.loss = v.tau_loss * v.w;
+    }
+
+    fn relations(&self, previous: RelationSet, v: &ElementValues, initial: bool) -> RelationSet {
+        let g = [v.sa - v.tau0_max, v.tau0 - v.sa, v.w, -v.w, v.tau_eta];
+        let mut next = previous.update(&g, initial);
+        // `tau_eta >= 0` holds at 0 itself
+        if initial {
+            next.set(G::TAU_ETA_POS, v.tau_eta >= 0.0);
+        }
+        next
+    }
+
+    fn start_relations(&self) -> &'static [usize] {
+        &[G::SA_ABOVE_MAX_P, G::SA_BELOW_MIN_M]
+    }
+
+    /// Speeds do not change within an event; the driving side is the first candidate's.
+    fn own_relations(&self) -> &'static [usize] {
+        &[G::TAU_ETA_POS]
+    }
+
+    fn start_flags(&self, pre: Discrete, r: RelationSet, initial: bool) -> (bool, bool) {
         (
-            (pre.mode == STUCK && r.get(R::SA_ABOVE_MAX_P)) || (initial && r.get(R::W_POS)),
-            (pre.mode == STUCK && r.get(R::SA_BELOW_MIN_M)) || (initial && r.get(R::W_NEG)),
+            (pre.mode == STUCK && r.get(G::SA_ABOVE_MAX_P)) || (initial && r.get(G::W_POS)),
+            (pre.mode == STUCK && r.get(G::SA_BELOW_MIN_M)) || (initial && r.get(G::W_NEG)),
         )
     }
 
-    pub fn locked(&self, pre: Discrete, sf: bool, sb: bool) -> bool {
+    fn locked(&self, _free: bool, pre: Discrete, sf: bool, sb: bool) -> bool {
         !(self.ideal || pre.mode == FORWARD || sf || pre.mode == BACKWARD || sb)
     }
 
-    pub fn mode(&self, pre: Discrete, sf: bool, sb: bool, r: GearRelations) -> i8 {
+    fn mode(&self, _free: bool, pre: Discrete, sf: bool, sb: bool, r: RelationSet) -> i8 {
         if self.ideal {
             FREE
-        } else if (pre.mode == FORWARD || sf) && r.get(GearRelations::W_POS) {
+        } else if (pre.mode == FORWARD || sf) && r.get(G::W_POS) {
             FORWARD
-        } else if (pre.mode == BACKWARD || sb) && r.get(GearRelations::W_NEG) {
+        } else if (pre.mode == BACKWARD || sb) && r.get(G::W_NEG) {
             BACKWARD
         } else {
             STUCK
+        }
+    }
+
+    /// The driving side, and the relations that end the current state.
+    fn indicators(&self, st: &SwitchState, v: &ElementValues, _signals: &[f64], z: &mut [f64]) {
+        if self.ideal {
+            z.fill(NEVER);
+            return;
+        }
+        let flip = |i: usize, g: f64| flip_indicator(st.rel.get(i), g);
+        z[0] = flip(G::TAU_ETA_POS, v.tau_eta);
+        let (above, below) = (v.sa - v.tau0_max, v.tau0 - v.sa);
+        let (a, b) = if st.locked {
+            (
+                flip(G::SA_ABOVE_MAX_P, above),
+                flip(G::SA_BELOW_MIN_M, below),
+            )
+        } else if st.pre.mode == FORWARD {
+            (flip(G::W_POS, v.w), NEVER)
+        } else if st.pre.mode == BACKWARD {
+            (flip(G::W_NEG, -v.w), NEVER)
+        } else if st.pre.start_forward {
+            (flip(G::W_POS, v.w), flip(G::SA_ABOVE_MAX_P, above))
+        } else if st.pre.start_backward {
+            (flip(G::W_NEG, -v.w), flip(G::SA_BELOW_MIN_M, below))
+        } else {
+            (NEVER, NEVER)
+        };
+        z[1] = a;
+        z[2] = b;
+    }
+
+    fn speed_rate(&self, st: &SwitchState, v: &ElementValues) -> Option<f64> {
+        if st.locked || self.ideal || v.held {
+            return None;
+        }
+        slip_rate_sign(st.pre).map(|s| s * v.a)
+    }
+
+    fn indicator_label(&self, st: &SwitchState, slot: usize) -> &'static str {
+        match slot {
+            0 => "driving side changed (tau_eta crossed 0)",
+            1 if st.locked => "loss torque exceeded tauLossMax_p (starts forward)",
+            2 if st.locked => "loss torque fell below tauLossMin_m (starts backward)",
+            1 if st.pre.mode == FORWARD => "forward speed reached 0",
+            1 if st.pre.mode == BACKWARD => "backward speed reached 0",
+            1 if st.pre.start_forward => "started rolling forward (w_a > 0)",
+            1 => "started rolling backward (w_a < 0)",
+            _ => "start condition lost",
+        }
+    }
+
+    fn variable(&self, st: &SwitchState, v: &ElementValues, var: SwitchVar) -> f64 {
+        match var {
+            SwitchVar::TauEtaPos => {
+                if st.rel.get(G::TAU_ETA_POS) {
+                    1.0
+                } else {
+                    0.0
+                }
+            }
+            _ => common_variable(st, v, var),
         }
     }
 }

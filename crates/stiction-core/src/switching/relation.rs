@@ -31,16 +31,51 @@ pub fn flip_indicator(current: bool, g: f64) -> f64 {
     }
 }
 
-/// Values of several relations `g_i > 0`: literal at initialization (there is no previous
-/// value), with hysteresis otherwise.
-pub fn update<const N: usize>(previous: [bool; N], g: [f64; N], initial: bool) -> [bool; N] {
-    std::array::from_fn(|i| {
-        if initial {
-            g[i] > 0.0
-        } else {
-            hysteresis(previous[i], g[i])
+/// The most relations one switching element has.
+pub const MAX_RELATIONS: usize = 8;
+
+/// The values of one element's relations, indexed by the element's own constants.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Hash)]
+pub struct RelationSet(pub [bool; MAX_RELATIONS]);
+
+impl RelationSet {
+    pub fn get(&self, i: usize) -> bool {
+        self.0[i]
+    }
+
+    pub fn set(&mut self, i: usize, value: bool) {
+        self.0[i] = value;
+    }
+
+    /// The relations `g[i] > 0` from these previous values (see `update`); the others keep theirs.
+    pub fn update(self, g: &[f64], initial: bool) -> Self {
+        let mut next = self;
+        for (i, &g) in g.iter().enumerate() {
+            next.0[i] = if initial {
+                g > 0.0
+            } else {
+                hysteresis(self.0[i], g)
+            };
         }
-    })
+        next
+    }
+
+    /// Every relation true in either, except `own`, which keep this set's values.
+    pub fn union_keeping(self, other: RelationSet, own: &[usize]) -> Self {
+        let mut union = RelationSet(std::array::from_fn(|i| self.0[i] || other.0[i]));
+        for &i in own {
+            union.0[i] = self.0[i];
+        }
+        union
+    }
+
+    /// The same with `which` false.
+    pub fn cleared(mut self, which: &[usize]) -> Self {
+        for &i in which {
+            self.0[i] = false;
+        }
+        self
+    }
 }
 
 #[cfg(test)]
@@ -65,7 +100,8 @@ mod tests {
                 hysteresis(current, g) != current
             );
         }
-        assert_eq!(update([false, true], [0.0, 0.0], true), [false, false]);
-        assert_eq!(update([false, true], [0.0, 0.0], false), [false, true]);
+        let previous = RelationSet([false, true, false, false, false, false, false, false]);
+        assert_eq!(previous.update(&[0.0, 0.0], true), RelationSet::default());
+        assert_eq!(previous.update(&[0.0, 0.0], false), previous);
     }
 }

@@ -9,8 +9,7 @@ use super::{Constraint, ForceLaw, InitEq, LawElem, NodeRef, Out, Rel, System};
 use crate::error::{ModelError, ModelResult};
 use crate::model::InitValue;
 use crate::signals::{Block, BlockElem};
-use crate::switching::friction::FrictionElem;
-use crate::switching::lossy_gear::LossyGearElem;
+use crate::switching::element::SwitchingElement;
 use crate::thermal::{Capacity, Link};
 
 /// What a port carries, for connection checks and messages.
@@ -125,14 +124,10 @@ impl Builder {
         Ok(self.sys.constraints.len() - 1)
     }
 
-    pub fn add_friction(&mut self, f: FrictionElem) -> usize {
-        self.sys.frictions.push(f);
-        self.sys.frictions.len() - 1
-    }
-
-    pub fn add_lossy_gear(&mut self, g: LossyGearElem) -> usize {
-        self.sys.lossy_gears.push(g);
-        self.sys.lossy_gears.len() - 1
+    /// Adds a switching element; returns its index (for its result variables).
+    pub fn add_switching(&mut self, element: Box<dyn SwitchingElement>) -> usize {
+        self.sys.switching.push(element);
+        self.sys.switching.len() - 1
     }
 
     pub fn signal_in(&self, port: &str) -> ModelResult<usize> {

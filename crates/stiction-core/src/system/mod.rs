@@ -1,5 +1,5 @@
 //! The assembled hybrid system: nodes (one angle per rigid connection set), force laws,
-//! permanent constraints, friction elements, the signal graph, the thermal network, start-value
+//! permanent constraints, switching elements, the signal graph, the thermal network, start-value
 //! equations and the output variables. Built once per model; many runs share it.
 
 mod builder;
@@ -16,8 +16,7 @@ pub use outputs::Out;
 
 use crate::model::{Experiment, InitValue};
 use crate::signals::SignalGraph;
-use crate::switching::friction::FrictionElem;
-use crate::switching::lossy_gear::LossyGearElem;
+use crate::switching::element::SwitchingElement;
 use crate::thermal::ThermalNet;
 
 pub struct LawElem {
@@ -68,8 +67,8 @@ pub struct System {
     pub relation_count: usize,
     /// Permanent acceleration constraints `row·a = 0` (gears, speed sources).
     pub constraints: Vec<Constraint>,
-    pub frictions: Vec<FrictionElem>,
-    pub lossy_gears: Vec<LossyGearElem>,
+    /// Every element with stick/slip or quadrant logic, in one list.
+    pub switching: Vec<Box<dyn SwitchingElement>>,
     pub signals: SignalGraph,
     pub thermal: ThermalNet,
     pub init_phi: Vec<InitEq>,

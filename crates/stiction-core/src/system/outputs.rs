@@ -2,54 +2,7 @@
 //! what it reports under which MSL name, and the result module evaluates them row by row.
 
 use super::Rel;
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum FrictionVar {
-    Tau,
-    Mu,
-    Fn,
-    Sa,
-    Tau0,
-    Tau0Max,
-    LossPower,
-    Mode,
-    Locked,
-    StartForward,
-    StartBackward,
-    Free,
-    /// OneWayClutch: `stuck = locked ∨ w_rel ≤ 0`, kept as mode Stuck.
-    Stuck,
-    W,
-    A,
-    Phi,
-}
-
-/// Variables of a LossyGear.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum GearVar {
-    TauA,
-    TauB,
-    TauSupport,
-    W,
-    A,
-    Sa,
-    TauLoss,
-    TauEta,
-    Eta1,
-    Eta2,
-    Tbf1,
-    Tbf2,
-    TbfA,
-    LossMaxP,
-    LossMinM,
-    LossPower,
-    Mode,
-    Locked,
-    StartForward,
-    StartBackward,
-    TauEtaPos,
-    Ideal,
-}
+pub use crate::switching::element::SwitchVar;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum EnergyVar {
@@ -68,8 +21,8 @@ pub enum Out {
     LawTau(usize, f64),
     LawLoss(usize),
     ConstraintTau(usize, f64),
-    Friction(usize, FrictionVar),
-    Gear(usize, GearVar),
+    /// A variable of a switching element.
+    Switch(usize, SwitchVar),
     Scaled(Box<Out>, f64),
     Signal(usize),
     /// Cut torque of a mechanical port (global port index).

@@ -11,7 +11,7 @@ use super::super::{heat_port, with_support, Component, Constructor, Ports};
 use crate::error::ModelResult;
 use crate::model::Params;
 use crate::switching::lossy_gear::{tbf_a, LossyGearElem};
-use crate::system::outputs::GearVar;
+use crate::system::outputs::SwitchVar as GearVar;
 use crate::system::{Builder, Out, Rel};
 use crate::table::Table1D;
 
@@ -54,7 +54,7 @@ impl Component for LossyGear {
         } else {
             None
         };
-        let k = b.add_lossy_gear(LossyGearElem {
+        let k = b.add_switching(Box::new(LossyGearElem {
             name: b.name().to_string(),
             ratio: r,
             ideal: self.ideal,
@@ -69,7 +69,7 @@ impl Component for LossyGear {
             lock_row: Rel::of(&[(na, 1.0), (ns, -1.0)]),
             loss_col: Rel::of(&[(nb, r), (ns, -r)]),
             heat_node,
-        });
+        }));
         b.init_constraint(row);
         b.output("phi_a", Out::Angle(Rel::of(&[(na, 1.0), (ns, -1.0)])));
         b.output("phi_b", Out::Angle(Rel::of(&[(nb, 1.0), (ns, -1.0)])));
@@ -84,8 +84,8 @@ impl Component for LossyGear {
             ("tau_bf1", GearVar::Tbf1),
             ("tau_bf2", GearVar::Tbf2),
             ("tau_bf_a", GearVar::TbfA),
-            ("tauLossMax_p", GearVar::LossMaxP),
-            ("tauLossMin_m", GearVar::LossMinM),
+            ("tauLossMax_p", GearVar::Tau0Max),
+            ("tauLossMin_m", GearVar::Tau0),
             ("lossPower", GearVar::LossPower),
             ("mode", GearVar::Mode),
             ("locked", GearVar::Locked),
@@ -93,20 +93,20 @@ impl Component for LossyGear {
             ("startBackward", GearVar::StartBackward),
             ("tau_etaPos", GearVar::TauEtaPos),
             ("tau_aPos", GearVar::TauEtaPos),
-            ("ideal", GearVar::Ideal),
         ] {
-            b.output(name, Out::Gear(k, var));
+            b.output(name, Out::Switch(k, var));
         }
-        b.flange("flange_a", na, Some(Out::Gear(k, GearVar::TauA)))?;
-        b.flange("flange_b", nb, Some(Out::Gear(k, GearVar::TauB)))?;
+        b.output("ideal", Out::Const(if self.ideal { 1.0 } else { 0.0 }));
+        b.flange("flange_a", na, Some(Out::Switch(k, GearVar::Tau)))?;
+        b.flange("flange_b", nb, Some(Out::Switch(k, GearVar::TauB)))?;
         if self.use_support {
-            b.flange("support", ns, Some(Out::Gear(k, GearVar::TauSupport)))?;
+            b.flange("support", ns, Some(Out::Switch(k, GearVar::TauSupport)))?;
         }
         if let Some(node) = heat_node {
             b.output("heatPort.T", Out::HeatT(node));
             b.output(
                 "heatPort.Q_flow",
-                Out::Scaled(Box::new(Out::Gear(k, GearVar::LossPower)), -1.0),
+                Out::Scaled(Box::new(Out::Switch(k, GearVar::LossPower)), -1.0),
             );
         }
         Ok(())

@@ -9,7 +9,7 @@ use crate::error::ModelResult;
 use crate::model::{InitValue, Params};
 use crate::switching::friction::{FrictionElem, OneWay};
 use crate::switching::logic::{self, Discrete};
-use crate::system::outputs::FrictionVar as V;
+use crate::system::outputs::SwitchVar as V;
 use crate::system::{Builder, Out, Rel};
 use crate::table::Table1D;
 
@@ -44,8 +44,8 @@ fn friction_outputs(
     one_way: bool,
 ) {
     if let Some(slot) = slot {
-        b.output("mu", Out::Friction(k, V::Mu));
-        b.output("fn", Out::Friction(k, V::Fn));
+        b.output("mu", Out::Switch(k, V::Mu));
+        b.output("fn", Out::Switch(k, V::Fn));
         b.output("f_normalized", Out::Signal(slot));
         // OneWayClutch calls its normalized force `u`; its `free` is protected in MSL
         b.output(
@@ -53,7 +53,7 @@ fn friction_outputs(
             if one_way {
                 Out::Signal(slot)
             } else {
-                Out::Friction(k, V::Free)
+                Out::Switch(k, V::Free)
             },
         );
     }
@@ -77,13 +77,13 @@ fn friction_outputs(
     .iter()
     .chain(logic)
     {
-        b.output(name, Out::Friction(k, var));
+        b.output(name, Out::Switch(k, var));
     }
     if let Some(node) = heat {
         b.output("heatPort.T", Out::HeatT(node));
         b.output(
             "heatPort.Q_flow",
-            Out::Scaled(Box::new(Out::Friction(k, V::LossPower)), -1.0),
+            Out::Scaled(Box::new(Out::Switch(k, V::LossPower)), -1.0),
         );
     }
 }
@@ -126,17 +126,17 @@ impl Component for Brake {
         };
         let k = add_elem(b, &self.p, rel.clone(), kind)?;
         b.output("phi", Out::Angle(rel));
-        b.output("w", Out::Friction(k, V::W));
-        b.output("a", Out::Friction(k, V::A));
+        b.output("w", Out::Switch(k, V::W));
+        b.output("a", Out::Switch(k, V::A));
         b.flange("flange_a", na, None)?;
         b.flange("flange_b", na, None)?;
         // flange_a.tau + flange_b.tau = tau; support.tau = −tau
-        b.flange_group(&["flange_a", "flange_b"], Some(Out::Friction(k, V::Tau)))?;
+        b.flange_group(&["flange_a", "flange_b"], Some(Out::Switch(k, V::Tau)))?;
         if self.use_support {
             b.flange(
                 "support",
                 ns,
-                Some(Out::Scaled(Box::new(Out::Friction(k, V::Tau)), -1.0)),
+                Some(Out::Scaled(Box::new(Out::Switch(k, V::Tau)), -1.0)),
             )?;
         }
         Ok(())
@@ -185,7 +185,7 @@ fn add_elem(b: &mut Builder, p: &FrictionParams, rel: Rel, kind: Kind) -> ModelR
         ),
         _ => (None, Discrete::INITIAL, p.peak),
     };
-    let k = b.add_friction(FrictionElem {
+    let k = b.add_switching(Box::new(FrictionElem {
         name: b.name().to_string(),
         rel,
         mu0,
@@ -199,7 +199,7 @@ fn add_elem(b: &mut Builder, p: &FrictionParams, rel: Rel, kind: Kind) -> ModelR
         heat_node: heat,
         one_way,
         initial,
-    });
+    }));
     friction_outputs(b, k, slot, heat, one_way.is_some());
     Ok(k)
 }
@@ -266,14 +266,14 @@ impl Component for Clutch {
         b.init_angle(rel.clone(), self.phi_rel, "phi_rel");
         b.init_speed(rel.clone(), self.w_rel, "w_rel");
         b.output("phi_rel", Out::Angle(rel));
-        b.output("w_rel", Out::Friction(k, V::W));
-        b.output("a_rel", Out::Friction(k, V::A));
+        b.output("w_rel", Out::Switch(k, V::W));
+        b.output("a_rel", Out::Switch(k, V::A));
         b.flange(
             "flange_a",
             na,
-            Some(Out::Scaled(Box::new(Out::Friction(k, V::Tau)), -1.0)),
+            Some(Out::Scaled(Box::new(Out::Switch(k, V::Tau)), -1.0)),
         )?;
-        b.flange("flange_b", nb, Some(Out::Friction(k, V::Tau)))?;
+        b.flange("flange_b", nb, Some(Out::Switch(k, V::Tau)))?;
         Ok(())
     }
 }

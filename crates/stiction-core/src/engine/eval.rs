@@ -3,8 +3,6 @@
 //! `tau0_max`, …), heat flows and the state derivatives. The integrator, the zero-crossing
 //! functions, the event iteration and the result rows all read this one workspace.
 
-use nalgebra::DVector;
-
 use super::kkt::ModeMatrix;
 use crate::switching::element::{ElementValues, Kinematics, ModeKey, Solved, SwitchState};
 use crate::system::{EnergyRole, LawCtx, System};
@@ -66,7 +64,7 @@ pub struct Workspace {
     pub energy: [f64; 4],
     /// Rates of the last two: dissipated power and source power.
     pub rates: (f64, f64),
-    rhs: DVector<f64>,
+    rhs: Vec<f64>,
     pub rhs_evals: usize,
 }
 
@@ -90,7 +88,7 @@ impl Workspace {
             heat_net: vec![0.0; sys.thermal.nodes],
             energy: [0.0; 4],
             rates: (0.0, 0.0),
-            rhs: DVector::zeros(0),
+            rhs: Vec::new(),
             rhs_evals: 0,
         }
     }
@@ -179,12 +177,10 @@ pub fn evaluate(
     kinematics(sys, disc, t, x, horizon, ws);
 
     // Generalized forces of laws and switching elements.
-    let mut rhs = std::mem::replace(&mut ws.rhs, DVector::zeros(0));
-    if rhs.len() != mm.size {
-        rhs = DVector::zeros(mm.size);
-    }
-    rhs.fill(0.0);
-    let f = &mut rhs.as_mut_slice()[..n];
+    let mut rhs = std::mem::take(&mut ws.rhs);
+    rhs.clear();
+    rhs.resize(mm.size, 0.0);
+    let f = &mut rhs[..n];
     for (k, law) in sys.laws.iter().enumerate() {
         let tau = law.law.tau(&ws.law_ctx(sys, disc, k));
         ws.law_tau[k] = tau;
@@ -206,8 +202,8 @@ pub fn evaluate(
     let elements = &ws.elements;
     mm.solve_with_slopes(sys, |k| elements[k].slope, &mut rhs);
     let m = sys.constraints.len();
-    ws.a.copy_from_slice(&rhs.as_slice()[..n]);
-    ws.constraint_tau.copy_from_slice(&rhs.as_slice()[n..n + m]);
+    ws.a.copy_from_slice(&rhs[..n]);
+    ws.constraint_tau.copy_from_slice(&rhs[n..n + m]);
     let multiplier = |row: Option<usize>| row.map(|r| rhs[n + r]);
     for (k, (e, st)) in sys.switching.iter().zip(&disc.switching).enumerate() {
         let rows = &mm.element_rows[k];

@@ -10,19 +10,34 @@ use std::rc::Rc;
 use crate::engine::eval::{evaluate, kinematics, DiscreteState, Workspace};
 use crate::engine::kkt::ModeMatrix;
 use crate::error::SimError;
+use crate::linalg::{DenseLu, LinearSolver};
 use crate::switching::element::SwitchState;
 use crate::switching::logic::Discrete;
 use crate::switching::relation::RelationSet;
 use crate::system::System;
 
 /// Factored mode matrices by mode: a mode met again costs nothing.
-#[derive(Default)]
 pub struct ModeCache {
     map: HashMap<Vec<u64>, Rc<ModeMatrix>>,
+    solver: Box<dyn LinearSolver>,
     pub factorizations: usize,
 }
 
+impl Default for ModeCache {
+    fn default() -> Self {
+        Self::new(Box::new(DenseLu))
+    }
+}
+
 impl ModeCache {
+    pub fn new(solver: Box<dyn LinearSolver>) -> Self {
+        Self {
+            map: HashMap::new(),
+            solver,
+            factorizations: 0,
+        }
+    }
+
     pub fn get(
         &mut self,
         sys: &System,
@@ -37,7 +52,7 @@ impl ModeCache {
         if let Some(mm) = self.map.get(&key) {
             return Ok(mm.clone());
         }
-        let mm = Rc::new(ModeMatrix::factor(sys, &keys, t)?);
+        let mm = Rc::new(ModeMatrix::factor(sys, &keys, t, &*self.solver)?);
         self.factorizations += 1;
         self.map.insert(key, mm.clone());
         Ok(mm)

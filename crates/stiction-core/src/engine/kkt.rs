@@ -14,9 +14,10 @@
 //! elements come before locked gears, as in the reference results: a bearing stuck together
 //! with a gear carries the load first.
 
-use nalgebra::{DMatrix, DVector, Dyn, LU};
+use nalgebra::{DMatrix, DVector};
 
 use crate::error::SimError;
+use crate::linalg::{Factorization, LinearSolver, RowBasis, Triplets};
 use crate::switching::element::{Column, ModeKey};
 use crate::system::{Rel, System};
 
@@ -33,7 +34,7 @@ pub struct ElementRows {
 }
 
 pub struct ModeMatrix {
-    lu: LU<f64, Dyn, Dyn>,
+    factors: Box<dyn Factorization>,
     pub size: usize,
     /// Each switching element's rows.
     pub element_rows: Vec<ElementRows>,
@@ -41,57 +42,27 @@ pub struct ModeMatrix {
     pub keys: Vec<ModeKey>,
 }
 
-/// Keeps rows that are linearly independent of those kept before (Gram–Schmidt).
-struct Independent(Vec<Vec<f64>>);
-
-impl Independent {
-    /// The row's norm and what is left of it after removing the kept rows' directions.
-    fn residual(&self, rel: &Rel, n: usize) -> (f64, Vec<f64>) {
-        let mut v = vec![0.0; n];
-        for &(i, c) in &rel.terms {
-            v[i] += c;
-        }
-        let norm0 = v.iter().map(|x| x * x).sum::<f64>().sqrt();
-        for q in &self.0 {
-            let dot: f64 = q.iter().zip(&v).map(|(a, b)| a * b).sum();
-            v.iter_mut().zip(q).for_each(|(x, qi)| *x -= dot * qi);
-        }
-        (norm0, v)
-    }
-
-    /// Whether the row is a combination of the rows kept so far.
-    fn depends(&self, rel: &Rel, n: usize) -> bool {
-        let (norm0, v) = self.residual(rel, n);
-        norm0 > 0.0 && v.iter().map(|x| x * x).sum::<f64>().sqrt() <= 1e-10 * norm0
-    }
-
-    /// Keeps the row if it is independent of the rows kept so far.
-    fn accept(&mut self, rel: &Rel, n: usize) -> bool {
-        let (norm0, mut v) = self.residual(rel, n);
-        let norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
-        if norm0 == 0.0 || norm <= 1e-10 * norm0 {
-            return false;
-        }
-        v.iter_mut().for_each(|x| *x /= norm);
-        self.0.push(v);
-        true
-    }
-}
-
 impl ModeMatrix {
-    pub fn factor(sys: &System, keys: &[ModeKey], time: f64) -> Result<Self, SimError> {
+    /// Factors the system of the mode `keys` with `solver`; the locks that depend on others
+    /// are left out (`RowBasis`, in row order).
+    pub fn factor(
+        sys: &System,
+        keys: &[ModeKey],
+        time: f64,
+        solver: &dyn LinearSolver,
+    ) -> Result<Self, SimError> {
         let n = sys.nodes;
         // (row, column) in row order.
         let mut rows: Vec<(&Rel, Column)> = Vec::new();
-        let mut basis = Independent(Vec::new());
+        let mut basis = RowBasis::new(n);
         for c in &sys.constraints {
-            basis.accept(&c.rel, n);
+            basis.accept(&c.rel.terms);
             rows.push((&c.rel, Column::Same));
         }
         let mut element_rows = vec![ElementRows::default(); sys.switching.len()];
         for (k, (e, key)) in sys.switching.iter().zip(keys).enumerate() {
             if let Some((rel, column)) = e.permanent_row(*key) {
-                basis.accept(rel, n);
+                basis.accept(&rel.terms);
                 element_rows[k].permanent = Some(rows.len());
                 rows.push((rel, column));
             }
@@ -101,7 +72,7 @@ impl ModeMatrix {
         ranks.dedup();
         for rank in ranks {
             for (k, (e, key)) in sys.switching.iter().zip(keys).enumerate() {
-                if key.locked && e.lock_rank() == rank && basis.accept(e.motion(), n) {
+                if key.locked && e.lock_rank() == rank && basis.accept(&e.motion().terms) {
                     element_rows[k].lock = Some(rows.len());
                     rows.push((e.motion(), e.lock_column()));
                 }
@@ -109,16 +80,16 @@ impl ModeMatrix {
         }
         // Elements whose motion the kept rows hold: their speed cannot change in this mode.
         for (e, rows) in sys.switching.iter().zip(&mut element_rows) {
-            rows.held = basis.depends(e.motion(), n);
+            rows.held = basis.depends(&e.motion().terms);
         }
         let size = n + rows.len();
-        let mut m = DMatrix::<f64>::zeros(size, size);
+        let mut m = Triplets::new(size);
         for i in 0..n {
-            m[(i, i)] = sys.mass[i];
+            m.add(i, i, sys.mass[i]);
         }
         for (r, (row, column)) in rows.iter().enumerate() {
             for &(i, c) in &row.terms {
-                m[(n + r, i)] = c;
+                m.add(n + r, i, c);
             }
             let (same, extra) = match *column {
                 Column::Same => (true, None),
@@ -127,29 +98,21 @@ impl ModeMatrix {
             };
             if same {
                 for &(i, c) in &row.terms {
-                    m[(i, n + r)] += c;
+                    m.add(i, n + r, c);
                 }
             }
             if let Some((col, s)) = extra {
                 for &(i, c) in &col.terms {
-                    m[(i, n + r)] += s * c;
+                    m.add(i, n + r, s * c);
                 }
             }
         }
-        let scale = m.iter().fold(0.0f64, |acc, v| acc.max(v.abs())).max(1e-300);
-        let lu = m.lu();
-        let u = lu.u();
-        let smallest = (0..size)
-            .map(|i| u[(i, i)].abs())
-            .fold(f64::INFINITY, f64::min);
-        if size > 0 && smallest <= 1e-13 * scale {
-            return Err(SimError::SingularMode {
-                time,
-                detail: singular_detail(sys, keys),
-            });
-        }
+        let factors = solver.factor(&m).map_err(|_| SimError::SingularMode {
+            time,
+            detail: singular_detail(sys, keys),
+        })?;
         Ok(Self {
-            lu,
+            factors,
             size,
             element_rows,
             keys: keys.to_vec(),
@@ -157,10 +120,8 @@ impl ModeMatrix {
     }
 
     /// Solves in place: on entry `[f; 0]`, on exit `[a; λ]`.
-    pub fn solve(&self, rhs: &mut DVector<f64>) {
-        if self.size > 0 {
-            self.lu.solve_mut(rhs);
-        }
+    pub fn solve(&self, rhs: &mut [f64]) {
+        self.factors.solve_in_place(rhs);
     }
 
     /// Solves with elements whose loss slope differs from the factored one (a LossyGear whose
@@ -168,12 +129,7 @@ impl ModeMatrix {
     /// rank-one change, so the factored matrix serves through the Woodbury identity instead of
     /// a new factorization per evaluation. `slope(k)` is element k's current slope.
     /// Allocates only when a slope has changed.
-    pub fn solve_with_slopes(
-        &self,
-        sys: &System,
-        slope: impl Fn(usize) -> f64,
-        rhs: &mut DVector<f64>,
-    ) {
+    pub fn solve_with_slopes(&self, sys: &System, slope: impl Fn(usize) -> f64, rhs: &mut [f64]) {
         self.solve(rhs);
         let changed: Vec<(&Rel, usize, f64)> = sys
             .switching
@@ -190,10 +146,10 @@ impl ModeMatrix {
             return;
         }
         // Z = A⁻¹U with U's columns Δs·ℓ in the node rows.
-        let z: Vec<DVector<f64>> = changed
+        let z: Vec<Vec<f64>> = changed
             .iter()
             .map(|&(column, _, ds)| {
-                let mut u = DVector::zeros(self.size);
+                let mut u = vec![0.0; self.size];
                 for &(i, c) in &column.terms {
                     u[i] += ds * c;
                 }
@@ -207,7 +163,7 @@ impl ModeMatrix {
         match s.lu().solve(&y) {
             Some(w) => {
                 for (j, zj) in z.iter().enumerate() {
-                    rhs.axpy(-w[j], zj, 1.0);
+                    rhs.iter_mut().zip(zj).for_each(|(x, z)| *x -= w[j] * z);
                 }
             }
             // singular at this speed: no answer, and the driver reports the non-finite state

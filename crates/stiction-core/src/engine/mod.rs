@@ -1,5 +1,5 @@
 //! The engine: one evaluation of the assembled system in a discrete state (`eval`), the
-//! per-mode linear solve (`kkt`), the zero-crossing indicators of the frozen relations
+//! per-mode linear solve (`kkt`, over the interfaces of `linalg`), the zero-crossing indicators of the frozen relations
 //! (`crossings`, spec §10.1) and the event iteration that drives the switching elements to
 //! MSL's fixed point (`iteration`, spec §1.6–1.7, §10.2).
 

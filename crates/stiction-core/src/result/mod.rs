@@ -1,10 +1,12 @@
 //! Results: every output variable by its MSL name on the output grid plus both sides of every
 //! event (as MSL reference files have them), the event log and solver statistics.
 
+use std::rc::Rc;
 use std::sync::{Arc, OnceLock};
 
 use crate::engine::eval::{evaluate, DiscreteState, Workspace};
 use crate::engine::kkt::ModeMatrix;
+use crate::engine::ModeCache;
 use crate::switching::element::is_discrete;
 use crate::switching::element::ElementValues;
 use crate::switching::logic::{FORWARD, STUCK};
@@ -148,13 +150,14 @@ impl SimResult {
         let tr = &self.trajectory;
         let mut recorder = Recorder::new(sys, tr.rows());
         let mut ws = Workspace::new(sys);
-        let mut modes: Vec<Option<ModeMatrix>> = (0..self.discs.len()).map(|_| None).collect();
+        let mut cache = ModeCache::default();
+        let mut modes: Vec<Option<Rc<ModeMatrix>>> = vec![None; self.discs.len()];
         for r in 0..tr.rows() {
             let id = tr.disc[r] as usize;
             let disc = &self.discs[id];
             if modes[id].is_none() {
                 // The run factored this mode already; it cannot be singular here.
-                modes[id] = ModeMatrix::factor(sys, &disc.mode_keys(sys), tr.t[r]).ok();
+                modes[id] = cache.get(sys, disc, tr.t[r]).ok();
             }
             let Some(mm) = modes[id].as_ref() else {
                 recorder.data.push(tr.t[r]);

@@ -2,10 +2,9 @@
 //! linear equations on the node angles (and, separately, speeds). They must be independent; the
 //! freedom they leave is filled with start-value guesses, in model order, as Modelica tools do.
 
-use nalgebra::{DMatrix, DVector};
-
 use crate::engine::eval::Layout;
 use crate::error::ModelError;
+use crate::linalg::{DenseLu, LinearSolver, RowBasis, Triplets};
 use crate::system::{InitEq, System};
 
 pub fn initial_state(sys: &System) -> Result<Vec<f64>, ModelError> {
@@ -22,54 +21,20 @@ pub fn initial_state(sys: &System) -> Result<Vec<f64>, ModelError> {
     Ok(x)
 }
 
-/// Gram–Schmidt basis of the accepted rows, to test independence cheaply.
-struct Basis(Vec<Vec<f64>>);
-
-impl Basis {
-    /// Adds the row if it is independent of the ones accepted so far.
-    fn accept(&mut self, row: &[f64]) -> bool {
-        let norm0 = row.iter().map(|v| v * v).sum::<f64>().sqrt();
-        if norm0 == 0.0 {
-            return false;
-        }
-        let mut v = row.to_vec();
-        for q in &self.0 {
-            let dot: f64 = q.iter().zip(&v).map(|(a, b)| a * b).sum();
-            v.iter_mut().zip(q).for_each(|(vi, qi)| *vi -= dot * qi);
-        }
-        let norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
-        if norm <= 1e-9 * norm0 {
-            return false;
-        }
-        v.iter_mut().for_each(|x| *x /= norm);
-        self.0.push(v);
-        true
-    }
-}
-
-fn dense_row(eq: &InitEq, n: usize) -> Vec<f64> {
-    let mut row = vec![0.0; n];
-    for &(i, c) in &eq.rel.terms {
-        row[i] += c;
-    }
-    row
-}
-
 fn solve(eqs: &[InitEq], sys: &System, what: &str) -> Result<Vec<f64>, ModelError> {
     let n = sys.nodes;
     if n == 0 {
         return Ok(Vec::new());
     }
-    let mut basis = Basis(Vec::new());
-    let mut rows: Vec<(Vec<f64>, f64)> = Vec::new();
+    let mut basis = RowBasis::new(n);
+    let mut rows: Vec<(Vec<(usize, f64)>, f64)> = Vec::new();
     let mut fixed_names: Vec<&str> = Vec::new();
     // Constraints first, so a user's start value that a gear already implies is the one named.
     let fixed = eqs.iter().filter(|e| e.value.fixed && e.constraint);
     for eq in fixed.chain(eqs.iter().filter(|e| e.value.fixed && !e.constraint)) {
-        let row = dense_row(eq, n);
         fixed_names.push(&eq.variable);
-        if !basis.accept(&row) {
-            if row.iter().all(|&c| c == 0.0) {
+        if !basis.accept(&eq.rel.terms) {
+            if eq.rel.terms.iter().all(|&(_, c)| c == 0.0) {
                 return Err(ModelError::File(format!(
                     "initial values: '{}' is fixed, but its flanges are held by ground or connected to each other",
                     eq.variable
@@ -81,15 +46,14 @@ fn solve(eqs: &[InitEq], sys: &System, what: &str) -> Result<Vec<f64>, ModelErro
                 fixed_names[..fixed_names.len() - 1].join(", ")
             )));
         }
-        rows.push((row, eq.value.start - eq.rel.offset));
+        rows.push((eq.rel.terms.clone(), eq.value.start - eq.rel.offset));
     }
     for eq in eqs.iter().filter(|e| !e.value.fixed) {
         if rows.len() == n {
             break;
         }
-        let row = dense_row(eq, n);
-        if basis.accept(&row) {
-            rows.push((row, eq.value.start - eq.rel.offset));
+        if basis.accept(&eq.rel.terms) {
+            rows.push((eq.rel.terms.clone(), eq.value.start - eq.rel.offset));
         }
     }
     // Shafts no start value reaches (e.g. without an inertia) start at 0.
@@ -97,20 +61,22 @@ fn solve(eqs: &[InitEq], sys: &System, what: &str) -> Result<Vec<f64>, ModelErro
         if rows.len() == n {
             break;
         }
-        let mut row = vec![0.0; n];
-        row[i] = 1.0;
-        if basis.accept(&row) {
-            rows.push((row, 0.0));
+        if basis.accept(&[(i, 1.0)]) {
+            rows.push((vec![(i, 1.0)], 0.0));
         }
     }
-    let a = DMatrix::from_fn(n, n, |r, c| rows[r].0[c]);
-    let b = DVector::from_iterator(n, rows.iter().map(|r| r.1));
-    a.lu()
-        .solve(&b)
-        .map(|x| x.iter().copied().collect())
-        .ok_or_else(|| {
-            ModelError::File(format!(
-                "initial values: the start {what}s cannot be solved"
-            ))
-        })
+    let mut a = Triplets::new(n);
+    for (r, (row, _)) in rows.iter().enumerate() {
+        for &(c, v) in row {
+            a.add(r, c, v);
+        }
+    }
+    let mut x: Vec<f64> = rows.iter().map(|r| r.1).collect();
+    let factors = DenseLu.factor(&a).map_err(|_| {
+        ModelError::File(format!(
+            "initial values: the start {what}s cannot be solved"
+        ))
+    })?;
+    factors.solve_in_place(&mut x);
+    Ok(x)
 }

@@ -18,7 +18,7 @@ struct BlockComponent<B: Block + Clone + 'static> {
 /// A block's time events: a few fixed instants, or edges that recur up to the stop time.
 enum Events {
     Fixed(Vec<f64>),
-    Recurring(Box<dyn Fn(f64, f64) -> Vec<f64>>),
+    Recurring(Box<dyn Fn(f64, f64) -> Vec<f64> + Send + Sync>),
 }
 
 impl<B: Block + Clone + 'static> Component for BlockComponent<B> {

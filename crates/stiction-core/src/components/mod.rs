@@ -23,7 +23,7 @@ use crate::system::Builder;
 pub use crate::system::PortKind;
 
 /// The ports a component has once its conditional connectors are decided.
-#[derive(Debug, Default, Clone)]
+#[derive(Debug, Default, Clone, PartialEq)]
 pub struct Ports {
     pub mech: Vec<&'static str>,
     /// Mechanical ports that are rigidly one (an Inertia's two flanges, a Brake's shaft).
@@ -80,8 +80,8 @@ pub fn heat_port(enabled: bool) -> Vec<&'static str> {
 /// The most time events one component may schedule in a run.
 pub const MAX_TIME_EVENTS: usize = 1_000_000;
 
-/// What every component does.
-pub trait Component {
+/// What every component does. Components are plain data, shared by the threads of a sweep.
+pub trait Component: Send + Sync {
     fn ports(&self) -> Ports;
     /// Contributes to the system; called once the ports are resolved to nodes.
     fn build(&self, b: &mut Builder) -> ModelResult<()>;

@@ -32,17 +32,18 @@ impl PortKind {
     }
 }
 
-pub(crate) struct PortInfo {
-    pub(crate) component: usize,
-    pub(crate) name: &'static str,
-    pub(crate) kind: PortKind,
+/// One port of one component, as the assembly resolved it.
+#[derive(Debug, Clone)]
+pub struct PortInfo {
+    pub component: usize,
+    pub name: &'static str,
+    pub kind: PortKind,
 }
 
 /// What a component sees while it contributes to the system.
 pub struct Builder {
     pub(crate) comp: usize,
     pub(crate) names: Vec<String>,
-    pub(crate) ports: Vec<PortInfo>,
     pub(crate) index: HashMap<(usize, &'static str), usize>,
     pub(crate) mech_node: Vec<Option<NodeRef>>,
     pub(crate) signal_slot: Vec<Option<usize>>,

@@ -8,8 +8,7 @@ pub mod law;
 pub mod outputs;
 
 pub use crate::rel::{NodeRef, Rel};
-pub(crate) use builder::PortInfo;
-pub use builder::{Builder, PortKind};
+pub use builder::{Builder, PortInfo, PortKind};
 pub use flange::FlangeTorques;
 pub use law::{EnergyRole, ForceLaw, LawCtx};
 pub use outputs::Out;

@@ -1,0 +1,336 @@
+//! The structure of a model, resolved once: ports, flanges joined into nodes (union–find),
+//! signal slots, model inputs and heat nodes. It depends on the component types, their
+//! conditional ports and the connections — not on parameter values — so a compiled model keeps
+//! it while parameters change.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use crate::components::{Component, PortKind, Ports};
+use crate::error::{ModelError, ModelResult};
+use crate::model::{ModelSpec, PortRef};
+use crate::system::{ModelInput, NodeRef, PortInfo};
+
+/// Union–find over port indices.
+struct Sets(Vec<usize>);
+
+impl Sets {
+    fn new(n: usize) -> Self {
+        Sets((0..n).collect())
+    }
+    fn find(&mut self, i: usize) -> usize {
+        let mut r = i;
+        while self.0[r] != r {
+            r = self.0[r];
+        }
+        let mut j = i;
+        while self.0[j] != r {
+            let next = self.0[j];
+            self.0[j] = r;
+            j = next;
+        }
+        r
+    }
+    fn union(&mut self, a: usize, b: usize) {
+        let (ra, rb) = (self.find(a), self.find(b));
+        if ra != rb {
+            self.0[rb] = ra;
+        }
+    }
+}
+
+/// What the connections join: rigid flange sets (connections and a component's own joins),
+/// explicitly connected flanges (the torque balances), heat ports, and each signal input's
+/// source.
+struct Joins {
+    mech: Sets,
+    cut: Sets,
+    heat: Sets,
+    signal_source: Vec<Option<usize>>,
+}
+
+/// Where every port of a model sits.
+#[derive(Debug, Clone)]
+pub struct Topology {
+    pub names: Vec<String>,
+    pub types: Vec<String>,
+    /// The ports each component declared (its conditional ones decided).
+    pub port_decls: Vec<Ports>,
+    pub ports: Vec<PortInfo>,
+    pub index: HashMap<(usize, &'static str), usize>,
+    component_of: HashMap<String, usize>,
+    pub mech_node: Vec<Option<NodeRef>>,
+    pub node_ports: Vec<Vec<String>>,
+    pub signal_slot: Vec<Option<usize>>,
+    pub slots: usize,
+    pub inputs: Vec<ModelInput>,
+    pub heat_node: Vec<Option<usize>>,
+    pub heat_ports: Vec<Vec<String>>,
+    /// For each mechanical port, its set of explicitly connected flanges (torque balances).
+    pub cut_roots: Vec<Option<usize>>,
+}
+
+impl Topology {
+    /// Checks every connection and resolves the ports of `comps` (created from `spec`).
+    pub fn resolve(spec: &ModelSpec, comps: &[Arc<dyn Component>]) -> ModelResult<Self> {
+        let mut topo = Self::declare(spec, comps);
+        let mut joins = topo.connect(spec)?;
+        topo.mechanical_nodes(&mut joins.mech)?;
+        topo.signal_slots(&joins.signal_source);
+        topo.model_inputs(spec)?;
+        topo.heat_nodes(&mut joins.heat);
+        topo.cut_roots = (0..topo.ports.len())
+            .map(|i| (topo.ports[i].kind == PortKind::Mechanical).then(|| joins.cut.find(i)))
+            .collect();
+        Ok(topo)
+    }
+
+    /// Every port of every component, numbered.
+    fn declare(spec: &ModelSpec, comps: &[Arc<dyn Component>]) -> Self {
+        let port_decls: Vec<Ports> = comps.iter().map(|c| c.ports()).collect();
+        let mut ports = Vec::new();
+        let mut index = HashMap::new();
+        for (ci, decl) in port_decls.iter().enumerate() {
+            for name in decl.all() {
+                let kind = decl.kind_of(name).expect("declared");
+                index.insert((ci, name), ports.len());
+                ports.push(PortInfo {
+                    component: ci,
+                    name,
+                    kind,
+                });
+            }
+        }
+        let names: Vec<String> = spec.components.iter().map(|c| c.name.clone()).collect();
+        Topology {
+            component_of: names
+                .iter()
+                .enumerate()
+                .map(|(i, n)| (n.clone(), i))
+                .collect(),
+            names,
+            types: spec
+                .components
+                .iter()
+                .map(|c| c.type_name.clone())
+                .collect(),
+            port_decls,
+            ports,
+            index,
+            mech_node: Vec::new(),
+            node_ports: Vec::new(),
+            signal_slot: Vec::new(),
+            slots: 0,
+            inputs: Vec::new(),
+            heat_node: Vec::new(),
+            heat_ports: Vec::new(),
+            cut_roots: Vec::new(),
+        }
+    }
+
+    /// The index of a port written `component.port`; `what` names the connection for errors.
+    fn port_of(&self, r: &PortRef, what: &str) -> ModelResult<usize> {
+        let error = |message: String| ModelError::Connection {
+            connection: what.to_string(),
+            message,
+        };
+        let Some(&ci) = self.component_of.get(&r.component) else {
+            return Err(error(format!(
+                "unknown component '{}' (components: {})",
+                r.component,
+                self.names.join(", ")
+            )));
+        };
+        let decl = &self.port_decls[ci];
+        if let Some(p) = decl.all().iter().find(|p| **p == r.port) {
+            return Ok(self.index[&(ci, *p)]);
+        }
+        let hint = match r.port.as_str() {
+            "support" => " (set useSupport = true to enable it)",
+            "heatPort" => " (set useHeatPort = true to enable it)",
+            _ => "",
+        };
+        Err(error(format!(
+            "component '{}' ({}) has no port '{}'{hint}; its ports: {}",
+            r.component,
+            self.types[ci],
+            r.port,
+            decl.all().join(", ")
+        )))
+    }
+
+    /// Checks each connection's ends, then joins flanges and heat ports and wires signals.
+    fn connect(&self, spec: &ModelSpec) -> ModelResult<Joins> {
+        let n = self.ports.len();
+        let mut j = Joins {
+            mech: Sets::new(n),
+            cut: Sets::new(n),
+            heat: Sets::new(n),
+            signal_source: vec![None; n],
+        };
+        for (a, b) in &spec.connections {
+            let conn = format!("{a} — {b}");
+            let (ia, ib) = (self.port_of(a, &conn)?, self.port_of(b, &conn)?);
+            let (ka, kb) = (self.ports[ia].kind, self.ports[ib].kind);
+            let message = match (ka, kb) {
+                (PortKind::Mechanical, PortKind::Mechanical) => {
+                    j.mech.union(ia, ib);
+                    j.cut.union(ia, ib);
+                    continue;
+                }
+                (PortKind::Heat, PortKind::Heat) => {
+                    j.heat.union(ia, ib);
+                    continue;
+                }
+                (PortKind::SignalOut, PortKind::SignalIn) => self.wire(&mut j, ia, ib),
+                (PortKind::SignalIn, PortKind::SignalOut) => self.wire(&mut j, ib, ia),
+                (PortKind::SignalIn, PortKind::SignalIn) => {
+                    Some("connects two signal inputs; one end must be an output (y)".into())
+                }
+                (PortKind::SignalOut, PortKind::SignalOut) => {
+                    Some("connects two signal outputs".into())
+                }
+                _ => Some(format!(
+                    "cannot connect {} ('{a}') to {} ('{b}')",
+                    ka.describe(),
+                    kb.describe()
+                )),
+            };
+            if let Some(message) = message {
+                return Err(ModelError::Connection {
+                    connection: conn,
+                    message,
+                });
+            }
+        }
+        for (ci, decl) in self.port_decls.iter().enumerate() {
+            for (x, y) in &decl.joins {
+                j.mech.union(self.index[&(ci, *x)], self.index[&(ci, *y)]);
+            }
+        }
+        Ok(j)
+    }
+
+    /// Wires a signal output to an input; the reason it cannot, if it cannot.
+    fn wire(&self, j: &mut Joins, out: usize, inp: usize) -> Option<String> {
+        match j.signal_source[inp] {
+            Some(src) if src == out => None, // the same connection twice
+            Some(_) => Some(format!(
+                "signal input '{}.{}' is already connected to another output",
+                self.names[self.ports[inp].component], self.ports[inp].name
+            )),
+            None => {
+                j.signal_source[inp] = Some(out);
+                None
+            }
+        }
+    }
+
+    /// One node per rigid set of flanges, unless the set is held by a Fixed.
+    fn mechanical_nodes(&mut self, sets: &mut Sets) -> ModelResult<()> {
+        let mut ground_of: HashMap<usize, (f64, usize)> = HashMap::new();
+        for (ci, decl) in self.port_decls.iter().enumerate() {
+            for (p, phi0) in &decl.ground {
+                let root = sets.find(self.index[&(ci, *p)]);
+                if let Some(&(other, by)) = ground_of.get(&root) {
+                    if other != *phi0 {
+                        return Err(ModelError::Parameter {
+                            component: self.names[ci].clone(),
+                            type_name: self.types[ci].clone(),
+                            parameter: "phi0".into(),
+                            message: format!("the flange is rigidly connected to '{}', fixed at a different angle {other}", self.names[by]),
+                        });
+                    }
+                }
+                ground_of.insert(root, (*phi0, ci));
+            }
+        }
+        let mut node_of_root: HashMap<usize, usize> = HashMap::new();
+        self.mech_node = vec![None; self.ports.len()];
+        for (i, p) in self.ports.iter().enumerate() {
+            if p.kind != PortKind::Mechanical {
+                continue;
+            }
+            let root = sets.find(i);
+            self.mech_node[i] = Some(match ground_of.get(&root) {
+                Some((phi0, _)) => NodeRef::Ground(*phi0),
+                None => {
+                    let node = *node_of_root.entry(root).or_insert_with(|| {
+                        self.node_ports.push(Vec::new());
+                        self.node_ports.len() - 1
+                    });
+                    let label = format!("{}.{}", self.names[p.component], p.name);
+                    self.node_ports[node].push(label);
+                    NodeRef::Node(node)
+                }
+            });
+        }
+        Ok(())
+    }
+
+    /// One slot per signal output; inputs read their source's slot.
+    fn signal_slots(&mut self, signal_source: &[Option<usize>]) {
+        self.signal_slot = vec![None; self.ports.len()];
+        for (i, p) in self.ports.iter().enumerate() {
+            if p.kind == PortKind::SignalOut {
+                self.signal_slot[i] = Some(self.slots);
+                self.slots += 1;
+            }
+        }
+        for (i, src) in signal_source.iter().enumerate() {
+            if let Some(src) = src {
+                self.signal_slot[i] = self.signal_slot[*src];
+            }
+        }
+    }
+
+    /// Model inputs: unconnected signal inputs with a slot of their own, set by the simulation.
+    fn model_inputs(&mut self, spec: &ModelSpec) -> ModelResult<()> {
+        for input in &spec.inputs {
+            let what = format!("input {}", input.port);
+            let i = self.port_of(&input.port, &what)?;
+            let err = |message: String| ModelError::Connection {
+                connection: what.clone(),
+                message,
+            };
+            if self.ports[i].kind != PortKind::SignalIn {
+                return Err(err(format!(
+                    "a model input must be a signal input port, not {}",
+                    self.ports[i].kind.describe()
+                )));
+            }
+            if self.signal_slot[i].is_some() {
+                return Err(err(
+                    "the port is connected (or declared an input twice); a model input is left unconnected".into(),
+                ));
+            }
+            self.signal_slot[i] = Some(self.slots);
+            self.inputs.push(ModelInput {
+                name: input.port.to_string(),
+                slot: self.slots,
+                start: input.start,
+            });
+            self.slots += 1;
+        }
+        Ok(())
+    }
+
+    /// One heat node per set of connected heat ports.
+    fn heat_nodes(&mut self, sets: &mut Sets) {
+        let mut heat_of_root: HashMap<usize, usize> = HashMap::new();
+        self.heat_node = vec![None; self.ports.len()];
+        for (i, p) in self.ports.iter().enumerate() {
+            if p.kind != PortKind::Heat {
+                continue;
+            }
+            let root = sets.find(i);
+            let node = *heat_of_root.entry(root).or_insert_with(|| {
+                self.heat_ports.push(Vec::new());
+                self.heat_ports.len() - 1
+            });
+            let label = format!("{}.{}", self.names[p.component], p.name);
+            self.heat_ports[node].push(label);
+            self.heat_node[i] = Some(node);
+        }
+    }
+}

@@ -171,12 +171,16 @@ pub fn evaluate(
     horizon: f64,
     ws: &mut Workspace,
 ) {
-    let lay = Layout::of(sys);
-    let n = sys.nodes;
     ws.rhs_evals += 1;
     kinematics(sys, disc, t, x, horizon, ws);
+    accelerations(sys, mm, disc, ws);
+    heat_and_energy(sys, disc, x, ws);
+}
 
-    // Generalized forces of laws and switching elements.
+/// The torques of laws and switching elements, the mode's linear solve, and what the switching
+/// elements read from its solution.
+fn accelerations(sys: &System, mm: &ModeMatrix, disc: &DiscreteState, ws: &mut Workspace) {
+    let n = sys.nodes;
     let mut rhs = std::mem::take(&mut ws.rhs);
     rhs.clear();
     rhs.resize(mm.size, 0.0);
@@ -216,8 +220,11 @@ pub fn evaluate(
         e.solved(st, &solved, &mut ws.elements[k]);
     }
     ws.rhs = rhs;
+}
 
-    // Heat and energy.
+/// Heat flows into the heat network, the energy audit and its rates.
+fn heat_and_energy(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Workspace) {
+    let lay = Layout::of(sys);
     ws.heat_in.iter_mut().for_each(|q| *q = 0.0);
     let (mut loss, mut work, mut potential) = (0.0, 0.0, 0.0);
     for (k, law) in sys.laws.iter().enumerate() {
@@ -244,7 +251,9 @@ pub fn evaluate(
             work -= tau * c.rel.dot(&ws.w);
         }
     }
-    let kinetic: f64 = (0..n).map(|i| 0.5 * sys.mass[i] * ws.w[i] * ws.w[i]).sum();
+    let kinetic: f64 = (0..sys.nodes)
+        .map(|i| 0.5 * sys.mass[i] * ws.w[i] * ws.w[i])
+        .sum();
     ws.energy = [kinetic, potential, x[lay.loss()], x[lay.work()]];
     if sys.thermal.nodes > 0 {
         sys.thermal.temperatures(

@@ -103,79 +103,47 @@ fn element_names(sys: &System) -> Vec<String> {
     sys.switching.iter().map(|e| e.name().to_string()).collect()
 }
 
-/// Solves the discrete equations at (t, x). With `initial`, this is MSL's initialization: one
-/// consistent solution with the start values as `pre()`; otherwise the full event iteration.
-/// Time events before `horizon` have happened (see `signals::reached`).
-#[allow(clippy::too_many_arguments)]
+/// Where the discrete equations are solved: the instant, the continuous state there, the
+/// horizon of unhandled time events (those before it have happened, see `signals::reached`),
+/// and whether this is MSL's initialization (`initial()`).
+#[derive(Debug, Clone, Copy)]
+pub struct EventPoint<'a> {
+    pub t: f64,
+    pub x: &'a [f64],
+    pub horizon: f64,
+    pub initial: bool,
+}
+
+/// Solves the discrete equations at an event point. At initialization this is one consistent
+/// solution with the start values as `pre()`; otherwise the full event iteration: solve the
+/// mixed system for fixed `pre()`, update `pre()`, repeat until the modes settle.
 pub fn iterate(
     sys: &System,
     cache: &mut ModeCache,
     disc: &mut DiscreteState,
-    t: f64,
-    x: &[f64],
-    initial: bool,
-    horizon: f64,
+    at: &EventPoint,
     ws: &mut Workspace,
 ) -> Result<Vec<ModeChange>, SimError> {
     let before: Vec<i8> = disc.switching.iter().map(|st| st.pre.mode).collect();
-
-    // Relations of force laws are evaluated literally at the event (no linear solve needed:
-    // the previous mode's matrix may not even be regular, e.g. before initialization).
-    {
-        kinematics(sys, disc, t, x, horizon, ws);
-        let mut z = [0.0; 4];
-        for (k, law) in sys.laws.iter().enumerate() {
-            let count = law.law.relation_count();
-            if count > 0 {
-                law.law
-                    .relation_values(&ws.law_ctx(sys, disc, k), &mut z[..count]);
-                for (r, &value) in z[..count].iter().enumerate() {
-                    disc.relations[law.relation_base + r] = value >= 0.0;
-                }
-            }
-        }
+    law_relations_at(sys, disc, at, ws);
+    if !at.initial {
+        switching_relations_at(sys, cache, disc, at, ws)?;
     }
-    // The friction relations as they stand at the event, in the mode before it (between events
-    // only those that matter were watched).
-    if !initial {
-        let mm = cache.get(sys, disc, t)?;
-        evaluate(sys, &mm, disc, t, x, horizon, ws);
-        let now = updated(sys, &relations_of(disc), ws, false);
-        for (st, rel) in disc.switching.iter_mut().zip(now) {
-            st.rel = rel;
-        }
-    }
-
     for _pass in 0..MAX_PASSES {
         let pre: Vec<Discrete> = disc.switching.iter().map(|st| st.pre).collect();
         // free = (fn <= 0), from the signals at the event (evaluated above).
-        let free: Vec<bool> = sys
-            .switching
-            .iter()
+        let free: Vec<bool> = (sys.switching.iter())
             .map(|e| e.is_free(&ws.signals))
             .collect();
-        let rels = relations_of(disc);
         let ctx = Mixed {
             sys,
             pre: &pre,
             free: &free,
             carried: disc,
-            t,
-            x,
-            initial,
-            horizon,
+            at,
         };
-        let solved = solve_mixed(&ctx, cache, rels, ws)?;
-        let new: Vec<Discrete> = (sys.switching.iter().zip(&solved.switching))
-            .zip(pre.iter().zip(&free))
-            .map(|((e, st), (pre, &free))| {
-                let (sf, sb) = (st.pre.start_forward, st.pre.start_backward);
-                Discrete {
-                    mode: e.mode(free, *pre, sf, sb, st.rel),
-                    ..st.pre
-                }
-            })
-            .collect();
+        let solved = solve_mixed(&ctx, cache, relations_of(disc), ws)?;
+        let new = next_pre(sys, &solved, &pre, &free);
         let settled = new == pre;
         // With pre() = the new values, `locked` uses pre(mode) = mode, as between events.
         for (k, e) in sys.switching.iter().enumerate() {
@@ -187,26 +155,83 @@ pub fn iterate(
                 rel: solved.switching[k].rel,
             };
         }
-        if settled || initial {
-            let changes = (sys.switching.iter().zip(before.iter().zip(&new)))
-                .filter(|(_, (old, new))| **old != new.mode)
-                .map(|(e, (old, new))| ModeChange {
-                    time: t,
-                    component: e.name().to_string(),
-                    old_mode: *old,
-                    new_mode: new.mode,
-                })
-                .collect();
-            return Ok(changes);
+        if settled || at.initial {
+            return Ok(mode_changes(sys, &before, &new, at.t));
         }
     }
     Err(SimError::EventIteration {
-        time: t,
+        time: at.t,
         message: format!(
             "event iteration did not reach a consistent mode after {MAX_PASSES} passes"
         ),
         elements: element_names(sys),
     })
+}
+
+/// The relations of force laws, evaluated literally at the event (no linear solve needed: the
+/// previous mode's matrix may not even be regular, e.g. before initialization).
+fn law_relations_at(sys: &System, disc: &mut DiscreteState, at: &EventPoint, ws: &mut Workspace) {
+    kinematics(sys, disc, at.t, at.x, at.horizon, ws);
+    let mut z = [0.0; 4];
+    for (k, law) in sys.laws.iter().enumerate() {
+        let count = law.law.relation_count();
+        if count > 0 {
+            law.law
+                .relation_values(&ws.law_ctx(sys, disc, k), &mut z[..count]);
+            for (r, &value) in z[..count].iter().enumerate() {
+                disc.relations[law.relation_base + r] = value >= 0.0;
+            }
+        }
+    }
+}
+
+/// The switching elements' relations as they stand at the event, in the mode before it
+/// (between events only those that matter were watched).
+fn switching_relations_at(
+    sys: &System,
+    cache: &mut ModeCache,
+    disc: &mut DiscreteState,
+    at: &EventPoint,
+    ws: &mut Workspace,
+) -> Result<(), SimError> {
+    let mm = cache.get(sys, disc, at.t)?;
+    evaluate(sys, &mm, disc, at.t, at.x, at.horizon, ws);
+    let now = updated(sys, &relations_of(disc), ws, false);
+    for (st, rel) in disc.switching.iter_mut().zip(now) {
+        st.rel = rel;
+    }
+    Ok(())
+}
+
+/// `pre()` after a pass: the start flags of the solved state and the modes they imply (F5).
+fn next_pre(
+    sys: &System,
+    solved: &DiscreteState,
+    pre: &[Discrete],
+    free: &[bool],
+) -> Vec<Discrete> {
+    (sys.switching.iter().zip(&solved.switching))
+        .zip(pre.iter().zip(free))
+        .map(|((e, st), (pre, &free))| {
+            let (sf, sb) = (st.pre.start_forward, st.pre.start_backward);
+            Discrete {
+                mode: e.mode(free, *pre, sf, sb, st.rel),
+                ..st.pre
+            }
+        })
+        .collect()
+}
+
+fn mode_changes(sys: &System, before: &[i8], after: &[Discrete], t: f64) -> Vec<ModeChange> {
+    (sys.switching.iter().zip(before.iter().zip(after)))
+        .filter(|(_, (old, new))| **old != new.mode)
+        .map(|(e, (old, new))| ModeChange {
+            time: t,
+            component: e.name().to_string(),
+            old_mode: *old,
+            new_mode: new.mode,
+        })
+        .collect()
 }
 
 /// What stays fixed while the mixed system is solved at one event instant.
@@ -216,10 +241,7 @@ struct Mixed<'a> {
     free: &'a [bool],
     /// The discrete state the laws' relations and the inputs are taken from.
     carried: &'a DiscreteState,
-    t: f64,
-    x: &'a [f64],
-    initial: bool,
-    horizon: f64,
+    at: &'a EventPoint<'a>,
 }
 
 /// One evaluation of the mixed system: relation values consistent with the accelerations and
@@ -243,9 +265,10 @@ fn solve_mixed(
     let mut restarted = false;
     for _ in 0..2 * limit {
         let trial = implied_state(ctx, &rels);
-        let mm = cache.get(sys, &trial, ctx.t)?;
-        evaluate(sys, &mm, &trial, ctx.t, ctx.x, ctx.horizon, ws);
-        let next = updated(sys, &rels, ws, ctx.initial);
+        let at = ctx.at;
+        let mm = cache.get(sys, &trial, at.t)?;
+        evaluate(sys, &mm, &trial, at.t, at.x, at.horizon, ws);
+        let next = updated(sys, &rels, ws, at.initial);
         if next == rels {
             return Ok(trial);
         }
@@ -265,7 +288,7 @@ fn solve_mixed(
         }
     }
     Err(SimError::EventIteration {
-        time: ctx.t,
+        time: ctx.at.t,
         message: "the stick/slip Booleans of coupled friction elements do not settle (mixed system has no consistent solution)".into(),
         elements: element_names(sys),
     })
@@ -277,7 +300,7 @@ fn implied_state(ctx: &Mixed, rels: &RelationValues) -> DiscreteState {
     let switching = (ctx.sys.switching.iter().zip(rels))
         .zip(ctx.pre.iter().zip(ctx.free))
         .map(|((e, &rel), (&pre, &free))| {
-            let (sf, sb) = e.start_flags(pre, rel, ctx.initial);
+            let (sf, sb) = e.start_flags(pre, rel, ctx.at.initial);
             SwitchState {
                 pre: Discrete {
                     mode: pre.mode,

@@ -51,69 +51,15 @@ impl ModeMatrix {
         time: f64,
         solver: &dyn LinearSolver,
     ) -> Result<Self, SimError> {
-        let n = sys.nodes;
-        // (row, column) in row order.
-        let mut rows: Vec<(&Rel, Column)> = Vec::new();
-        let mut basis = RowBasis::new(n);
-        for c in &sys.constraints {
-            basis.accept(&c.rel.terms);
-            rows.push((&c.rel, Column::Same));
-        }
-        let mut element_rows = vec![ElementRows::default(); sys.switching.len()];
-        for (k, (e, key)) in sys.switching.iter().zip(keys).enumerate() {
-            if let Some((rel, column)) = e.permanent_row(*key) {
-                basis.accept(&rel.terms);
-                element_rows[k].permanent = Some(rows.len());
-                rows.push((rel, column));
-            }
-        }
-        let mut ranks: Vec<u8> = sys.switching.iter().map(|e| e.lock_rank()).collect();
-        ranks.sort_unstable();
-        ranks.dedup();
-        for rank in ranks {
-            for (k, (e, key)) in sys.switching.iter().zip(keys).enumerate() {
-                if key.locked && e.lock_rank() == rank && basis.accept(&e.motion().terms) {
-                    element_rows[k].lock = Some(rows.len());
-                    rows.push((e.motion(), e.lock_column()));
-                }
-            }
-        }
-        // Elements whose motion the kept rows hold: their speed cannot change in this mode.
-        for (e, rows) in sys.switching.iter().zip(&mut element_rows) {
-            rows.held = basis.depends(&e.motion().terms);
-        }
-        let size = n + rows.len();
-        let mut m = Triplets::new(size);
-        for i in 0..n {
-            m.add(i, i, sys.mass[i]);
-        }
-        for (r, (row, column)) in rows.iter().enumerate() {
-            for &(i, c) in &row.terms {
-                m.add(n + r, i, c);
-            }
-            let (same, extra) = match *column {
-                Column::Same => (true, None),
-                Column::Plus(col, s) => (true, Some((col, s))),
-                Column::Only(col) => (false, Some((col, 1.0))),
-            };
-            if same {
-                for &(i, c) in &row.terms {
-                    m.add(i, n + r, c);
-                }
-            }
-            if let Some((col, s)) = extra {
-                for &(i, c) in &col.terms {
-                    m.add(i, n + r, s * c);
-                }
-            }
-        }
+        let (rows, element_rows) = mode_rows(sys, keys);
+        let m = kkt_matrix(sys, &rows);
         let factors = solver.factor(&m).map_err(|_| SimError::SingularMode {
             time,
             detail: singular_detail(sys, keys),
         })?;
         Ok(Self {
             factors,
-            size,
+            size: m.size,
             element_rows,
             keys: keys.to_vec(),
         })
@@ -170,6 +116,74 @@ impl ModeMatrix {
             None => rhs.fill(f64::NAN),
         }
     }
+}
+
+/// The rows of G in order — permanent constraints, the switching elements' permanent rows,
+/// then their independent lock rows by rank — with their columns, and where each element's sit.
+fn mode_rows<'a>(
+    sys: &'a System,
+    keys: &[ModeKey],
+) -> (Vec<(&'a Rel, Column<'a>)>, Vec<ElementRows>) {
+    let mut rows: Vec<(&Rel, Column)> = Vec::new();
+    let mut basis = RowBasis::new(sys.nodes);
+    for c in &sys.constraints {
+        basis.accept(&c.rel.terms);
+        rows.push((&c.rel, Column::Same));
+    }
+    let mut element_rows = vec![ElementRows::default(); sys.switching.len()];
+    for (k, (e, key)) in sys.switching.iter().zip(keys).enumerate() {
+        if let Some((rel, column)) = e.permanent_row(*key) {
+            basis.accept(&rel.terms);
+            element_rows[k].permanent = Some(rows.len());
+            rows.push((rel, column));
+        }
+    }
+    let mut ranks: Vec<u8> = sys.switching.iter().map(|e| e.lock_rank()).collect();
+    ranks.sort_unstable();
+    ranks.dedup();
+    for rank in ranks {
+        for (k, (e, key)) in sys.switching.iter().zip(keys).enumerate() {
+            if key.locked && e.lock_rank() == rank && basis.accept(&e.motion().terms) {
+                element_rows[k].lock = Some(rows.len());
+                rows.push((e.motion(), e.lock_column()));
+            }
+        }
+    }
+    // Elements whose motion the kept rows hold: their speed cannot change in this mode.
+    for (e, rows) in sys.switching.iter().zip(&mut element_rows) {
+        rows.held = basis.depends(&e.motion().terms);
+    }
+    (rows, element_rows)
+}
+
+/// `[M C; G 0]` as triplets.
+fn kkt_matrix(sys: &System, rows: &[(&Rel, Column)]) -> Triplets {
+    let n = sys.nodes;
+    let mut m = Triplets::new(n + rows.len());
+    for i in 0..n {
+        m.add(i, i, sys.mass[i]);
+    }
+    for (r, (row, column)) in rows.iter().enumerate() {
+        for &(i, c) in &row.terms {
+            m.add(n + r, i, c);
+        }
+        let (same, extra) = match *column {
+            Column::Same => (true, None),
+            Column::Plus(col, s) => (true, Some((col, s))),
+            Column::Only(col) => (false, Some((col, 1.0))),
+        };
+        if same {
+            for &(i, c) in &row.terms {
+                m.add(i, n + r, c);
+            }
+        }
+        if let Some((col, s)) = extra {
+            for &(i, c) in &col.terms {
+                m.add(i, n + r, s * c);
+            }
+        }
+    }
+    m
 }
 
 fn singular_detail(sys: &System, keys: &[ModeKey]) -> String {

@@ -9,4 +9,4 @@ mod iteration;
 pub mod kkt;
 
 pub use crossings::{indicator_count, indicator_label, indicators, speed_rates};
-pub use iteration::{iterate, ModeCache, ModeChange};
+pub use iteration::{iterate, EventPoint, ModeCache, ModeChange};

@@ -6,7 +6,7 @@ use diffsol::{NonLinearOp, OdeEquations, OdeSolverMethod, Vector};
 use super::integrator::{integrator_error, Eqn};
 use super::stepper::{EventKind, Stepper};
 use super::Phase;
-use crate::engine::iterate;
+use crate::engine::{iterate, EventPoint};
 use crate::error::SimError;
 use crate::result::EventRecord;
 
@@ -32,16 +32,13 @@ impl Stepper {
             if let EventKind::Input(k, value) = kind {
                 disc.inputs[k] = value;
             }
-            iterate(
-                &self.sys,
-                &mut self.cache,
-                disc,
+            let at = EventPoint {
                 t,
-                &self.x,
-                false,
+                x: &self.x,
                 horizon,
-                ws,
-            )?
+                initial: false,
+            };
+            iterate(&self.sys, &mut self.cache, disc, &at, ws)?
         };
         let disc = self.phase.borrow().disc.clone();
         let mm = self.cache.get(&self.sys, &disc, t)?;

@@ -30,7 +30,7 @@ use stepper::Stepper;
 use crate::assembly::assemble;
 use crate::engine::eval::{evaluate, DiscreteState, Workspace};
 use crate::engine::kkt::ModeMatrix;
-use crate::engine::{iterate, ModeCache};
+use crate::engine::{iterate, EventPoint, ModeCache};
 use crate::error::{ModelError, SimError};
 use crate::model::ModelSpec;
 use crate::result::{row_values, EventRecord, SimResult};
@@ -140,16 +140,13 @@ impl Simulation {
         let mut ws = Workspace::new(&sys);
         let first_horizon = sys.time_events.first().copied().unwrap_or(f64::INFINITY);
         for initial in [true, false] {
-            iterate(
-                &sys,
-                &mut cache,
-                &mut disc,
-                t0,
-                &x0,
+            let at = EventPoint {
+                t: t0,
+                x: &x0,
+                horizon: first_horizon,
                 initial,
-                first_horizon,
-                &mut ws,
-            )?;
+            };
+            iterate(&sys, &mut cache, &mut disc, &at, &mut ws)?;
         }
         let log = initialization_log(&sys, &disc, t0);
         let mm = cache.get(&sys, &disc, t0)?;

@@ -12,6 +12,7 @@ pub mod rel;
 pub mod result;
 pub mod signals;
 pub mod simulation;
+pub mod sweep;
 pub mod switching;
 pub mod system;
 pub mod table;

@@ -79,6 +79,16 @@ impl Experiment {
         Ok(())
     }
 
+    /// The k-th point of the output grid.
+    pub fn grid_time(&self, k: usize) -> f64 {
+        (self.start_time + k as f64 * self.interval).min(self.stop_time)
+    }
+
+    /// The index of the last grid point (StopTime).
+    pub fn grid_len(&self) -> usize {
+        ((self.stop_time - self.start_time) / self.interval - 1e-9).ceil() as usize
+    }
+
     pub fn validate(&self) -> ModelResult<()> {
         let bad =
             |what: &str, why: &str| Err(ModelError::File(format!("experiment: {what} {why}")));

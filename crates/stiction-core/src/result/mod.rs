@@ -1,8 +1,14 @@
 //! Results: every output variable by its MSL name on the output grid plus both sides of every
 //! event (as MSL reference files have them), the event log and solver statistics.
 
+pub mod metric;
+mod probe;
+
 use std::rc::Rc;
 use std::sync::{Arc, OnceLock};
+
+pub use metric::{Accumulator, Metric};
+pub use probe::{Probe, RowView};
 
 use crate::engine::eval::{evaluate, DiscreteState, Workspace};
 use crate::engine::kkt::ModeMatrix;
@@ -127,22 +133,12 @@ impl SimResult {
     /// Variables that need no evaluation of the system: node angles and speeds, modes, flags.
     fn direct_column(&self, flat: Flat) -> Option<Vec<f64>> {
         let tr = &self.trajectory;
-        let n = self.system.nodes;
-        let rows = 0..tr.rows();
-        match flat {
-            Flat::Phi(node, s, offset) => Some(rows.map(|r| s * tr.x(r)[node] + offset).collect()),
-            Flat::W(node, s) => Some(rows.map(|r| s * tr.x(r)[n + node]).collect()),
-            Flat::Switch(k, var, s) if is_discrete(var) => {
-                let e = &self.system.switching[k];
-                let none = ElementValues::default();
-                let value = |r: usize| {
-                    let st = &self.discs[tr.disc[r] as usize].switching[k];
-                    s * e.variable(st, &none, var)
-                };
-                Some(rows.map(value).collect())
-            }
-            _ => None,
-        }
+        let sys = &*self.system;
+        flat.is_direct().then(|| {
+            (0..tr.rows())
+                .map(|r| flat.direct(sys, tr.x(r), &self.discs[tr.disc[r] as usize]))
+                .collect()
+        })
     }
 
     fn compute_table(&self) -> Vec<f64> {
@@ -194,6 +190,30 @@ enum Flat {
     General(usize, f64),
 }
 
+impl Flat {
+    /// Read from the state alone: an angle, a speed, a mode or flag.
+    fn is_direct(&self) -> bool {
+        match *self {
+            Flat::Phi(..) | Flat::W(..) => true,
+            Flat::Switch(_, var, _) => is_discrete(var),
+            _ => false,
+        }
+    }
+
+    /// Its value from the state alone (for `is_direct` ones).
+    fn direct(&self, sys: &System, x: &[f64], disc: &DiscreteState) -> f64 {
+        match *self {
+            Flat::Phi(node, s, offset) => s * x[node] + offset,
+            Flat::W(node, s) => s * x[sys.nodes + node],
+            Flat::Switch(k, var, s) => {
+                let none = ElementValues::default();
+                s * sys.switching[k].variable(&disc.switching[k], &none, var)
+            }
+            _ => f64::NAN,
+        }
+    }
+}
+
 fn compile(out: &Out, scale: f64, general: &mut Vec<Out>) -> Flat {
     let single = |rel: &crate::system::Rel| match rel.terms.as_slice() {
         [(node, c)] => Some((*node, *c)),
@@ -231,28 +251,43 @@ struct Recorder {
     general: Vec<Out>,
     flange_tau: Vec<f64>,
     scratch: Vec<f64>,
+    needs_flanges: bool,
 }
 
 impl Recorder {
     fn new(sys: &System, rows: usize) -> Self {
+        let all: Vec<usize> = (0..sys.outputs.len()).collect();
+        Self::select(sys, &all, rows)
+    }
+
+    /// A recorder of some outputs only (indices into `sys.outputs`).
+    fn select(sys: &System, outputs: &[usize], rows: usize) -> Self {
         let mut general = Vec::new();
-        let flat = sys
-            .outputs
+        let flat: Vec<Flat> = outputs
             .iter()
-            .map(|(_, out)| compile(out, 1.0, &mut general))
+            .map(|&i| compile(&sys.outputs[i].1, 1.0, &mut general))
             .collect();
+        let needs_flanges = flat
+            .iter()
+            .any(|f| matches!(f, Flat::Flange(..) | Flat::General(..)));
         Self {
-            data: Vec::with_capacity(rows * (sys.outputs.len() + 1)),
+            data: Vec::with_capacity(rows * (flat.len() + 1)),
             flat,
             general,
             flange_tau: vec![0.0; sys.flange_torques.ports()],
             scratch: Vec::new(),
+            needs_flanges,
         }
+    }
+
+    /// Whether a row needs an evaluation of the system (an output is not a state or a mode).
+    fn needs_evaluation(&self) -> bool {
+        self.flat.iter().any(|f| !f.is_direct())
     }
 
     /// Appends one row from an evaluated workspace.
     fn record(&mut self, sys: &System, ws: &Workspace, disc: &DiscreteState) {
-        if sys.flange_torques.ports() > 0 {
+        if self.needs_flanges && sys.flange_torques.ports() > 0 {
             sys.flange_torques.solve(
                 &|out: &Out| value(out, sys, ws, disc, &[]),
                 &mut self.flange_tau,

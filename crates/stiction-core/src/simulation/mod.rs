@@ -33,7 +33,7 @@ use crate::engine::kkt::ModeMatrix;
 use crate::engine::{iterate, EventPoint, ModeCache};
 use crate::error::{ModelError, SimError};
 use crate::model::ModelSpec;
-use crate::result::{row_values, EventRecord, SimResult};
+use crate::result::{row_values, EventRecord, RowView, SimResult};
 use crate::system::System;
 
 /// Assembles and simulates a model with its `[experiment]` settings.
@@ -65,7 +65,7 @@ pub(crate) struct Phase {
 /// Receives every output row (grid points and both sides of each event) and every mode change
 /// as the run produces them: streaming metrics and result writers plug in here.
 pub trait Observer {
-    fn row(&mut self, t: f64, x: &[f64], disc: &DiscreteState);
+    fn row(&mut self, row: &RowView);
     fn event(&mut self, _event: &EventRecord) {}
 }
 
@@ -304,8 +304,13 @@ impl Simulation {
         self.cancel_handle().cancel();
     }
 
+    /// Hands every row and mode change from now on to `observer`; set before the run
+    /// advances, it also receives the start row.
     pub fn set_observer(&mut self, observer: Box<dyn Observer>) {
         self.stepper.observer = Some(observer);
+        if self.stepper.now == self.stepper.sys.experiment.start_time {
+            self.stepper.notify_start_row();
+        }
     }
 
     /// Whether rows are kept for `into_result` (a sweep computing metrics keeps none).
@@ -360,6 +365,7 @@ impl Simulation {
     pub fn reset(&mut self) -> Result<(), SimError> {
         let mut fresh = Simulation::new(self.stepper.sys.clone())?;
         fresh.stepper.observer = self.stepper.observer.take();
+        fresh.stepper.notify_start_row();
         fresh.stepper.recording = self.stepper.recording;
         fresh.stepper.cancel = self.stepper.cancel.clone();
         fresh.stepper.cancel.store(false, Ordering::Relaxed);

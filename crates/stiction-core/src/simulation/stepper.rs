@@ -15,7 +15,7 @@ use super::{Observer, Phase};
 use crate::engine::eval::{evaluate, DiscreteState};
 use crate::engine::{indicator_count, indicator_label, indicators, ModeCache};
 use crate::error::SimError;
-use crate::result::{EventRecord, Stats, Trajectory};
+use crate::result::{EventRecord, RowView, Stats, Trajectory};
 use crate::system::System;
 
 /// The most state events and steps a run may take (a runaway, not a model, needs more).
@@ -161,13 +161,11 @@ impl Stepper {
     }
 
     fn grid_time(&self, k: usize) -> f64 {
-        let e = &self.sys.experiment;
-        (e.start_time + k as f64 * e.interval).min(e.stop_time)
+        self.sys.experiment.grid_time(k)
     }
 
     pub(super) fn grid_len(&self) -> usize {
-        let e = &self.sys.experiment;
-        ((e.stop_time - e.start_time) / e.interval - 1e-9).ceil() as usize
+        self.sys.experiment.grid_len()
     }
 
     /// Evaluates at (t, self.x) in the current discrete state; fills `z` if asked.
@@ -186,12 +184,30 @@ impl Stepper {
         }
     }
 
+    /// Shows the observer the start row (recorded at initialization, before it was set).
+    pub(super) fn notify_start_row(&mut self) {
+        let guard = self.phase.borrow();
+        if let Some(observer) = self.observer.as_mut() {
+            observer.row(&RowView {
+                t: self.last_row,
+                x: &self.x,
+                disc: &guard.disc,
+                horizon: guard.horizon,
+            });
+        }
+    }
+
     /// Records a row at (t, self.x) in the current discrete state.
     pub fn record_here(&mut self, t: f64) {
         self.last_row = t;
         let guard = self.phase.borrow();
         if let Some(observer) = self.observer.as_mut() {
-            observer.row(t, &self.x, &guard.disc);
+            observer.row(&RowView {
+                t,
+                x: &self.x,
+                disc: &guard.disc,
+                horizon: guard.horizon,
+            });
         }
         if !self.recording {
             return;

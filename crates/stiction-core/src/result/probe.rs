@@ -1,0 +1,81 @@
+//! Some output variables at single rows, computed exactly as the result computes them (bit for
+//! bit): what metrics and trajectory writers read while a run goes, without keeping its rows.
+
+use std::rc::Rc;
+use std::sync::Arc;
+
+use super::Recorder;
+use crate::engine::eval::{evaluate, DiscreteState, Workspace};
+use crate::engine::kkt::ModeMatrix;
+use crate::engine::ModeCache;
+use crate::error::SimError;
+use crate::system::System;
+
+/// One row of a run as it is produced.
+#[derive(Debug, Clone, Copy)]
+pub struct RowView<'a> {
+    pub t: f64,
+    pub x: &'a [f64],
+    pub disc: &'a DiscreteState,
+    /// The horizon of unhandled time events (the left row of an event has it at `t`).
+    pub horizon: f64,
+}
+
+pub struct Probe {
+    sys: Arc<System>,
+    recorder: Recorder,
+    ws: Workspace,
+    cache: ModeCache,
+    /// The mode last evaluated, to skip the cache's lookup while the mode stays.
+    mode: Option<(DiscreteState, Rc<ModeMatrix>)>,
+}
+
+impl Probe {
+    /// A probe of the named output variables; an unknown name is a usage error.
+    pub fn new(sys: Arc<System>, names: &[String]) -> Result<Self, SimError> {
+        let columns = names
+            .iter()
+            .map(|name| {
+                sys.outputs
+                    .iter()
+                    .position(|(n, _)| n == name)
+                    .ok_or_else(|| SimError::Usage(format!("unknown variable '{name}'")))
+            })
+            .collect::<Result<Vec<usize>, _>>()?;
+        Ok(Self {
+            recorder: Recorder::select(&sys, &columns, 1),
+            ws: Workspace::new(&sys),
+            cache: ModeCache::default(),
+            mode: None,
+            sys,
+        })
+    }
+
+    /// The variables at `row`, in the order they were named.
+    pub fn values(&mut self, row: &RowView) -> Result<&[f64], SimError> {
+        self.recorder.data.clear();
+        let sys = &*self.sys;
+        if !self.recorder.needs_evaluation() {
+            let x = row.x;
+            let values = self
+                .recorder
+                .flat
+                .iter()
+                .map(|f| f.direct(sys, x, row.disc));
+            self.recorder.data.push(row.t);
+            self.recorder.data.extend(values);
+            return Ok(&self.recorder.data[1..]);
+        }
+        let mm = match &self.mode {
+            Some((disc, mm)) if disc == row.disc => mm.clone(),
+            _ => {
+                let mm = self.cache.get(sys, row.disc, row.t)?;
+                self.mode = Some((row.disc.clone(), mm.clone()));
+                mm
+            }
+        };
+        evaluate(sys, &mm, row.disc, row.t, row.x, row.horizon, &mut self.ws);
+        self.recorder.record(sys, &self.ws, row.disc);
+        Ok(&self.recorder.data[1..])
+    }
+}

@@ -1,0 +1,265 @@
+//! Sweeps: many variants of one compiled model, run in parallel (rayon), each giving its
+//! metrics and, if asked, trajectories on the output grid. The compiled model is shared
+//! read-only; each variant builds its system and runs its own `Simulation` on one thread. A
+//! variant that fails (an invalid value, a solver failure) gives its error as its status and
+//! never stops the others. Results come back in the order of the variants, whatever the number
+//! of threads: they are the same to the last bit.
+
+use std::cell::RefCell;
+use std::rc::Rc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use crate::assembly::CompiledModel;
+use crate::error::ModelResult;
+use crate::model::Experiment;
+use crate::result::{Accumulator, EventRecord, Metric, Probe, RowView};
+use crate::simulation::{Observer, Simulation};
+
+/// An override: a parameter, start value or experiment setting by name, and its value.
+pub type Override = (String, toml::Value);
+
+/// What each variant reports.
+#[derive(Debug, Clone)]
+pub struct Plan {
+    pub metrics: Vec<Metric>,
+    /// Variables kept as trajectories on the output grid.
+    pub outputs: Vec<String>,
+}
+
+impl Plan {
+    /// Checks the metrics and outputs against the compiled model's variables.
+    pub fn new(cm: &CompiledModel, metrics: &[String], outputs: &[String]) -> ModelResult<Self> {
+        let sys = cm.system();
+        let names: Vec<String> = sys.outputs.iter().map(|(n, _)| n.clone()).collect();
+        let elements: Vec<String> = sys.switching.iter().map(|e| e.name().to_string()).collect();
+        let metrics = metrics
+            .iter()
+            .map(|m| Metric::parse(m, &names, &elements))
+            .collect::<ModelResult<Vec<_>>>()?;
+        for name in outputs {
+            if !names.contains(name) {
+                return Err(crate::error::ModelError::File(format!(
+                    "output '{name}' is not a variable of the model"
+                )));
+            }
+        }
+        Ok(Plan {
+            metrics,
+            outputs: outputs.to_vec(),
+        })
+    }
+
+    /// The variables a run must probe: those of the metrics, then the outputs.
+    fn probed(&self) -> Vec<String> {
+        let mut names: Vec<String> = Vec::new();
+        for name in self.metrics.iter().filter_map(|m| m.variable.as_ref()) {
+            if !names.contains(name) {
+                names.push(name.clone());
+            }
+        }
+        for name in &self.outputs {
+            if !names.contains(name) {
+                names.push(name.clone());
+            }
+        }
+        names
+    }
+}
+
+/// One variant's outcome.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    /// One value per metric (NaN where the variant failed).
+    pub metrics: Vec<f64>,
+    /// One trajectory per output, on the output grid (empty where the variant failed).
+    pub trajectories: Vec<Vec<f64>>,
+    /// None when it ran to the end; otherwise the error, as the user would read it.
+    pub error: Option<String>,
+    pub wall_s: f64,
+}
+
+/// Runs one variant.
+pub fn run_variant(cm: &CompiledModel, overrides: &[Override], plan: &Plan) -> Outcome {
+    let started = Instant::now();
+    let result = run(cm, overrides, plan);
+    let wall_s = started.elapsed().as_secs_f64();
+    match result {
+        Ok((metrics, trajectories)) => Outcome {
+            metrics,
+            trajectories,
+            error: None,
+            wall_s,
+        },
+        Err(error) => Outcome {
+            metrics: vec![f64::NAN; plan.metrics.len()],
+            trajectories: Vec::new(),
+            error: Some(error),
+            wall_s,
+        },
+    }
+}
+
+/// Runs the variants on `workers` threads (every core when None), in their order. Once
+/// `cancel` is set, the variants not started yet report "cancelled".
+pub fn run_variants(
+    cm: &CompiledModel,
+    variants: &[Vec<Override>],
+    plan: &Plan,
+    workers: Option<usize>,
+    cancel: &AtomicBool,
+) -> Vec<Outcome> {
+    let one = |overrides: &Vec<Override>| {
+        if cancel.load(Ordering::Relaxed) {
+            return Outcome {
+                metrics: vec![f64::NAN; plan.metrics.len()],
+                trajectories: Vec::new(),
+                error: Some("cancelled".into()),
+                wall_s: 0.0,
+            };
+        }
+        run_variant(cm, overrides, plan)
+    };
+    if workers == Some(1) {
+        return variants.iter().map(one).collect();
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(workers.unwrap_or(0))
+        .build();
+    match pool {
+        Ok(pool) => pool.install(|| variants.par_iter().map(one).collect()),
+        // no threads to be had: run them here
+        Err(_) => variants.iter().map(one).collect(),
+    }
+}
+
+type Values = (Vec<f64>, Vec<Vec<f64>>);
+
+fn run(cm: &CompiledModel, overrides: &[Override], plan: &Plan) -> Result<Values, String> {
+    let pairs: Vec<(&str, toml::Value)> = overrides
+        .iter()
+        .map(|(n, v)| (n.as_str(), v.clone()))
+        .collect();
+    let variant = cm.with(&pairs).map_err(|e| e.to_string())?;
+    let sys = variant.system();
+    let probe = Probe::new(sys.clone(), &plan.probed()).map_err(|e| e.to_string())?;
+    let watch = Rc::new(RefCell::new(Watch::new(plan, probe, &sys.experiment)));
+    let mut sim = Simulation::new(sys).map_err(|e| e.to_string())?;
+    sim.set_recording(false);
+    sim.set_observer(Box::new(Shared(watch.clone())));
+    sim.run().map_err(|e| e.to_string())?;
+    drop(sim);
+    let watch = Rc::try_unwrap(watch)
+        .map_err(|_| "internal: the observer outlived its run".to_string())?
+        .into_inner();
+    watch.finish()
+}
+
+/// The metrics and trajectories of one run, fed row by row.
+struct Watch {
+    probe: Probe,
+    /// For each metric, the index of its variable among the probed ones.
+    metric_column: Vec<Option<usize>>,
+    accumulators: Vec<Accumulator>,
+    output_column: Vec<usize>,
+    grid: Grid,
+    trajectories: Vec<Vec<f64>>,
+    error: Option<String>,
+}
+
+impl Watch {
+    fn new(plan: &Plan, probe: Probe, experiment: &Experiment) -> Self {
+        let probed = plan.probed();
+        let column = |name: &String| probed.iter().position(|n| n == name);
+        let grid = Grid::new(experiment);
+        Watch {
+            metric_column: (plan.metrics.iter())
+                .map(|m| m.variable.as_ref().and_then(column))
+                .collect(),
+            accumulators: plan.metrics.iter().map(Accumulator::new).collect(),
+            output_column: plan.outputs.iter().filter_map(column).collect(),
+            trajectories: vec![vec![f64::NAN; grid.points()]; plan.outputs.len()],
+            grid,
+            probe,
+            error: None,
+        }
+    }
+
+    fn finish(self) -> Result<Values, String> {
+        if let Some(error) = self.error {
+            return Err(error);
+        }
+        let metrics = self.accumulators.iter().map(Accumulator::value).collect();
+        Ok((metrics, self.trajectories))
+    }
+}
+
+/// The observer handed to the `Simulation`; the sweep reads the `Watch` after the run.
+struct Shared(Rc<RefCell<Watch>>);
+
+impl Observer for Shared {
+    fn row(&mut self, row: &RowView) {
+        let mut guard = self.0.borrow_mut();
+        let w = &mut *guard;
+        if w.error.is_some() {
+            return;
+        }
+        let values = match w.probe.values(row) {
+            Ok(values) => values,
+            Err(e) => {
+                w.error = Some(e.to_string());
+                return;
+            }
+        };
+        for (acc, column) in w.accumulators.iter_mut().zip(&w.metric_column) {
+            if let Some(c) = column {
+                acc.row(row.t, values[*c]);
+            }
+        }
+        if let Some(k) = w.grid.point(row.t) {
+            for (traj, &c) in w.trajectories.iter_mut().zip(&w.output_column) {
+                traj[k] = values[c];
+            }
+        }
+    }
+
+    fn event(&mut self, event: &EventRecord) {
+        if event.cause != "initialization" {
+            for acc in &mut self.0.borrow_mut().accumulators {
+                acc.event(&event.component);
+            }
+        }
+    }
+}
+
+/// Which rows fall on the output grid: a later row at the same instant (the right side of an
+/// event there) replaces the earlier one.
+struct Grid {
+    experiment: Experiment,
+    next: usize,
+}
+
+impl Grid {
+    fn new(experiment: &Experiment) -> Self {
+        Grid {
+            experiment: experiment.clone(),
+            next: 0,
+        }
+    }
+
+    fn points(&self) -> usize {
+        self.experiment.grid_len() + 1
+    }
+
+    fn point(&mut self, t: f64) -> Option<usize> {
+        let eps = 1e-12 * t.abs().max(1.0);
+        while self.next < self.points() && self.experiment.grid_time(self.next) < t - eps {
+            self.next += 1;
+        }
+        let on_grid =
+            self.next < self.points() && (self.experiment.grid_time(self.next) - t).abs() <= eps;
+        on_grid.then_some(self.next)
+    }
+}

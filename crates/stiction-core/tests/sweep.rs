@@ -1,0 +1,164 @@
+//! Sweeps in the core: every metric equals the same metric of a single run of that variant, to
+//! the last bit; trajectories equal the single run's signals on the output grid; the outcome
+//! does not depend on the number of threads; a failing variant reports its error and the
+//! others run.
+
+use std::sync::atomic::AtomicBool;
+
+use stiction_core::assembly::CompiledModel;
+use stiction_core::sweep::{run_variants, Override, Plan};
+use stiction_core::{ModelSpec, SimResult, Simulation};
+
+const COUPLED: &str = include_str!("../../../examples/msl/CoupledClutches.toml");
+const FLYWHEEL: &str = include_str!("../../../examples/braked_flywheel.toml");
+
+const METRICS: &[&str] = &[
+    "final(J4.w)",
+    "max(J1.w)",
+    "min(clutch1.tau)",
+    "integral(clutch1.lossPower)",
+    "mean(J2.w)",
+    "time_of(clutch3.locked)",
+    "time_of(J1.w < 5)",
+    "events(clutch1)",
+    "events()",
+];
+
+fn compiled(text: &str) -> CompiledModel {
+    CompiledModel::new(ModelSpec::from_toml(text, ".").unwrap()).unwrap()
+}
+
+fn single(cm: &CompiledModel, overrides: &[Override]) -> SimResult {
+    let pairs: Vec<(&str, toml::Value)> = overrides
+        .iter()
+        .map(|(n, v)| (n.as_str(), v.clone()))
+        .collect();
+    let mut sim = Simulation::new(cm.with(&pairs).unwrap().system()).unwrap();
+    sim.run().unwrap();
+    sim.into_result()
+}
+
+fn variants(names: &[&str], values: &[[f64; 2]]) -> Vec<Vec<Override>> {
+    values
+        .iter()
+        .map(|v| {
+            names
+                .iter()
+                .zip(v)
+                .map(|(n, x)| (n.to_string(), toml::Value::Float(*x)))
+                .collect()
+        })
+        .collect()
+}
+
+/// The single run's value at each grid time: the last row at that instant.
+fn on_grid(r: &SimResult, name: &str, grid: &[f64]) -> Vec<f64> {
+    let (t, v) = (r.column("time").unwrap(), r.column(name).unwrap());
+    grid.iter()
+        .map(|&tg| {
+            let row = t
+                .iter()
+                .rposition(|&ti| (ti - tg).abs() <= 1e-12 * tg.abs().max(1.0));
+            v[row.expect("every grid time has a row")]
+        })
+        .collect()
+}
+
+#[test]
+fn sweep_metrics_and_trajectories_equal_single_runs_whatever_the_threads() {
+    let cm = compiled(COUPLED);
+    let metrics: Vec<String> = METRICS.iter().map(|m| m.to_string()).collect();
+    let outputs = vec!["J1.w".to_string(), "clutch2.mode".to_string()];
+    let plan = Plan::new(&cm, &metrics, &outputs).unwrap();
+    let vs = variants(
+        &["clutch1.fn_max", "sin1.f"],
+        &[[20.0, 5.0], [8.0, 3.0], [40.0, 7.5], [15.0, 1.0]],
+    );
+    let cancel = AtomicBool::new(false);
+    let one = run_variants(&cm, &vs, &plan, Some(1), &cancel);
+    let two = run_variants(&cm, &vs, &plan, Some(2), &cancel);
+    let exp = &cm.spec().experiment;
+    let grid: Vec<f64> = (0..=exp.grid_len()).map(|k| exp.grid_time(k)).collect();
+    for (k, overrides) in vs.iter().enumerate() {
+        assert!(one[k].error.is_none(), "{:?}", one[k].error);
+        let r = single(&cm, overrides);
+        for (m, text) in METRICS.iter().enumerate() {
+            let expected = r.metric(text).unwrap();
+            let (a, b) = (one[k].metrics[m], two[k].metrics[m]);
+            assert!(
+                a.to_bits() == expected.to_bits() || (a.is_nan() && expected.is_nan()),
+                "variant {k} {text}: sweep {a}, single run {expected}"
+            );
+            assert!(
+                a.to_bits() == b.to_bits(),
+                "threads change {text}: {a} vs {b}"
+            );
+        }
+        for (o, name) in outputs.iter().enumerate() {
+            assert_eq!(one[k].trajectories[o], on_grid(&r, name, &grid), "{name}");
+            assert_eq!(one[k].trajectories[o], two[k].trajectories[o]);
+        }
+    }
+    // the variants differ from each other: the overrides acted
+    assert_ne!(one[0].metrics[0], one[1].metrics[0]);
+}
+
+#[test]
+fn a_failing_variant_reports_its_error_and_the_others_run() {
+    let cm = compiled(FLYWHEEL);
+    let metrics = vec![
+        "integral(brake.lossPower)".to_string(),
+        "time_of(brake.locked)".to_string(),
+    ];
+    let plan = Plan::new(&cm, &metrics, &[]).unwrap();
+    let vs = variants(
+        &["brake.fn_max", "flywheel.w"],
+        &[[2000.0, 100.0], [-5.0, 100.0], [3000.0, 80.0]],
+    );
+    let out = run_variants(&cm, &vs, &plan, None, &AtomicBool::new(false));
+    let error = out[1]
+        .error
+        .as_deref()
+        .expect("the negative fn_max is refused");
+    assert!(
+        error.contains("brake") && error.contains("fn_max"),
+        "{error}"
+    );
+    assert!(out[1].metrics.iter().all(|m| m.is_nan()));
+    for k in [0, 2] {
+        assert!(out[k].error.is_none(), "{:?}", out[k].error);
+        // the brake dissipates the flywheel's kinetic energy: ½·J·w² (J = 2)
+        let w0 = if k == 0 { 100.0 } else { 80.0 };
+        let loss = out[k].metrics[0];
+        assert!(
+            (loss - w0 * w0).abs() < 1e-3 * w0 * w0,
+            "variant {k}: {loss}"
+        );
+        assert!(
+            out[k].metrics[1] > 0.5,
+            "it locks after the brake is applied"
+        );
+    }
+    // cancelled before starting: every variant says so
+    let cancelled = run_variants(&cm, &vs, &plan, Some(2), &AtomicBool::new(true));
+    assert!(cancelled
+        .iter()
+        .all(|o| o.error.as_deref() == Some("cancelled")));
+}
+
+#[test]
+fn bad_metrics_and_outputs_are_refused_before_any_run() {
+    let cm = compiled(COUPLED);
+    let plan = |m: &str, o: &[&str]| {
+        let outputs: Vec<String> = o.iter().map(|s| s.to_string()).collect();
+        Plan::new(&cm, &[m.to_string()], &outputs)
+    };
+    assert!(plan("max(J1.ww)", &[])
+        .unwrap_err()
+        .to_string()
+        .contains("J1.ww"));
+    assert!(plan("max(J1.w)", &["J9.w"])
+        .unwrap_err()
+        .to_string()
+        .contains("J9.w"));
+}

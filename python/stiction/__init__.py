@@ -10,6 +10,7 @@ from __future__ import annotations
 from typing import Any as _Any
 
 from .compare import CompareReport, compare
+from .compiled import CompiledModel
 from .components import (
     Add,
     BearingFriction,
@@ -64,6 +65,7 @@ from .errors import (
 from .model import Model
 from .result import Event, Result
 from .simulation import CancelHandle, Simulation, SimulationState
+from .sweeps import SweepResult, grid, sample, sweep
 
 try:
     from importlib.metadata import PackageNotFoundError, version
@@ -80,6 +82,7 @@ __all__ = [
     "ChatteringError",
     "Clutch",
     "CompareReport",
+    "CompiledModel",
     "Component",
     "Constant",
     "ConstantSpeed",
@@ -122,12 +125,16 @@ __all__ = [
     "Step",
     "StepLimitError",
     "StictionError",
+    "SweepResult",
     "ThermalConductor",
     "TimeTable",
     "Torque",
     "TorqueStep",
     "UsageError",
     "compare",
+    "grid",
+    "sample",
+    "sweep",
 ]
 
 

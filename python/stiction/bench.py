@@ -10,10 +10,11 @@ from __future__ import annotations
 import statistics
 import time
 from dataclasses import dataclass
+from typing import Any
 
 from .model import Model
 
-__all__ = ["BenchRow", "bench"]
+__all__ = ["BenchRow", "SweepBench", "bench", "bench_sweep"]
 
 
 @dataclass(frozen=True)
@@ -56,3 +57,55 @@ def bench(model: Model, repeat: int = 50, warmup: int = 3) -> BenchRow:
         rhs_evals=int(stats.get("rhs_evals", 0)),
         events=int(stats.get("events", len(result.events))),
     )
+
+
+@dataclass(frozen=True)
+class SweepBench:
+    """Wall-clock time of one sweep and what a single run of the model costs."""
+
+    variants: int
+    workers: int
+    seconds: float
+    single_run_ms: float
+
+    @property
+    def per_variant_ms(self) -> float:
+        """Wall time per variant (all workers together)."""
+        return 1e3 * self.seconds / self.variants
+
+
+def bench_sweep(model: Model, variants: int, workers: int | None) -> SweepBench:
+    """Sweep ``variants`` Monte Carlo variants of ``model`` (clutch/brake ``fn_max`` of the
+    first friction element found, ±50 %) with two metrics and no trajectories."""
+    import os
+
+    from .sweeps import sample, sweep
+
+    compiled = model.compile()
+    name = next(
+        (f"{n}.fn_max" for n, c in model.components.items() if "fn_max" in c.params),
+        None,
+    )
+    dists = (
+        {
+            name: (
+                0.5 * float(model.components[name.split(".")[0]].params["fn_max"]),
+                1.5 * float(model.components[name.split(".")[0]].params["fn_max"]),
+            )
+        }
+        if name
+        else {}
+    )
+    table = sample(variants, seed=1, dists=dists or {"StopTime": (0.9, 1.0)})
+    first_var = compiled.simulate().names[1]
+    metrics = [f"max({first_var})", "events()"]
+    single = min(_timed(lambda: compiled.simulate()) for _ in range(20))
+    sweep(compiled, table.iloc[: min(64, variants)], metrics, workers=workers, progress=False)  # warm up
+    seconds = _timed(lambda: sweep(compiled, table, metrics, workers=workers, progress=False)) / 1e3
+    return SweepBench(variants, workers or os.cpu_count() or 1, seconds, single)
+
+
+def _timed(run: Any) -> float:
+    start = time.perf_counter()
+    run()
+    return (time.perf_counter() - start) * 1e3

@@ -195,8 +195,15 @@ def compare_cmd(result_csv: Path, reference_csv: Path, tolerance: float, signals
     show_default=True,
     help="Untimed runs before timing.",
 )
+@click.option(
+    "--sweep",
+    "sweep_variants",
+    type=click.IntRange(min=1),
+    default=None,
+    help="Time a sweep of this many variants instead (1 worker and every core).",
+)
 @_friendly_errors
-def bench(model_files: tuple[Path, ...], repeat: int, warmup: int) -> None:
+def bench(model_files: tuple[Path, ...], repeat: int, warmup: int, sweep_variants: int | None) -> None:
     """Time whole runs of MODEL_FILES (default: MSL CoupledClutches, Friction, SimpleGearShift, HeatLosses)."""
     from .bench import bench as run_bench
     from .model import Model
@@ -204,6 +211,9 @@ def bench(model_files: tuple[Path, ...], repeat: int, warmup: int) -> None:
     files = list(model_files) or [EXAMPLES_DIR / f"{n}.toml" for n in DEFAULT_BENCH]
     if not model_files and not all(f.is_file() for f in files):
         _fail(f"no MODEL files given and the default examples are not in {EXAMPLES_DIR}")
+    if sweep_variants is not None:
+        _bench_sweeps(list(model_files) or [EXAMPLES_DIR / "CoupledClutches.toml"], sweep_variants)
+        return
     click.echo(
         f"{'model':<24} {'median ms':>10} {'min ms':>10} {'+all vars ms':>13} "
         f"{'steps':>7} {'rhs evals':>10} {'events':>7}"
@@ -217,3 +227,23 @@ def bench(model_files: tuple[Path, ...], repeat: int, warmup: int) -> None:
             f"{row.model:<24} {row.median_ms:>10.3f} {row.min_ms:>10.3f} {row.table_ms:>13.3f} "
             f"{row.steps:>7} {row.rhs_evals:>10} {row.events:>7}"
         )
+
+
+def _bench_sweeps(files: list[Path], variants: int) -> None:
+    from .bench import bench_sweep
+    from .model import Model
+
+    click.echo(
+        f"{'model':<24} {'variants':>9} {'workers':>8} {'total s':>9} {'ms/variant':>11} {'single run ms':>14}"
+    )
+    for path in files:
+        model = Model.load(path)
+        for workers in (1, None):
+            row = bench_sweep(model, variants, workers)
+            click.echo(
+                f"{model.name:<24} {row.variants:>9} {row.workers:>8} {row.seconds:>9.2f} "
+                f"{row.per_variant_ms:>11.3f} {row.single_run_ms:>14.3f}"
+            )
+
+
+from . import cli_sweep as _cli_sweep  # noqa: F401  (registers `stiction sweep`)

@@ -22,6 +22,7 @@ from .errors import ModelError
 from .result import Result
 
 if TYPE_CHECKING:
+    from .compiled import CompiledModel
     from .simulation import Simulation
 
 __all__ = ["Model"]
@@ -48,6 +49,8 @@ class Model:
         self.inputs: dict[str, float] = {}
         # Relative file names in parameters (a TimeTable CSV …) are relative to this.
         self.base_dir = Path(base_dir)
+        # The compiled form of the model text it was made from (see `compile`).
+        self._compiled: tuple[tuple[str, str], CompiledModel] | None = None
 
     # --- building ---------------------------------------------------------------------
     def add(self, name: str, component: Component) -> Model:
@@ -221,22 +224,37 @@ class Model:
 
         _core.check(self.to_toml(), str(self.base_dir))
 
+    def compile(self) -> CompiledModel:
+        """The model compiled for repeated runs; reused while the model is unchanged.
+
+        Any change to the model, through any API, changes its text and so compiles anew.
+        """
+        from .compiled import CompiledModel
+
+        key = (self.to_toml(), str(self.base_dir))
+        if self._compiled is None or self._compiled[0] != key:
+            self._compiled = (key, CompiledModel(key[0], self.base_dir, self.name))
+        return self._compiled[1]
+
     def simulate(
         self,
         StartTime: float | None = None,  # MSL experiment names, hence capitalised
         StopTime: float | None = None,
         Interval: float | None = None,
         Tolerance: float | None = None,
+        Solver: str | None = None,
+        params: Mapping[str, Any] | None = None,
     ) -> Result:
-        """Run the model; arguments override its experiment settings for this run."""
-        from . import _core
+        """Run the model; arguments override its experiment settings for this run.
 
-        given: Mapping[str, float | None] = {
-            "StartTime": StartTime,
-            "StopTime": StopTime,
-            "Interval": Interval,
-            "Tolerance": Tolerance,
-        }
-        overrides = {k: float(v) for k, v in given.items() if v is not None}
-        raw = _core.simulate(self.to_toml(), str(self.base_dir), overrides)
-        return Result.from_core(raw, name=self.name)
+        ``params`` overrides parameters and start values by name for this run
+        (``{"clutch1.fn_max": 30, "J1.w": 5}``); the model itself is unchanged.
+        """
+        return self.compile().simulate(
+            params,
+            StartTime=StartTime,
+            StopTime=StopTime,
+            Interval=Interval,
+            Tolerance=Tolerance,
+            Solver=Solver,
+        )

@@ -74,6 +74,15 @@ class Result:
         """Wrap the engine's raw result; variables are computed when first read."""
         return cls(raw.names, None, raw.events, raw.stats, name=name, source=raw)
 
+    def metric(self, text: str) -> float:
+        """A metric of this run, written as what it computes: ``final(J4.w)``, ``max(J1.w)``,
+        ``min(…)``, ``integral(brake.lossPower)``, ``mean(…)``, ``time_of(clutch2.locked)``
+        (or ``time_of(J1.w < 1)``), ``events(clutch1)``, ``events()``. A sweep computes the
+        same value to the last bit."""
+        if self._source is None:
+            raise ValueError("metrics need a result of the engine (not one read from a file)")
+        return float(self._source.metric(text))
+
     @property
     def data(self) -> np.ndarray:
         """All variables, one column per name (computed on first use)."""

@@ -142,8 +142,7 @@ fn run(cm: &CompiledModel, overrides: &[Override], plan: &Plan) -> Result<Values
         .iter()
         .map(|(n, v)| (n.as_str(), v.clone()))
         .collect();
-    let variant = cm.with(&pairs).map_err(|e| e.to_string())?;
-    let sys = variant.system();
+    let sys = cm.variant_system(&pairs).map_err(|e| e.to_string())?;
     let probe = Probe::new(sys.clone(), &plan.probed()).map_err(|e| e.to_string())?;
     let watch = Rc::new(RefCell::new(Watch::new(plan, probe, &sys.experiment)));
     let mut sim = Simulation::new(sys).map_err(|e| e.to_string())?;

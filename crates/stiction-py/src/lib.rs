@@ -1,6 +1,8 @@
 //! `stiction._core`: the Python face of the Rust engine. Converts in and out, releases the GIL
 //! while simulating, and turns every error — and any panic — into a Python exception.
 
+mod compiled;
+
 use std::collections::HashMap;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
@@ -121,6 +123,11 @@ impl RawResult {
             .detach(|| self.0.column(name))
             .ok_or_else(|| PyKeyError::new_err(name.to_string()))?;
         Ok(PyArray1::from_vec(py, values))
+    }
+
+    /// A metric of this run (`max(J1.w)`, `time_of(clutch2.locked)`, …), as a sweep computes it.
+    fn metric(&self, text: &str) -> PyResult<f64> {
+        self.0.metric(text).map_err(model_err)
     }
 
     /// All variables as a `rows × len(names)` array.
@@ -312,6 +319,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PySimulation>()?;
     m.add_class::<PyCancelHandle>()?;
     m.add_class::<PyState>()?;
+    m.add_class::<compiled::PyCompiled>()?;
     // The exception classes are Python's (`stiction.errors`); re-exported here for old code.
     let errors = m.py().import("stiction.errors")?;
     for name in ["ModelError", "SimulationError"] {

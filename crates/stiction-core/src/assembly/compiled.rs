@@ -7,10 +7,10 @@
 
 use std::sync::Arc;
 
-use super::{build, create_components, Topology};
+use super::{build, build_with, create_components, SpecView, Topology};
 use crate::components::{self, Component};
 use crate::error::{ModelError, ModelResult};
-use crate::model::ModelSpec;
+use crate::model::{ComponentSpec, Experiment, ModelSpec};
 use crate::system::System;
 
 /// The experiment settings a variant may change, by their MSL names.
@@ -80,42 +80,103 @@ impl CompiledModel {
         overrides: &[(&str, toml::Value)],
     ) -> ModelResult<(Self, Recompiled)> {
         let mut spec = (*self.spec).clone();
+        let changed = self.apply(&mut spec.experiment, overrides, |ci, parameter, value| {
+            let params = &mut spec.components[ci].params;
+            params.insert(parameter.to_string(), value.clone());
+        })?;
+        let (components, topology, how) = self.recompile(&spec, &changed)?;
+        let system = build(&spec, &topology, &components)?;
+        let variant = Self {
+            spec: Arc::new(spec),
+            components: Arc::new(components),
+            topology,
+            system: Arc::new(system),
+        };
+        Ok((variant, how))
+    }
+
+    /// Only the system of a variant: what a sweep runs (no copy of the model description
+    /// beyond the components it changes).
+    pub fn variant_system(&self, overrides: &[(&str, toml::Value)]) -> ModelResult<Arc<System>> {
+        if overrides.is_empty() {
+            return Ok(self.system.clone());
+        }
+        let mut experiment = self.spec.experiment.clone();
+        let mut edited: Vec<(usize, ComponentSpec)> = Vec::new();
+        let changed = self.apply(&mut experiment, overrides, |ci, parameter, value| {
+            let at = match edited.iter().position(|(k, _)| *k == ci) {
+                Some(at) => at,
+                None => {
+                    edited.push((ci, self.spec.components[ci].clone()));
+                    edited.len() - 1
+                }
+            };
+            edited[at]
+                .1
+                .params
+                .insert(parameter.to_string(), value.clone());
+        })?;
+        let mut comps: Vec<Arc<dyn Component>> = (*self.components).clone();
+        for (ci, component) in &edited {
+            comps[*ci] = components::create(component, &self.spec.base_dir)?.into();
+        }
+        if !changed
+            .iter()
+            .all(|&ci| comps[ci].ports() == self.topology.port_decls[ci])
+        {
+            // a structural change: the general path
+            return Ok(self.with(overrides)?.system());
+        }
+        let view = SpecView {
+            name: &self.spec.name,
+            experiment: &experiment,
+        };
+        Ok(Arc::new(build_with(&view, &self.topology, &comps)?))
+    }
+
+    /// Applies overrides: experiment settings into `experiment`, parameters through `set`
+    /// (component index, parameter, value). Returns the changed components, sorted.
+    fn apply(
+        &self,
+        experiment: &mut Experiment,
+        overrides: &[(&str, toml::Value)],
+        mut set: impl FnMut(usize, &str, &toml::Value),
+    ) -> ModelResult<Vec<usize>> {
         let mut changed: Vec<usize> = Vec::new();
         for (name, value) in overrides {
             match name.split_once('.') {
                 Some((component, parameter)) => {
                     let ci = self.component_index(component)?;
-                    let params = &mut spec.components[ci].params;
-                    params.insert(parameter.to_string(), value.clone());
+                    set(ci, parameter, value);
                     changed.push(ci);
                 }
-                None => set_experiment(&mut spec, name, value)?,
+                None => set_experiment(experiment, name, value)?,
             }
         }
-        spec.experiment.validate()?;
+        experiment.validate()?;
         changed.sort_unstable();
         changed.dedup();
+        Ok(changed)
+    }
+
+    /// The components of `spec` with `changed` ones created anew, and the topology they need.
+    fn recompile(
+        &self,
+        spec: &ModelSpec,
+        changed: &[usize],
+    ) -> ModelResult<(Vec<Arc<dyn Component>>, Arc<Topology>, Recompiled)> {
         let mut comps: Vec<Arc<dyn Component>> = (*self.components).clone();
-        for &ci in &changed {
+        for &ci in changed {
             comps[ci] = components::create(&spec.components[ci], &spec.base_dir)?.into();
         }
         let same_ports = changed
             .iter()
             .all(|&ci| comps[ci].ports() == self.topology.port_decls[ci]);
-        let (topology, how) = if same_ports {
-            (self.topology.clone(), Recompiled::Build)
-        } else {
-            let topology = Topology::resolve(&spec, &comps)?;
-            (Arc::new(topology), Recompiled::Topology)
-        };
-        let system = build(&spec, &topology, &comps)?;
-        let variant = Self {
-            spec: Arc::new(spec),
-            components: Arc::new(comps),
-            topology,
-            system: Arc::new(system),
-        };
-        Ok((variant, how))
+        if same_ports {
+            return Ok((comps, self.topology.clone(), Recompiled::Build));
+        }
+        let topology = Topology::resolve(spec, &comps)?;
+        Ok((comps, Arc::new(topology), Recompiled::Topology))
     }
 
     fn component_index(&self, name: &str) -> ModelResult<usize> {
@@ -133,13 +194,13 @@ impl CompiledModel {
     }
 }
 
-fn set_experiment(spec: &mut ModelSpec, name: &str, value: &toml::Value) -> ModelResult<()> {
+fn set_experiment(experiment: &mut Experiment, name: &str, value: &toml::Value) -> ModelResult<()> {
     let error = |message: String| ModelError::File(format!("experiment: {message}"));
     if name == "Solver" {
         let solver = value
             .as_str()
             .ok_or_else(|| error("Solver must be a string".into()))?;
-        spec.experiment.solver = solver.to_string();
+        experiment.solver = solver.to_string();
         return Ok(());
     }
     if !EXPERIMENT.contains(&name) {
@@ -152,5 +213,5 @@ fn set_experiment(spec: &mut ModelSpec, name: &str, value: &toml::Value) -> Mode
         .as_float()
         .or_else(|| value.as_integer().map(|i| i as f64))
         .ok_or_else(|| error(format!("{name} must be a number")))?;
-    spec.experiment.set(name, number)
+    experiment.set(name, number)
 }

@@ -13,7 +13,7 @@ pub use topology::Topology;
 
 use crate::components::{self, Component};
 use crate::error::{ModelError, ModelResult};
-use crate::model::ModelSpec;
+use crate::model::{Experiment, ModelSpec};
 use crate::signals::{BlockElem, SignalGraph};
 use crate::system::flange::FlangeBuilder;
 use crate::system::outputs::EnergyVar;
@@ -61,6 +61,25 @@ pub fn build(
     topo: &Topology,
     comps: &[Arc<dyn Component>],
 ) -> ModelResult<System> {
+    let view = SpecView {
+        name: &spec.name,
+        experiment: &spec.experiment,
+    };
+    build_with(&view, topo, comps)
+}
+
+/// What a build reads of the model description besides its components.
+pub struct SpecView<'a> {
+    pub name: &'a str,
+    pub experiment: &'a Experiment,
+}
+
+/// `build` from the name and experiment alone.
+pub fn build_with(
+    spec: &SpecView,
+    topo: &Topology,
+    comps: &[Arc<dyn Component>],
+) -> ModelResult<System> {
     let mut b = builder(spec, topo);
     for (ci, comp) in comps.iter().enumerate() {
         b.comp = ci;
@@ -82,7 +101,7 @@ pub fn build(
 }
 
 /// A builder on the topology with an empty system.
-fn builder(spec: &ModelSpec, topo: &Topology) -> Builder {
+fn builder(spec: &SpecView, topo: &Topology) -> Builder {
     let nodes = topo.node_ports.len();
     let heat_nodes = topo.heat_ports.len();
     Builder {
@@ -93,7 +112,7 @@ fn builder(spec: &ModelSpec, topo: &Topology) -> Builder {
         signal_slot: topo.signal_slot.clone(),
         heat_node: topo.heat_node.clone(),
         sys: System {
-            name: spec.name.clone(),
+            name: spec.name.to_string(),
             experiment: spec.experiment.clone(),
             nodes,
             mass: vec![0.0; nodes],
@@ -126,7 +145,7 @@ fn builder(spec: &ModelSpec, topo: &Topology) -> Builder {
 
 /// Every component's time events in the run, merged.
 fn time_events(
-    spec: &ModelSpec,
+    spec: &SpecView,
     topo: &Topology,
     comps: &[Arc<dyn Component>],
 ) -> ModelResult<Vec<f64>> {

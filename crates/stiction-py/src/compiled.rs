@@ -1,0 +1,170 @@
+//! `_core.CompiledModel`: a model compiled once, its variants (parameters, start values,
+//! experiment settings by MSL name) and sweeps over them, run in the core with the GIL released.
+
+use std::sync::atomic::AtomicBool;
+
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
+use stiction_core::assembly::CompiledModel;
+use stiction_core::sweep::{run_variants, Override, Plan};
+use stiction_core::{ModelSpec, SimError, Simulation};
+
+use crate::{guarded, model_err, py_error, RawResult};
+
+/// A Python value as the model file would hold it: a number, a Boolean, a string, a (nested)
+/// list, or a table such as `{"start": 1.0, "fixed": True}`.
+fn to_toml(value: &Bound<'_, PyAny>) -> PyResult<toml::Value> {
+    if value.is_instance_of::<PyBool>() {
+        return Ok(toml::Value::Boolean(value.extract()?));
+    }
+    if value.is_instance_of::<PyInt>() {
+        return Ok(toml::Value::Integer(value.extract()?));
+    }
+    if value.is_instance_of::<PyFloat>() {
+        return Ok(toml::Value::Float(value.extract()?));
+    }
+    if value.is_instance_of::<PyString>() {
+        return Ok(toml::Value::String(value.extract()?));
+    }
+    if let Ok(dict) = value.cast::<PyDict>() {
+        let mut table = toml::Table::new();
+        for (k, v) in dict.iter() {
+            table.insert(k.extract()?, to_toml(&v)?);
+        }
+        return Ok(toml::Value::Table(table));
+    }
+    if value.is_instance_of::<PyList>() || value.is_instance_of::<PyTuple>() {
+        let items = value
+            .try_iter()?
+            .map(|item| to_toml(&item?))
+            .collect::<PyResult<Vec<_>>>()?;
+        return Ok(toml::Value::Array(items));
+    }
+    // NumPy scalars and arrays: a float, or a list through `tolist()`
+    if value.hasattr("tolist")? {
+        let plain = value.call_method0("tolist")?;
+        if !plain.is(value) {
+            return to_toml(&plain);
+        }
+    }
+    Err(py_error(
+        "ModelError",
+        format!("cannot use {value} as a parameter value (a number, bool, string, list or table)"),
+    ))
+}
+
+fn overrides(dict: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<Override>> {
+    let Some(dict) = dict else {
+        return Ok(Vec::new());
+    };
+    dict.iter()
+        .map(|(k, v)| Ok((k.extract::<String>()?, to_toml(&v)?)))
+        .collect()
+}
+
+/// A compiled model. Pickles as its model text (see the Python wrapper).
+#[pyclass(frozen, module = "stiction._core", name = "CompiledModel")]
+pub struct PyCompiled(CompiledModel);
+
+/// What `sweep` returns: metrics (variants × metrics), trajectories (one variants × grid array
+/// per output), each variant's error or None, and its wall time.
+type SweepArrays<'py> = (
+    Bound<'py, PyArray2<f64>>,
+    Vec<Bound<'py, PyArray2<f64>>>,
+    Vec<Option<String>>,
+    Bound<'py, PyArray1<f64>>,
+);
+
+#[pymethods]
+impl PyCompiled {
+    #[new]
+    #[pyo3(signature = (model_toml, base_dir = "."))]
+    fn new(py: Python<'_>, model_toml: &str, base_dir: &str) -> PyResult<Self> {
+        let spec = ModelSpec::from_toml(model_toml, base_dir).map_err(model_err)?;
+        let compiled = py.detach(|| CompiledModel::new(spec)).map_err(model_err)?;
+        Ok(Self(compiled))
+    }
+
+    /// Every name a variant may set: `component.parameter`, then the experiment settings.
+    fn parameter_names(&self) -> Vec<String> {
+        self.0.parameter_names()
+    }
+
+    /// The output grid's times (where sweep trajectories are kept).
+    fn grid(&self) -> Vec<f64> {
+        let e = &self.0.spec().experiment;
+        (0..=e.grid_len()).map(|k| e.grid_time(k)).collect()
+    }
+
+    /// A variant with these overrides (each checked now, naming component and parameter).
+    #[pyo3(signature = (values = None))]
+    fn variant(&self, py: Python<'_>, values: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        let values = overrides(values)?;
+        let pairs: Vec<(&str, toml::Value)> = values
+            .iter()
+            .map(|(n, v)| (n.as_str(), v.clone()))
+            .collect();
+        let variant = py.detach(|| self.0.with(&pairs)).map_err(model_err)?;
+        Ok(Self(variant))
+    }
+
+    /// Runs this model to its StopTime.
+    fn simulate(&self, py: Python<'_>) -> PyResult<RawResult> {
+        let sys = self.0.system();
+        let result = py.detach(|| {
+            guarded(|| {
+                let mut sim = Simulation::new(sys)?;
+                sim.run()?;
+                Ok::<_, SimError>(sim.into_result())
+            })
+        })?;
+        Ok(RawResult(result))
+    }
+
+    /// Checks metrics and outputs before a sweep (ModelError naming the bad one).
+    fn check_plan(&self, metrics: Vec<String>, outputs: Vec<String>) -> PyResult<()> {
+        Plan::new(&self.0, &metrics, &outputs).map_err(model_err)?;
+        Ok(())
+    }
+
+    /// Runs `variants` (a list of `{name: value}`) on `workers` threads (all cores: None).
+    #[pyo3(signature = (variants, metrics, outputs, workers = None))]
+    fn sweep<'py>(
+        &self,
+        py: Python<'py>,
+        variants: Vec<Bound<'py, PyDict>>,
+        metrics: Vec<String>,
+        outputs: Vec<String>,
+        workers: Option<usize>,
+    ) -> PyResult<SweepArrays<'py>> {
+        let plan = Plan::new(&self.0, &metrics, &outputs).map_err(model_err)?;
+        let variants = variants
+            .iter()
+            .map(|v| overrides(Some(v)))
+            .collect::<PyResult<Vec<_>>>()?;
+        let cancel = AtomicBool::new(false);
+        let outcomes = py
+            .detach(|| guarded(|| Ok(run_variants(&self.0, &variants, &plan, workers, &cancel))))?;
+        let n = outcomes.len();
+        let flat: Vec<f64> = outcomes.iter().flat_map(|o| o.metrics.clone()).collect();
+        let metrics = PyArray1::from_vec(py, flat).reshape([n, plan.metrics.len()])?;
+        let points = self.0.spec().experiment.grid_len() + 1;
+        let trajectories = (0..plan.outputs.len())
+            .map(|k| {
+                let flat: Vec<f64> = (outcomes.iter())
+                    .flat_map(|o| {
+                        // a variant that failed (or has another grid) fills its row with NaN
+                        let mut row = o.trajectories.get(k).cloned().unwrap_or_default();
+                        row.resize(points, f64::NAN);
+                        row
+                    })
+                    .collect();
+                PyArray1::from_vec(py, flat).reshape([n, points])
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        let status = outcomes.iter().map(|o| o.error.clone()).collect();
+        let wall = PyArray1::from_vec(py, outcomes.iter().map(|o| o.wall_s).collect());
+        Ok((metrics, trajectories, status, wall))
+    }
+}

@@ -1,0 +1,347 @@
+"""Sweeps: thousands of variants of one model — design studies and Monte Carlo.
+
+``sweep(model, variants, metrics)`` runs every variant (a row of overrides: parameters,
+start values, experiment settings by name) in the core, on every core, and returns a
+``SweepResult`` whose ``table`` has one row per variant: the overrides, the metrics, the
+variant's ``status`` ("ok" or its error) and ``wall_s``. ``grid`` and ``sample`` build the
+variants. With ``client=`` (a ``distributed.Client``) batches run on a Dask cluster; with
+``out=`` finished rows are written as Parquet parts as they arrive, and the same call
+again runs only the variants not done yet.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+import json
+import os
+from collections.abc import Iterable, Iterator, Mapping, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from .compiled import CompiledModel
+from .errors import ModelError
+from .model import Model
+
+if TYPE_CHECKING:
+    import pandas
+
+__all__ = ["SweepResult", "grid", "sample", "sweep"]
+
+
+def grid(axes: Mapping[str, Sequence[Any]] | None = None, **more: Sequence[Any]) -> pandas.DataFrame:
+    """Every combination of the values of each axis (full factorial), one column per name.
+
+    Names with dots go in ``axes``: ``grid({"clutch1.fn_max": [10, 20], "sin1.f": [1, 2]})``;
+    experiment settings may also be keywords (``StopTime=[1, 2]``).
+    """
+    import pandas as pd
+
+    columns = {**dict(axes or {}), **more}
+    if not columns:
+        raise ValueError("grid() needs at least one axis")
+    rows = list(itertools.product(*(list(v) for v in columns.values())))
+    return pd.DataFrame(rows, columns=list(columns))
+
+
+def sample(
+    n: int,
+    seed: int = 0,
+    dists: Mapping[str, Any] | None = None,
+    *,
+    method: str = "lhs",
+    **more: Any,
+) -> pandas.DataFrame:
+    """``n`` random variants (Latin hypercube by default, or ``method="random"``).
+
+    Each distribution is a range ``(low, high)`` (uniform), a list of values (each equally
+    likely), or a frozen ``scipy.stats`` distribution (anything with ``ppf``).
+    """
+    import pandas as pd
+
+    if n < 1:
+        raise ValueError(f"n must be at least 1, got {n}")
+    if method not in ("lhs", "random"):
+        raise ValueError(f"method must be 'lhs' or 'random', got {method!r}")
+    rng = np.random.default_rng(seed)
+    columns: dict[str, Any] = {}
+    for name, dist in {**dict(dists or {}), **more}.items():
+        u = (rng.permutation(n) + rng.random(n)) / n if method == "lhs" else rng.random(n)
+        columns[name] = _quantiles(name, dist, u)
+    return pd.DataFrame(columns)
+
+
+def _quantiles(name: str, dist: Any, u: np.ndarray) -> Any:
+    if hasattr(dist, "ppf"):
+        return np.asarray(dist.ppf(u), dtype=float)
+    if isinstance(dist, tuple) and len(dist) == 2:
+        low, high = float(dist[0]), float(dist[1])
+        return low + u * (high - low)
+    if isinstance(dist, list) and dist:
+        return [dist[min(int(x * len(dist)), len(dist) - 1)] for x in u]
+    raise ValueError(f"{name}: a distribution is (low, high), a list of values, or has ppf(); got {dist!r}")
+
+
+class SweepResult:
+    """The outcome of a sweep: ``table`` (pandas), ``trajectories`` and their ``time``."""
+
+    def __init__(
+        self, table: pandas.DataFrame, trajectories: dict[str, np.ndarray], time: np.ndarray
+    ) -> None:
+        """Wrap the table and the kept trajectories (variants × ``len(time)`` each)."""
+        self.table = table
+        self.trajectories = trajectories
+        self.time = time
+
+    def __repr__(self) -> str:
+        ok = int((self.table["status"] == "ok").sum())
+        return f"<SweepResult: {len(self.table)} variants, {ok} ok>"
+
+    def to_parquet(self, path: str | os.PathLike[str]) -> None:
+        """Write the table (trajectories as list columns) to a Parquet file."""
+        table = self.table.copy()
+        for name, values in self.trajectories.items():
+            table[f"trajectory:{name}"] = list(values)
+        _table_for_arrow(table).to_parquet(path, index=False)
+
+    def plot(self, x: str, y: str, hue: str | None = None, ax: Any = None) -> Any:
+        """``y`` against ``x`` (one line per ``hue`` value); a heat map when the table is a
+        2-D grid of ``x`` × ``hue`` and ``hue`` is given as ``"heatmap"``-style grid axis."""
+        import matplotlib.pyplot as plt
+
+        if ax is None:
+            _, ax = plt.subplots()
+        ok = self.table[self.table["status"] == "ok"]
+        if hue is not None and _is_grid(ok, x, hue):
+            pivot = ok.pivot_table(index=hue, columns=x, values=y)
+            mesh = ax.pcolormesh(pivot.columns, pivot.index, pivot.values, shading="nearest")
+            ax.figure.colorbar(mesh, ax=ax, label=y)
+            ax.set_ylabel(hue)
+        elif hue is not None:
+            for value, group in ok.groupby(hue):
+                group = group.sort_values(x)
+                ax.plot(group[x], group[y], marker="o", label=f"{hue} = {value}")
+            ax.legend()
+            ax.set_ylabel(y)
+        else:
+            ax.scatter(ok[x], ok[y], s=12)
+            ax.set_ylabel(y)
+        ax.set_xlabel(x)
+        return ax
+
+
+def _is_grid(table: pandas.DataFrame, x: str, hue: str) -> bool:
+    nx, nh = table[x].nunique(), table[hue].nunique()
+    return nx > 2 and nh > 2 and len(table) == nx * nh
+
+
+def _table_for_arrow(table: pandas.DataFrame) -> pandas.DataFrame:
+    """Object columns holding tables (lists) are written as their text (Parquet needs one type)."""
+    table = table.copy()
+    for column in table.columns:
+        if table[column].dtype == object and not column.startswith("trajectory:"):
+            values = table[column]
+            if any(isinstance(v, list | tuple) for v in values):
+                table[column] = [json.dumps(v) for v in values]
+    return table
+
+
+def _records(variants: Any) -> tuple[pandas.DataFrame, list[dict[str, Any]]]:
+    import pandas as pd
+
+    frame = variants if isinstance(variants, pd.DataFrame) else pd.DataFrame(dict(variants))
+    frame = frame.reset_index(drop=True)
+    records = [{k: _plain(v) for k, v in row.items()} for row in frame.to_dict("records")]
+    return frame, records
+
+
+def _plain(value: Any) -> Any:
+    return value.tolist() if hasattr(value, "tolist") else value
+
+
+def _batches(todo: Sequence[int], size: int) -> Iterator[list[int]]:
+    for start in range(0, len(todo), size):
+        yield list(todo[start : start + size])
+
+
+def run_batch(
+    compiled: CompiledModel,
+    records: list[dict[str, Any]],
+    metrics: list[str],
+    outputs: list[str],
+    workers: int | None = None,
+) -> tuple[np.ndarray, list[np.ndarray], list[str | None], np.ndarray]:
+    """Run some variants in the core (the unit of work locally and on a Dask worker)."""
+    return compiled._core.sweep(records, metrics, outputs, workers)
+
+
+def sweep(
+    model: Model | CompiledModel,
+    variants: Any,
+    metrics: Iterable[str],
+    *,
+    outputs: Iterable[str] = (),
+    workers: int | None = None,
+    client: Any = None,
+    out: str | os.PathLike[str] | None = None,
+    progress: bool = True,
+    batch_size: int | None = None,
+) -> SweepResult:
+    """Run every variant of ``model`` and compute ``metrics`` (see the module docstring).
+
+    ``variants``: a DataFrame or a dict of equal-length columns, one per override name.
+    ``outputs``: variables kept as trajectories on the output grid. ``workers``: threads
+    per process (None: every core; 1: serial). ``client``: a ``distributed.Client``.
+    ``out``: a folder for Parquet parts (resumable). ``progress``: a tqdm bar.
+    """
+    compiled = model.compile() if isinstance(model, Model) else model
+    metrics, outputs = [str(m) for m in metrics], [str(o) for o in outputs]
+    frame, records = _records(variants)
+    if outputs and any(k in ("StartTime", "StopTime", "Interval") for k in frame.columns):
+        raise ModelError(
+            "trajectories need one output grid: do not vary StartTime, StopTime or Interval with outputs="
+        )
+    compiled._core.check_plan(metrics, outputs)
+    store = _PartStore(out, compiled, frame, metrics, outputs) if out is not None else None
+    done = store.done() if store else {}
+    todo = [i for i in range(len(records)) if i not in done]
+    size = batch_size or 64 * (workers or os.cpu_count() or 1)
+    bar = _progress(len(records), len(records) - len(todo), progress)
+    try:
+        for first, part in _run(compiled, records, todo, size, metrics, outputs, workers, client):
+            if store:
+                store.write(first, part)
+            done.update(_rows(first, part))
+            bar.update(len(part[2]))
+    finally:
+        bar.close()
+    return _result(compiled, frame, metrics, outputs, done)
+
+
+def _run(
+    compiled: CompiledModel,
+    records: list[dict[str, Any]],
+    todo: list[int],
+    size: int,
+    metrics: list[str],
+    outputs: list[str],
+    workers: int | None,
+    client: Any,
+) -> Iterator[tuple[list[int], Any]]:
+    """Batches as they finish: (variant indices, what ``run_batch`` returned)."""
+    batches = list(_batches(todo, size))
+    if client is None:
+        for batch in batches:
+            yield batch, run_batch(compiled, [records[i] for i in batch], metrics, outputs, workers)
+        return
+    from distributed import as_completed
+
+    futures = {
+        client.submit(run_batch, compiled, [records[i] for i in b], metrics, outputs, workers, pure=False): b
+        for b in batches
+    }
+    for future in as_completed(futures):
+        yield futures[future], future.result()
+
+
+def _rows(indices: list[int], part: Any) -> dict[int, tuple[Any, ...]]:
+    values, trajectories, status, wall = part
+    return {
+        i: (values[k], [t[k] for t in trajectories], status[k], float(wall[k])) for k, i in enumerate(indices)
+    }
+
+
+def _result(
+    compiled: CompiledModel,
+    frame: pandas.DataFrame,
+    metrics: list[str],
+    outputs: list[str],
+    done: dict[int, tuple[Any, ...]],
+) -> SweepResult:
+    table = frame.copy()
+    n = len(frame)
+    missing = [i for i in range(n) if i not in done]
+    if missing:
+        raise RuntimeError(f"internal: {len(missing)} variants have no result")
+    rows = [done[i] for i in range(n)]
+    for m, name in enumerate(metrics):
+        table[name] = [float(r[0][m]) for r in rows]
+    table["status"] = ["ok" if r[2] is None else str(r[2]) for r in rows]
+    table["wall_s"] = [r[3] for r in rows]
+    time = np.asarray(compiled._core.grid(), dtype=float)
+    trajectories = {
+        name: np.array([r[1][o] for r in rows], dtype=float).reshape(n, len(time))
+        for o, name in enumerate(outputs)
+    }
+    return SweepResult(table, trajectories, time)
+
+
+def _progress(total: int, initial: int, enabled: bool) -> Any:
+    from tqdm.auto import tqdm
+
+    return tqdm(total=total, initial=initial, disable=not enabled, unit="variant", desc="sweep")
+
+
+class _PartStore:
+    """Finished rows as Parquet parts in a folder, with a manifest naming the sweep."""
+
+    def __init__(
+        self,
+        out: str | os.PathLike[str],
+        compiled: CompiledModel,
+        frame: pandas.DataFrame,
+        metrics: list[str],
+        outputs: list[str],
+    ) -> None:
+        self.dir = Path(out)
+        self.dir.mkdir(parents=True, exist_ok=True)
+        self.metrics, self.outputs = metrics, outputs
+        digest = hashlib.sha256()
+        digest.update(compiled.text.encode())
+        digest.update(frame.to_json().encode())
+        digest.update(json.dumps([metrics, outputs]).encode())
+        manifest = {
+            "sweep": digest.hexdigest(),
+            "variants": len(frame),
+            "metrics": metrics,
+            "outputs": outputs,
+        }
+        path = self.dir / "sweep.json"
+        if path.exists() and json.loads(path.read_text())["sweep"] != manifest["sweep"]:
+            raise ModelError(
+                f"{self.dir} holds the parts of another sweep (model, variants or metrics differ)"
+            )
+        path.write_text(json.dumps(manifest, indent=1))
+
+    def done(self) -> dict[int, tuple[Any, ...]]:
+        """The rows of the parts written so far."""
+        import pyarrow.parquet as pq
+
+        rows: dict[int, tuple[Any, ...]] = {}
+        for part in sorted(self.dir.glob("part-*.parquet")):
+            t = pq.read_table(part).to_pydict()
+            for k, i in enumerate(t["variant"]):
+                values = np.array([t[m][k] for m in self.metrics], dtype=float)
+                trajs = [np.asarray(t[f"trajectory:{o}"][k], dtype=float) for o in self.outputs]
+                rows[int(i)] = (values, trajs, t["error"][k], float(t["wall_s"][k]))
+        return rows
+
+    def write(self, indices: list[int], part: Any) -> None:
+        """Write one finished batch (atomically: a part is whole or absent)."""
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        values, trajectories, status, wall = part
+        columns: dict[str, Any] = {"variant": indices}
+        for m, name in enumerate(self.metrics):
+            columns[name] = values[:, m]
+        columns["error"] = list(status)
+        columns["wall_s"] = wall
+        for o, name in enumerate(self.outputs):
+            columns[f"trajectory:{name}"] = [list(row) for row in trajectories[o]]
+        path = self.dir / f"part-{indices[0]:09d}.parquet"
+        tmp = path.with_suffix(".tmp")
+        pq.write_table(pa.table(columns), tmp)
+        tmp.replace(path)

@@ -13,6 +13,9 @@ use crate::error::{ModelError, ModelResult};
 use crate::model::{ComponentSpec, Experiment, ModelSpec};
 use crate::system::System;
 
+/// The components of a model, shared by its variants.
+type Components = Vec<Arc<dyn Component>>;
+
 /// The experiment settings a variant may change, by their MSL names.
 const EXPERIMENT: &[&str] = &["StartTime", "StopTime", "Interval", "Tolerance", "Solver"];
 
@@ -164,7 +167,7 @@ impl CompiledModel {
         &self,
         spec: &ModelSpec,
         changed: &[usize],
-    ) -> ModelResult<(Vec<Arc<dyn Component>>, Arc<Topology>, Recompiled)> {
+    ) -> ModelResult<(Components, Arc<Topology>, Recompiled)> {
         let mut comps: Vec<Arc<dyn Component>> = (*self.components).clone();
         for &ci in changed {
             comps[ci] = components::create(&spec.components[ci], &spec.base_dir)?.into();

@@ -177,3 +177,18 @@ def test_dask_gives_the_local_table():
         )
     pd.testing.assert_frame_equal(local.table.drop(columns="wall_s"), remote.table.drop(columns="wall_s"))
     np.testing.assert_array_equal(local.trajectories["J1.w"], remote.trajectories["J1.w"])
+
+
+@pytest.mark.parametrize(
+    ("script", "args"), [("brake_doe.py", ["--n", "3"]), ("clutch_monte_carlo.py", ["--n", "20"])]
+)
+def test_the_sweep_examples_run(script, args, tmp_path, monkeypatch):
+    import runpy
+    import sys
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    monkeypatch.setattr(sys, "argv", [script, *args, "--out", str(tmp_path)])
+    runpy.run_path(str(EXAMPLES / "sweeps" / script), run_name="__main__")
+    assert list(tmp_path.glob("*.parquet")) and list(tmp_path.glob("*.png"))

@@ -23,7 +23,16 @@ if TYPE_CHECKING:
 
 __all__ = ["CompiledModel"]
 
-EXPERIMENT = ("StartTime", "StopTime", "Interval", "Tolerance", "Solver")
+EXPERIMENT = (
+    "StartTime",
+    "StopTime",
+    "Interval",
+    "Tolerance",
+    "Solver",
+    "max_events",
+    "max_steps",
+    "timeout",
+)
 
 
 def merge_overrides(params: Mapping[str, Any] | None, experiment: Mapping[str, Any]) -> dict[str, Any]:

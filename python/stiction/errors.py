@@ -11,6 +11,7 @@ them up by name), so ``except stiction.ModelError`` catches an error from either
         ├── EventIterationError                 no consistent stick/slip state at an event
         ├── ChatteringError                     mode changes without end
         ├── StepLimitError                      more integration steps than any sane run needs
+        ├── LimitExceededError                  a limit the user set (max_events, max_steps, timeout)
         ├── NonFiniteStateError                 the state became infinite or NaN
         ├── IntegratorError                     the ODE integrator failed
         └── SimulationCancelled                 the run was cancelled
@@ -22,6 +23,7 @@ __all__ = [
     "ChatteringError",
     "EventIterationError",
     "IntegratorError",
+    "LimitExceededError",
     "ModelError",
     "NonFiniteStateError",
     "SimulationCancelled",
@@ -59,7 +61,12 @@ class EventIterationError(SimulationError):
 
 
 class ChatteringError(SimulationError):
-    """The model switches modes without end; the message names the last cause."""
+    """One element changes its mode again and again within a vanishing time window; the
+    message names the element, the instant and the relation."""
+
+
+class LimitExceededError(SimulationError):
+    """The run reached a limit set in the experiment (``max_events``, ``max_steps``, ``timeout``)."""
 
 
 class StepLimitError(SimulationError):

@@ -21,7 +21,16 @@ from .errors import ModelError
 
 __all__ = ["EXPERIMENT_KEYS", "FORMAT_VERSION", "ModelData", "dumps", "parse"]
 
-EXPERIMENT_KEYS = ("StartTime", "StopTime", "Interval", "Tolerance", "Solver")
+EXPERIMENT_KEYS = (
+    "StartTime",
+    "StopTime",
+    "Interval",
+    "Tolerance",
+    "Solver",
+    "max_events",
+    "max_steps",
+    "timeout",
+)
 # The model file format written here; every older one is read, a newer one refused by name.
 FORMAT_VERSION = 1
 _TOP_KEYS = ("format", "name", "connect", "inputs", "experiment", "components")

@@ -41,13 +41,18 @@ pub enum SimError {
         message: String,
         elements: Vec<String>,
     },
-    /// Mode changes without end at (almost) one instant.
-    #[error("at t = {time}: more than {limit} state events: the model chatters{last}")]
+    /// One element changes its mode again and again within a vanishing time window.
+    #[error("at t = {time}: '{element}' changed its mode {changes} times within {window:e} s (last: {cause}): the model chatters")]
     Chattering {
         time: f64,
-        limit: usize,
-        last: String,
+        element: String,
+        changes: usize,
+        window: f64,
+        cause: String,
     },
+    /// A limit the user set (`max_events`, `max_steps`, `timeout`) was reached.
+    #[error("at t = {time}: the run reached its limit {limit}")]
+    Limit { time: f64, limit: String },
     /// More integration steps than any sensible run needs.
     #[error(
         "at t = {time}: more than {limit} integration steps: the model is too stiff or chatters"
@@ -79,6 +84,7 @@ impl SimError {
             SimError::EventIteration { .. } => "EventIterationError",
             SimError::Chattering { .. } => "ChatteringError",
             SimError::StepLimit { .. } => "StepLimitError",
+            SimError::Limit { .. } => "LimitExceededError",
             SimError::NonFiniteState { .. } => "NonFiniteStateError",
             SimError::Integrator { .. } => "IntegratorError",
             SimError::Cancelled { .. } => "SimulationCancelled",

@@ -17,7 +17,16 @@ use crate::system::System;
 type Components = Vec<Arc<dyn Component>>;
 
 /// The experiment settings a variant may change, by their MSL names.
-const EXPERIMENT: &[&str] = &["StartTime", "StopTime", "Interval", "Tolerance", "Solver"];
+const EXPERIMENT: &[&str] = &[
+    "StartTime",
+    "StopTime",
+    "Interval",
+    "Tolerance",
+    "Solver",
+    "max_events",
+    "max_steps",
+    "timeout",
+];
 
 #[derive(Clone)]
 pub struct CompiledModel {
@@ -37,6 +46,7 @@ pub enum Recompiled {
 impl CompiledModel {
     pub fn new(spec: ModelSpec) -> ModelResult<Self> {
         spec.experiment.validate()?;
+        let spec = super::canonical(&spec);
         let components = create_components(&spec)?;
         let topology = Topology::resolve(&spec, &components)?;
         let system = build(&spec, &topology, &components)?;
@@ -133,6 +143,7 @@ impl CompiledModel {
         let view = SpecView {
             name: &self.spec.name,
             experiment: &experiment,
+            written: &self.spec.written,
         };
         Ok(Arc::new(build_with(&view, &self.topology, &comps)?))
     }

@@ -25,9 +25,30 @@ const RESERVED: &[&str] = &["system", "time"];
 
 /// Assembles a model: its components, its topology, then the system they build.
 pub fn assemble(spec: &ModelSpec) -> ModelResult<System> {
-    let comps = create_components(spec)?;
-    let topology = Topology::resolve(spec, &comps)?;
-    build(spec, &topology, &comps)
+    let spec = canonical(spec);
+    let comps = create_components(&spec)?;
+    let topology = Topology::resolve(&spec, &comps)?;
+    build(&spec, &topology, &comps)
+}
+
+/// The model in a canonical order — components sorted by name, each connection's ends and
+/// then the connections sorted — so that the order of a model's lines, or the direction of a
+/// `connect`, cannot change its result: node numbering, the order of sums and of the rows of
+/// the linear system all follow from it. `written` keeps where each component was written, so
+/// the result's variables stay in the order of the model.
+pub fn canonical(spec: &ModelSpec) -> ModelSpec {
+    let mut out = spec.clone();
+    out.written = spec.components.iter().map(|c| c.name.clone()).collect();
+    out.components.sort_by(|a, b| a.name.cmp(&b.name));
+    for (a, b) in &mut out.connections {
+        if (&b.component, &b.port) < (&a.component, &a.port) {
+            std::mem::swap(a, b);
+        }
+    }
+    out.connections
+        .sort_by_key(|(a, b)| (a.to_string(), b.to_string()));
+    out.connections.dedup();
+    out
 }
 
 /// Creates every component from its parameters (each validated), checking the names.
@@ -64,6 +85,7 @@ pub fn build(
     let view = SpecView {
         name: &spec.name,
         experiment: &spec.experiment,
+        written: &spec.written,
     };
     build_with(&view, topo, comps)
 }
@@ -72,6 +94,8 @@ pub fn build(
 pub struct SpecView<'a> {
     pub name: &'a str,
     pub experiment: &'a Experiment,
+    /// Component names in the order the model was written (empty: as built).
+    pub written: &'a [String],
 }
 
 /// `build` from the name and experiment alone.
@@ -81,10 +105,14 @@ pub fn build_with(
     comps: &[Arc<dyn Component>],
 ) -> ModelResult<System> {
     let mut b = builder(spec, topo);
+    let mut outputs_of = Vec::with_capacity(comps.len());
     for (ci, comp) in comps.iter().enumerate() {
         b.comp = ci;
+        let first = b.sys.outputs.len();
         comp.build(&mut b)?;
+        outputs_of.push(first..b.sys.outputs.len());
     }
+    in_written_order(&mut b.sys.outputs, &outputs_of, &topo.names, spec.written);
     b.sys.time_events = time_events(spec, topo, comps)?;
     for (name, var) in [
         ("system.kineticEnergy", EnergyVar::Kinetic),
@@ -98,6 +126,27 @@ pub fn build_with(
     finish_thermal(&mut b)?;
     b.sys.flange_torques = b.flanges.finish(&topo.cut_roots);
     Ok(b.sys)
+}
+
+/// Puts each component's outputs in the order the components were written.
+fn in_written_order(
+    outputs: &mut Vec<(String, Out)>,
+    outputs_of: &[std::ops::Range<usize>],
+    names: &[String],
+    written: &[String],
+) {
+    if written.is_empty() {
+        return;
+    }
+    let position = |name: &String| written.iter().position(|w| w == name).unwrap_or(usize::MAX);
+    let mut order: Vec<usize> = (0..names.len()).collect();
+    order.sort_by_key(|&ci| position(&names[ci]));
+    let mut taken: Vec<Option<(String, Out)>> =
+        std::mem::take(outputs).into_iter().map(Some).collect();
+    for ci in order {
+        outputs.extend(outputs_of[ci].clone().filter_map(|k| taken[k].take()));
+    }
+    outputs.extend(taken.into_iter().flatten());
 }
 
 /// A builder on the topology with an empty system.

@@ -48,6 +48,16 @@ pub struct Experiment {
     pub interval: f64,
     pub tolerance: f64,
     pub solver: String,
+    /// Limits the user may set: a run that reaches one stops with an error saying so.
+    pub limits: Limits,
+}
+
+/// `max_events` (state events), `max_steps` (integrator steps), `timeout` (wall-clock seconds).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Limits {
+    pub max_events: Option<usize>,
+    pub max_steps: Option<usize>,
+    pub timeout: Option<f64>,
 }
 
 impl Default for Experiment {
@@ -58,6 +68,7 @@ impl Default for Experiment {
             interval: 0.002,
             tolerance: 1e-6,
             solver: "tsit45".into(),
+            limits: Limits::default(),
         }
     }
 }
@@ -70,9 +81,17 @@ impl Experiment {
             "StopTime" => self.stop_time = value,
             "Interval" => self.interval = value,
             "Tolerance" => self.tolerance = value,
+            "max_events" => self.limits.max_events = Some(count(key, value)?),
+            "max_steps" => self.limits.max_steps = Some(count(key, value)?),
+            "timeout" if value > 0.0 => self.limits.timeout = Some(value),
+            "timeout" => {
+                return Err(ModelError::File(
+                    "experiment: timeout must be a positive number of seconds".into(),
+                ))
+            }
             _ => {
                 return Err(ModelError::File(format!(
-                    "experiment: unknown setting '{key}' (StartTime, StopTime, Interval, Tolerance, Solver)"
+                    "experiment: unknown setting '{key}' (StartTime, StopTime, Interval, Tolerance, Solver, max_events, max_steps, timeout)"
                 )))
             }
         }
@@ -124,6 +143,17 @@ impl Experiment {
     }
 }
 
+/// A limit that counts: a positive whole number.
+fn count(key: &str, value: f64) -> ModelResult<usize> {
+    if value >= 1.0 && value.fract() == 0.0 && value < 1e15 {
+        Ok(value as usize)
+    } else {
+        Err(ModelError::File(format!(
+            "experiment: {key} must be a positive whole number, got {value}"
+        )))
+    }
+}
+
 /// The model file format this version reads and writes. Readers accept every older version and
 /// refuse a newer one by name.
 pub const FORMAT_VERSION: i64 = 1;
@@ -146,6 +176,9 @@ pub struct ModelSpec {
     pub inputs: Vec<InputSpec>,
     /// Folder that relative file names in parameters (time tables) are resolved against.
     pub base_dir: PathBuf,
+    /// Component names in the order the model was written, when `components` was put in a
+    /// canonical order (see `assembly::canonical`); empty otherwise.
+    pub written: Vec<String>,
 }
 
 impl ModelSpec {
@@ -160,6 +193,7 @@ impl ModelSpec {
             connections: Vec::new(),
             inputs: Vec::new(),
             base_dir: base_dir.into(),
+            written: Vec::new(),
         };
         let mut connect: Option<&toml::Value> = None;
         let mut inputs: Option<&toml::Value> = None;

@@ -55,7 +55,9 @@ impl Stepper {
             if let Some(observer) = self.observer.as_mut() {
                 observer.event(&record);
             }
+            let chattering = self.chatter.record(&record.component, t, cause);
             self.log.push(record);
+            chattering?;
         }
         match kind {
             EventKind::State => self.stats.state_events += 1,

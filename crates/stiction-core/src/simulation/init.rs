@@ -18,6 +18,13 @@ pub fn initial_state(sys: &System) -> Result<Vec<f64>, ModelError> {
     for (k, cap) in sys.thermal.capacities.iter().enumerate() {
         x[lay.temps() + k] = cap.init.start;
     }
+    for e in &sys.switching {
+        e.check_start(e.motion().dot(&w))
+            .map_err(|message| ModelError::Component {
+                component: e.name().to_string(),
+                message,
+            })?;
+    }
     Ok(x)
 }
 

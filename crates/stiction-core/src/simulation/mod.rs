@@ -7,6 +7,7 @@
 //! state and the integrator restarts. The integrator is *not* restarted where a piece of
 //! `advance_to` ends, so a run advanced in pieces is bit-identical to one call.
 
+mod chatter;
 mod event;
 mod init;
 mod integrator;

@@ -7,9 +7,11 @@ use std::cell::RefCell;
 use std::rc::Rc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
+use std::time::Instant;
 
 use diffsol::{OdeSolverMethod, OdeSolverStopReason, Vector, VectorCommon};
 
+use super::chatter::ChatterWatch;
 use super::integrator::{integrator_error, Eqn, V};
 use super::{Observer, Phase};
 use crate::engine::eval::{evaluate, DiscreteState};
@@ -19,7 +21,6 @@ use crate::result::{EventRecord, RowView, Stats, Trajectory};
 use crate::system::System;
 
 /// The most state events and steps a run may take (a runaway, not a model, needs more).
-const MAX_EVENTS: usize = 50_000;
 const MAX_STEPS: usize = 5_000_000;
 
 /// A step taken but not yet processed to its end.
@@ -87,6 +88,10 @@ pub(super) struct Stepper {
     /// Time of the last recorded row (an input event there reuses it as its left row).
     pub(super) last_row: f64,
     pub(super) cancel: Arc<AtomicBool>,
+    /// When the run began (for the `timeout` limit).
+    pub(super) started: Instant,
+    /// Mode changes per element, to tell chattering from many legitimate events.
+    pub(super) chatter: ChatterWatch,
     pub(super) candidates: Vec<(usize, f64, f64)>,
 }
 
@@ -99,6 +104,7 @@ impl Stepper {
     ) -> Self {
         let nz = indicator_count(&sys);
         let t0 = sys.experiment.start_time;
+        let chatter = ChatterWatch::new(&sys.experiment);
         let stop = sys
             .time_events
             .first()
@@ -134,6 +140,8 @@ impl Stepper {
             finished: false,
             last_row: f64::NAN,
             cancel: Arc::new(AtomicBool::new(false)),
+            started: Instant::now(),
+            chatter,
             candidates: Vec::new(),
         }
     }
@@ -337,24 +345,23 @@ impl Stepper {
         if solver.state().y.inner().iter().any(|v| !v.is_finite()) {
             return Err(SimError::NonFiniteState { time: t });
         }
-        if self.stats.state_events > MAX_EVENTS {
-            let last = self
-                .log
-                .last()
-                .map_or(String::new(), |e| format!("; last: {}", e.cause));
-            return Err(SimError::Chattering {
-                time: t,
-                limit: MAX_EVENTS,
-                last,
-            });
-        }
-        if solver.get_statistics().number_of_steps > MAX_STEPS {
-            return Err(SimError::StepLimit {
+        let limits = &self.sys.experiment.limits;
+        let limit = |limit: String| Err(SimError::Limit { time: t, limit });
+        let steps = solver.get_statistics().number_of_steps;
+        match (limits.max_events, limits.max_steps, limits.timeout) {
+            (Some(max), _, _) if self.stats.state_events > max => {
+                limit(format!("max_events = {max}"))
+            }
+            (_, Some(max), _) if steps > max => limit(format!("max_steps = {max}")),
+            (_, _, Some(s)) if self.started.elapsed().as_secs_f64() > s => {
+                limit(format!("timeout = {s} s"))
+            }
+            _ if steps > MAX_STEPS => Err(SimError::StepLimit {
                 time: t,
                 limit: MAX_STEPS,
-            });
+            }),
+            _ => Ok(()),
         }
-        Ok(())
     }
 
     /// Records the first row at the start time and arms the integrator's first stop.

@@ -162,6 +162,11 @@ pub trait SwitchingElement: Send + Sync {
         self.initial_state().pre.mode
     }
     fn heat_node(&self) -> Option<usize>;
+    /// Refuses a start its own logic forbids (a one-way clutch turning backward): the reason,
+    /// given its relative speed at the start.
+    fn check_start(&self, _w: f64) -> Result<(), String> {
+        Ok(())
+    }
 
     // ---- its rows in the linear system
     /// The relative motion it locks (and whose speed it watches).

@@ -156,6 +156,18 @@ impl SwitchingElement for FrictionElem {
         self.heat_node
     }
 
+    /// A freewheel cannot turn backward: MSL's equations would take it as stuck with a
+    /// constant negative slip that transmits torque, reports no loss and makes energy.
+    fn check_start(&self, w: f64) -> Result<(), String> {
+        if self.one_way.is_some() && w < -super::relation::EVENT_EPSILON {
+            return Err(format!(
+                "w_rel starts at {w} rad/s, but a one-way clutch cannot turn backward (w_rel < 0); \
+                 start its flanges so that w_rel >= 0"
+            ));
+        }
+        Ok(())
+    }
+
     fn motion(&self) -> &Rel {
         &self.rel
     }

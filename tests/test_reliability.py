@@ -1,0 +1,49 @@
+"""Trust under long runs and bad starts: chattering is told from many legitimate events, user
+limits stop a run and say so, and a start the element's own logic forbids is refused."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import stiction as st
+
+MSL = Path(__file__).resolve().parents[1] / "examples" / "msl"
+
+
+def test_a_long_run_with_many_legitimate_events_completes_and_events_grow_linearly():
+    model = st.Model.load(MSL / "CoupledClutches.toml")
+    r = model.simulate(StopTime=20_000.0, Interval=1.0)
+    times = np.array([e.time for e in r.events])
+    assert r.time[-1] == 20_000.0
+    assert len(times) > 50_000  # more than the old total cap, about four per second
+    halves = (times < 10_000).sum(), (times >= 10_000).sum()
+    assert abs(halves[0] - halves[1]) < 0.01 * len(times), halves
+
+
+def test_user_limits_stop_the_run_and_say_which():
+    model = st.Model.load(MSL / "CoupledClutches.toml")
+    with pytest.raises(st.LimitExceededError, match="max_events = 5"):
+        model.simulate(params={"max_events": 5})
+    with pytest.raises(st.LimitExceededError, match="max_steps = 10"):
+        model.simulate(params={"max_steps": 10})
+    with pytest.raises(st.LimitExceededError, match="timeout"):
+        model.simulate(StopTime=5000.0, Interval=1.0, params={"timeout": 0.05})
+    with pytest.raises(st.ModelError, match="max_events must be a positive whole number"):
+        model.simulate(params={"max_events": 2.5})
+
+
+def test_a_one_way_clutch_started_backward_is_refused_before_the_run():
+    text = (MSL / "OneWayClutch.toml").read_text()
+    backward = text.replace(
+        'inertiaOut = { type = "Inertia", J = 1.0, phi = 0.0, w = 0.0 }',
+        'inertiaOut = { type = "Inertia", J = 1.0, phi = 0.0, w = -2.0 }',
+    )
+    assert backward != text
+    model = st.Model.loads(backward)
+    for run in (model.check, model.simulate):
+        with pytest.raises(st.ModelError, match=r"oneWayClutch.*w_rel starts at -1\.5"):
+            run()
+    st.Model.loads(text).check()  # the example's own start is fine

@@ -48,6 +48,9 @@ class Model:
         self.inputs: dict[str, float] = {}
         # Relative file names in parameters (a TimeTable CSV …) are relative to this.
         self.base_dir = Path(base_dir)
+        # Derived variables: result columns computed from the run, name -> Modelica expression
+        # over result variables ("gear.flange_a.tau*der(gear.flange_a.phi)").
+        self.variables: dict[str, str] = {}
 
     # --- building ---------------------------------------------------------------------
     def add(self, name: str, component: Component) -> Model:
@@ -136,6 +139,7 @@ class Model:
             and self.connections == other.connections
             and self.experiment == other.experiment
             and self.inputs == other.inputs
+            and self.variables == other.variables
         )
 
     __hash__ = None  # type: ignore[assignment]  # mutable
@@ -145,9 +149,33 @@ class Model:
             f"<Model {self.name!r}: {len(self.components)} components, {len(self.connections)} connections>"
         )
 
+    def variable(self, name: str, expression: str) -> Model:
+        """Add a derived variable: a result column computed from the run by a Modelica
+        expression over result variables, e.g. ``"J1.w - J2.w"`` or ``"J.w*der(J.phi)"``."""
+        from .modelica.parser import parse_expression
+
+        if not isinstance(name, str) or not _IDENTIFIER.fullmatch(name):
+            raise ModelError(f"variable name {name!r} is not a valid identifier")
+        if name in self.components or name in self.variables:
+            raise ModelError(f"variable '{name}': the name is already used")
+        parse_expression(expression, f"variable '{name}'")
+        self.variables[name] = expression
+        return self
+
     # --- files ------------------------------------------------------------------------
     def to_toml(self) -> str:
-        """The model as model-file text (what ``save`` writes and the engine reads)."""
+        """The model as model-file text (what ``save`` writes)."""
+        return modelfile.dumps(
+            self.name,
+            self.experiment,
+            ((n, c.type, c.params) for n, c in self.components.items()),
+            self.connections,
+            self.inputs,
+            self.variables,
+        )
+
+    def engine_toml(self) -> str:
+        """The model-file text the engine reads (derived variables are computed here)."""
         return modelfile.dumps(
             self.name,
             self.experiment,
@@ -155,6 +183,31 @@ class Model:
             self.connections,
             self.inputs,
         )
+
+    @classmethod
+    def from_modelica(
+        cls,
+        source: str | os.PathLike[str],
+        model: str | None = None,
+    ) -> Model:
+        """Read a Modelica model (a ``.mo`` path or its text); ``model`` picks one of several.
+
+        The subset MSL-style models use is read (see docs/modelica.md); anything else raises
+        ``ModelError`` starting with ``file:line:column``.
+        """
+        from .modelica import read_modelica
+
+        return read_modelica(source, model)
+
+    def to_modelica(self, path: str | os.PathLike[str] | None = None) -> str:
+        """The model as Modelica text with fully qualified MSL classes; written to ``path``
+        if given. ``Model.from_modelica`` reads it back to the same model."""
+        from .modelica.export import write_modelica
+
+        text = write_modelica(self)
+        if path is not None:
+            Path(path).write_text(text, encoding="utf-8")
+        return text
 
     def save(self, path: str | os.PathLike[str]) -> None:
         """Write the model file; relative file parameters stay relative to it."""
@@ -185,6 +238,8 @@ class Model:
             model.connect(a, b)
         for port, start in data.inputs.items():
             model.input(port, start)
+        for var_name, expression in data.variables.items():
+            model.variable(var_name, expression)
         return model
 
     @classmethod
@@ -219,7 +274,7 @@ class Model:
         """Let the engine validate the whole model without running it."""
         from . import _core
 
-        _core.check(self.to_toml(), str(self.base_dir))
+        _core.check(self.engine_toml(), str(self.base_dir))
 
     def simulate(
         self,
@@ -238,5 +293,5 @@ class Model:
             "Tolerance": Tolerance,
         }
         overrides = {k: float(v) for k, v in given.items() if v is not None}
-        raw = _core.simulate(self.to_toml(), str(self.base_dir), overrides)
-        return Result.from_core(raw, name=self.name)
+        raw = _core.simulate(self.engine_toml(), str(self.base_dir), overrides)
+        return Result.from_core(raw, name=self.name, variables=self.variables)

@@ -24,7 +24,7 @@ __all__ = ["EXPERIMENT_KEYS", "FORMAT_VERSION", "ModelData", "dumps", "parse"]
 EXPERIMENT_KEYS = ("StartTime", "StopTime", "Interval", "Tolerance", "Solver")
 # The model file format written here; every older one is read, a newer one refused by name.
 FORMAT_VERSION = 1
-_TOP_KEYS = ("format", "name", "connect", "inputs", "experiment", "components")
+_TOP_KEYS = ("format", "name", "connect", "inputs", "experiment", "components", "variables")
 _BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
 _INLINE_MAX = 110  # longer components are written as [components.<name>] sections instead
 
@@ -37,6 +37,7 @@ class ModelData(NamedTuple):
     components: list[tuple[str, str, dict[str, Any]]]  # (name, type, parameters)
     connections: list[tuple[str, str]]
     inputs: dict[str, float]  # model input port -> start value
+    variables: dict[str, str]  # derived variable -> Modelica expression over result variables
 
 
 def _suggest(word: str, choices: Iterable[str]) -> str:
@@ -139,7 +140,10 @@ def parse(text: str, source: str = "model") -> ModelData:
         if not isinstance(comp_type, str):
             raise ModelError(f"{source}: component '{comp_name}': missing 'type' (a string)")
         components.append((comp_name, comp_type, params))
-    return ModelData(name, dict(experiment), components, connections, inputs)
+    variables = doc.get("variables", {})
+    if not isinstance(variables, dict) or not all(isinstance(v, str) for v in variables.values()):
+        raise ModelError(f"{source}: 'variables' must be a table of expressions, e.g. dw = \"J1.w - J2.w\"")
+    return ModelData(name, dict(experiment), components, connections, inputs, dict(variables))
 
 
 # --- writing --------------------------------------------------------------------------
@@ -171,6 +175,7 @@ def dumps(
     components: Iterable[tuple[str, str, Mapping[str, Any]]],
     connections: Iterable[tuple[str, str]],
     inputs: Mapping[str, float] | None = None,
+    variables: Mapping[str, str] | None = None,
 ) -> str:
     """Write a model file; it parses back to the same data."""
     lines = [f"format = {FORMAT_VERSION}", f"name = {_scalar(name)}"]
@@ -188,6 +193,9 @@ def dumps(
     if experiment:
         lines += ["", "[experiment]"]
         lines.extend(f"{_key(k)} = {_value(v)}" for k, v in experiment.items())
+    if variables:
+        lines += ["", "[variables]"]
+        lines.extend(f"{_key(k)} = {_scalar(v)}" for k, v in variables.items())
 
     comps = [(n, {"type": t, **dict(p)}) for n, t, p in components]
     inline = [f"{_key(n)} = {_value(entry)}" for n, entry in comps]

@@ -57,6 +57,7 @@ class Result:
         self._source = source
         self._data: np.ndarray | None = None
         self._columns: dict[str, np.ndarray] = {}
+        self._extra: dict[str, np.ndarray] = {}  # derived variables of a lazy result
         if data is not None or source is None:
             table = np.asarray(data, dtype=np.float64)
             if table.ndim != 2 or table.shape[1] != len(self.names):
@@ -70,15 +71,28 @@ class Result:
         self._index = {n: i for i, n in enumerate(self.names)}
 
     @classmethod
-    def from_core(cls, raw: Any, name: str = "") -> Result:
-        """Wrap the engine's raw result; variables are computed when first read."""
-        return cls(raw.names, None, raw.events, raw.stats, name=name, source=raw)
+    def from_core(cls, raw: Any, name: str = "", variables: Mapping[str, str] | None = None) -> Result:
+        """Wrap the engine's raw result; variables are computed when first read.
+
+        ``variables`` (name -> Modelica expression) add derived columns after the engine's.
+        """
+        result = cls(raw.names, None, raw.events, raw.stats, name=name, source=raw)
+        if variables:
+            from .derived import derived_columns
+
+            result._extra = derived_columns(result, variables)
+            result.names.extend(result._extra)
+            result._index = {n: i for i, n in enumerate(result.names)}
+        return result
 
     @property
     def data(self) -> np.ndarray:
         """All variables, one column per name (computed on first use)."""
         if self._data is None:
-            self._data = np.asarray(self._source.table(), dtype=np.float64)
+            table = np.asarray(self._source.table(), dtype=np.float64)
+            if self._extra:
+                table = np.column_stack([table, *self._extra.values()])
+            self._data = table
         return self._data
 
     @classmethod
@@ -93,6 +107,8 @@ class Result:
             column = self._index[name]
             if self._data is not None:
                 return self._data[:, column]
+            if name in self._extra:
+                return self._extra[name]
             if name not in self._columns:
                 self._columns[name] = np.asarray(self._source.column(name), dtype=np.float64)
             return self._columns[name]

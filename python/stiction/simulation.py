@@ -31,7 +31,8 @@ class Simulation:
 
         overrides = {k: float(v) for k, v in experiment.items()}
         self._name = model.name
-        self._core = _core.Simulation(model.to_toml(), str(model.base_dir), overrides)
+        self._variables = dict(model.variables)
+        self._core = _core.Simulation(model.engine_toml(), str(model.base_dir), overrides)
 
     @property
     def time(self) -> float:
@@ -91,7 +92,7 @@ class Simulation:
 
     def result(self) -> Result:
         """The rows recorded so far, as a ``Result``; the simulation is closed."""
-        return Result.from_core(self._core.result(), name=self._name)
+        return Result.from_core(self._core.result(), name=self._name, variables=self._variables)
 
     def __repr__(self) -> str:
         return f"<Simulation {self._name!r} at t = {self.time}>"

@@ -294,4 +294,18 @@ class Model:
         }
         overrides = {k: float(v) for k, v in given.items() if v is not None}
         raw = _core.simulate(self.engine_toml(), str(self.base_dir), overrides)
-        return Result.from_core(raw, name=self.name, variables=self.variables)
+        result = Result.from_core(raw, name=self.name, variables=self.variables)
+        result.parameters = self.parameter_values()
+        return result
+
+    def parameter_values(self) -> dict[str, float]:
+        """Scalar parameters as ``component.parameter -> value`` (Booleans as 0/1), as a
+        Modelica result's data_1 holds them; start values are trajectories, not here."""
+        from .modelica.convert import START_VARIABLES
+
+        values: dict[str, float] = {}
+        for comp_name, comp in self.components.items():
+            for key, value in comp.params.items():
+                if key not in START_VARIABLES and isinstance(value, (bool, int, float)):
+                    values[f"{comp_name}.{key}"] = float(value)
+        return values

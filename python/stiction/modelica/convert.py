@@ -182,14 +182,16 @@ class _Converter:
                 decl.binding.pos if decl.binding else decl.pos,
                 f"type mismatch: parameter '{decl.name}' is {base} but its value is {value!r}",
             )
-        for mod in decl.args:
-            if mod.name not in _ATTRIBUTES or mod.args is not None or mod.value is None:
-                raise ModelicaError(mod.pos, f"unknown attribute '{mod.name}' of parameter '{decl.name}'")
+        self.check_attributes(decl.name, value, decl.args)
+
+    def check_attributes(self, name: str, value: Any, attributes: list[Modification]) -> None:
+        """Attributes of a parameter: min/max checked, unit/displayUnit/… accepted."""
+        for mod in attributes:
+            if mod.name not in _ATTRIBUTES or mod.name in ("start", "fixed") or mod.value is None:
+                raise ModelicaError(mod.pos, f"unknown attribute '{mod.name}' of parameter '{name}'")
             bound = self.expression(mod.value) if mod.name in ("min", "max") else None
             if mod.name == "min" and value < bound or mod.name == "max" and value > bound:
-                raise ModelicaError(
-                    decl.pos, f"parameter '{decl.name}' = {value!r} violates its {mod.name} = {bound!r}"
-                )
+                raise ModelicaError(mod.pos, f"parameter '{name}' = {value!r} violates its {mod.name} = {bound!r}")
 
     def expression(self, expr: Any) -> Any:
         return evaluate(expr, self.lookup, self.scope.resolve)
@@ -237,10 +239,12 @@ class _Converter:
                 f"unknown modifier '{mod.name}' of {MSL_CLASSES.get(stype, stype)} '{comp}' "
                 f"(parameters: {', '.join(allowed)})",
             )
-        if mod.args is None:
+        if mod.args is None or (mod.value is not None and key not in START_VARIABLES):
             if mod.value is None:
                 raise ModelicaError(mod.pos, f"modifier '{mod.name}' of '{comp}' has no value")
-            return key, _real(python_value(self.expression(mod.value)), key)
+            value = _real(python_value(self.expression(mod.value)), key)
+            self.check_attributes(f"{comp}.{mod.name}", value, mod.args or [])
+            return key, value
         if key not in START_VARIABLES:
             raise ModelicaError(
                 mod.pos, f"'{mod.name}' of '{comp}' is a parameter: give it a value, not attributes"

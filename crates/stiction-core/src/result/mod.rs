@@ -1,6 +1,9 @@
 //! Results: every output variable by its MSL name on the output grid plus both sides of every
 //! event (as MSL reference files have them), the event log and solver statistics.
 
+pub mod csv;
+pub mod mat;
+
 use std::sync::{Arc, OnceLock};
 
 use crate::engine::eval::{evaluate, DiscreteState, Workspace};

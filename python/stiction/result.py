@@ -10,8 +10,8 @@ import difflib
 import fnmatch
 import math
 import os
-from pathlib import Path
 from collections.abc import Iterable, Mapping, Sequence
+from pathlib import Path
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np

@@ -191,7 +191,9 @@ class _Converter:
                 raise ModelicaError(mod.pos, f"unknown attribute '{mod.name}' of parameter '{name}'")
             bound = self.expression(mod.value) if mod.name in ("min", "max") else None
             if mod.name == "min" and value < bound or mod.name == "max" and value > bound:
-                raise ModelicaError(mod.pos, f"parameter '{name}' = {value!r} violates its {mod.name} = {bound!r}")
+                raise ModelicaError(
+                    mod.pos, f"parameter '{name}' = {value!r} violates its {mod.name} = {bound!r}"
+                )
 
     def expression(self, expr: Any) -> Any:
         return evaluate(expr, self.lookup, self.scope.resolve)

@@ -221,6 +221,8 @@ class _Parser:
             target, _ = self.name("a class name")
             return Import(alias, target, False, start.pos)
         target, _ = self.name("a class name after 'import'")
+        if self.accept(".*"):  # the lexer reads ".*" as one (element-wise) operator
+            return Import(None, target, True, start.pos)
         if self.accept("."):
             if self.accept("*"):
                 return Import(None, target, True, start.pos)

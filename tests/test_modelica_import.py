@@ -1,0 +1,94 @@
+"""Modelica import: every MSL example written as a .mo file imports, simulates and equals its
+TOML twin bit for bit; where MSL has a reference it stays in the MSL tube; derived variables
+(SimpleGearShift's gearRatio, LossyGearDemo1's PowerLoss) are computed from the run."""
+
+from __future__ import annotations
+
+from functools import cache
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import stiction as st
+
+REPO = Path(__file__).resolve().parents[1]
+EXAMPLES = REPO / "examples" / "msl"
+MSL_DIR = REPO / "tests" / "data" / "msl"
+NAMES = sorted(p.stem for p in EXAMPLES.glob("*.toml"))
+
+
+@cache
+def _runs(name: str) -> tuple[st.Model, st.Result, st.Model, st.Result]:
+    mo = st.Model.from_modelica(EXAMPLES / f"{name}.mo")
+    toml = st.Model.load(EXAMPLES / f"{name}.toml")
+    return mo, mo.simulate(), toml, toml.simulate()
+
+
+def test_every_toml_example_has_a_modelica_twin() -> None:
+    assert NAMES == sorted(p.stem for p in EXAMPLES.glob("*.mo"))
+    assert len(NAMES) == 11
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_modelica_twin_is_the_same_model(name: str) -> None:
+    mo, _, toml, _ = _runs(name)
+    assert list(mo.components) == list(toml.components)
+    for comp, c in toml.components.items():
+        assert mo.components[comp].type == c.type
+    as_sets = lambda m: {frozenset(pair) for pair in m.connections}  # noqa: E731
+    assert as_sets(mo) == as_sets(toml)
+    expected = {k: v for k, v in toml.experiment.items() if not (k == "StartTime" and v == 0.0)}
+    assert mo.experiment == expected
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_modelica_twin_gives_the_identical_result(name: str) -> None:
+    _, r_mo, _, r_toml = _runs(name)
+    assert r_mo.names[: len(r_toml.names)] == r_toml.names
+    for signal in r_toml.names:
+        assert np.array_equal(r_mo[signal], r_toml[signal]), signal
+
+
+REFERENCED = [n for n in NAMES if (MSL_DIR / f"{n}.csv").is_file() and (MSL_DIR / f"{n}.signals.txt").is_file()]
+
+
+@pytest.mark.parametrize("name", REFERENCED)
+def test_modelica_twin_stays_in_the_msl_tube(name: str) -> None:
+    _, r_mo, _, _ = _runs(name)
+    report = st.compare(
+        r_mo, MSL_DIR / f"{name}.csv", tolerance=2e-3, signals=MSL_DIR / f"{name}.signals.txt"
+    )
+    assert report.passed, str(report)
+
+
+def test_derived_variables_of_simple_gear_shift() -> None:
+    mo, r, _, _ = _runs("SimpleGearShift")
+    assert mo.variables["gearRatio"] == "wLoad / max(wEngine, 1e-06)"
+    assert np.array_equal(r["wEngine"], r["engine.w"])
+    expected = r["load.w"] / np.maximum(r["engine.w"], 1e-6)
+    assert np.array_equal(r["gearRatio"], expected)
+    assert r["gearRatio"][-1] == pytest.approx(1.0, abs=0.05)  # clutch locked: direct drive
+
+
+def test_power_loss_with_der_equals_the_gear_loss_power() -> None:
+    """MSL: PowerLoss (from der() of the flange angles) and gear.lossPower coincide."""
+    _, r, _, _ = _runs("LossyGearDemo1")
+    assert np.abs(r["gear.lossPower"]).max() > 0.1
+    np.testing.assert_allclose(r["PowerLoss"], r["gear.lossPower"], rtol=0, atol=1e-12)
+
+
+def test_parameters_are_evaluated_into_components() -> None:
+    mo, _, _, _ = _runs("CoupledClutches")
+    assert mo.components["step1"].params["startTime"] == 0.4  # T2
+    assert mo.components["sin2"].params["f"] == 0.2  # f
+    first = st.Model.from_modelica(EXAMPLES / "First.mo")
+    assert first.components["inertia1"].params["J"] == 0.1  # Jmotor
+    assert first.components["damper"].params["d"] == 10.0  # damping
+
+
+def test_result_of_the_simulation_api_has_derived_variables() -> None:
+    mo, r, _, _ = _runs("SimpleGearShift")
+    sim = mo.simulation()
+    sim.run()
+    assert np.array_equal(sim.result()["gearRatio"], r["gearRatio"])

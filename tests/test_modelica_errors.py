@@ -29,7 +29,12 @@ def _error(text: str) -> str:
 BAD = [
     ("syntax error", HEAD + "  Rotational.Components.Inertia J(J=1;\nend M;", "3:38", ["expected ')'"]),
     ("unknown MSL class", HEAD + "  Rotational.Components.Flywheel J;\nend M;", "3:3", ["Flywheel", "J"]),
-    ("unknown modifier", HEAD + "  Rotational.Components.Inertia J(Jx=1);\nend M;", "3:35", ["Jx", "Inertia"]),
+    (
+        "unknown modifier",
+        HEAD + "  Rotational.Components.Inertia J(Jx=1);\nend M;",
+        "3:35",
+        ["Jx", "Inertia"],
+    ),
     (
         "attributes on a parameter",
         HEAD + "  Rotational.Components.Inertia J(J(start=1));\nend M;",
@@ -88,7 +93,12 @@ BAD = [
         "3:40",
         ["conditional", "'J"],
     ),
-    ("replaceable component", HEAD + "  replaceable Rotational.Components.Inertia J;\nend M;", "3:3", ["replaceable"]),
+    (
+        "replaceable component",
+        HEAD + "  replaceable Rotational.Components.Inertia J;\nend M;",
+        "3:3",
+        ["replaceable"],
+    ),
     (
         "min violated",
         HEAD + "  parameter SI.Inertia Jm(min=0) = -1;\n" + OK_BODY + "end M;",
@@ -173,7 +183,11 @@ def test_forms_of_the_subset() -> None:
     """
     a = st.Model.from_modelica(text, model="A")
     assert a.components["J"].params == {"J": 1.0, "phi": 0.0, "w": 2.0}
-    assert a.components["brake"].params == {"fn_max": 10.0, "mu_pos": [[0.0, 0.5], [1.0, 0.3]], "useHeatPort": False}
+    assert a.components["brake"].params == {
+        "fn_max": 10.0,
+        "mu_pos": [[0.0, 0.5], [1.0, 0.3]],
+        "useHeatPort": False,
+    }
     assert a.components["s"].params["f"] == pytest.approx(0.6366197723675814)
     assert a.components["b"].params["tau_pos"] == [[0.0, 0.1], [1.0, 0.2]]
     assert a.components["amb"].type == "Celsius.FixedTemperature"

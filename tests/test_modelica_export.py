@@ -13,7 +13,11 @@ import stiction as st
 
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLES = REPO / "examples" / "msl"
-SOURCES = [*sorted(EXAMPLES.glob("*.toml")), *sorted(EXAMPLES.glob("*.mo")), REPO / "examples" / "braked_flywheel.toml"]
+SOURCES = [
+    *sorted(EXAMPLES.glob("*.toml")),
+    *sorted(EXAMPLES.glob("*.mo")),
+    REPO / "examples" / "braked_flywheel.toml",
+]
 
 
 def _load(path: Path) -> st.Model:
@@ -67,4 +71,8 @@ def test_cli_import_and_export(tmp_path: Path, cli_runner) -> None:
     mo = tmp_path / "CC.mo"
     done = cli_runner.invoke(main, ["export", str(toml), "-o", str(mo)])
     assert done.exit_code == 0, done.stderr
-    assert st.Model.from_modelica(mo) == st.Model.load(toml) == st.Model.from_modelica(EXAMPLES / "CoupledClutches.mo")
+    assert (
+        st.Model.from_modelica(mo)
+        == st.Model.load(toml)
+        == st.Model.from_modelica(EXAMPLES / "CoupledClutches.mo")
+    )

@@ -36,7 +36,7 @@ def test_modelica_twin_is_the_same_model(name: str) -> None:
     assert list(mo.components) == list(toml.components)
     for comp, c in toml.components.items():
         assert mo.components[comp].type == c.type
-    as_sets = lambda m: {frozenset(pair) for pair in m.connections}  # noqa: E731
+    as_sets = lambda m: {frozenset(pair) for pair in m.connections}
     assert as_sets(mo) == as_sets(toml)
     expected = {k: v for k, v in toml.experiment.items() if not (k == "StartTime" and v == 0.0)}
     assert mo.experiment == expected
@@ -50,7 +50,9 @@ def test_modelica_twin_gives_the_identical_result(name: str) -> None:
         assert np.array_equal(r_mo[signal], r_toml[signal]), signal
 
 
-REFERENCED = [n for n in NAMES if (MSL_DIR / f"{n}.csv").is_file() and (MSL_DIR / f"{n}.signals.txt").is_file()]
+REFERENCED = [
+    n for n in NAMES if (MSL_DIR / f"{n}.csv").is_file() and (MSL_DIR / f"{n}.signals.txt").is_file()
+]
 
 
 @pytest.mark.parametrize("name", REFERENCED)

@@ -157,7 +157,13 @@ fn write_csv(
         let file = std::fs::File::create(path)?;
         stiction_core::result::csv::write_csv(file, &names, &integer, values)
     })
-    .map_err(|e| PyOSError::new_err((e.raw_os_error().unwrap_or(0), e.to_string(), path.to_string())))
+    .map_err(|e| {
+        PyOSError::new_err((
+            e.raw_os_error().unwrap_or(0),
+            e.to_string(),
+            path.to_string(),
+        ))
+    })
 }
 
 /// Writes `data` (rows × names, `time` first) and `parameters` (name, description, value) as a
@@ -184,7 +190,13 @@ fn write_mat(
         let file = std::fs::File::create(path)?;
         stiction_core::result::mat::write_mat(file, &names, &descriptions, values, &params)
     })
-    .map_err(|e| PyOSError::new_err((e.raw_os_error().unwrap_or(0), e.to_string(), path.to_string())))
+    .map_err(|e| {
+        PyOSError::new_err((
+            e.raw_os_error().unwrap_or(0),
+            e.to_string(),
+            path.to_string(),
+        ))
+    })
 }
 
 /// Simulates a model given as TOML text; `overrides` replace `[experiment]` settings.

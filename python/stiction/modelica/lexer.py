@@ -9,6 +9,7 @@ lines and lets every error carry ``file:line:column`` and the name at fault.
 
 from __future__ import annotations
 
+import bisect
 import re
 from typing import NamedTuple
 
@@ -37,12 +38,30 @@ class ModelicaError(ModelError):
         self.detail = message
 
 
+class _Lines:
+    """Line starts of a text, to turn an offset into line and column only when asked."""
+
+    def __init__(self, source: str, text: str) -> None:
+        self.source = source
+        self.starts = [0, *(m.end() for m in re.finditer("\n", text))]
+
+    def pos(self, offset: int) -> Pos:
+        line = bisect.bisect_right(self.starts, offset)
+        return Pos(self.source, line, offset - self.starts[line - 1] + 1)
+
+
 class Token(NamedTuple):
     """One token: kind (``ident``, ``number``, ``string``, ``op``, ``kw``, ``eof``) and text."""
 
     kind: str
     text: str
-    pos: Pos
+    offset: int
+    lines: _Lines
+
+    @property
+    def pos(self) -> Pos:
+        """Where the token starts."""
+        return self.lines.pos(self.offset)
 
 
 KEYWORDS = frozenset(
@@ -109,14 +128,17 @@ KEYWORDS = frozenset(
     ]
 )
 
+# Blanks and comments are skipped as the prefix of every token, so one match is one token.
 _TOKEN = re.compile(
     r"""
-    (?P<ws>[ \t\r\f\v]+|\n)
-  | (?P<comment>//[^\n]*|/\*.*?\*/)
-  | (?P<number>(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)
-  | (?P<ident>[A-Za-z_][A-Za-z0-9_]*|'(?:[^'\\]|\\.)+')
-  | (?P<string>"(?:[^"\\]|\\.)*")
-  | (?P<op>\.\*|\./|\.\+|\.-|\.\^|:=|==|<>|<=|>=|[()\[\]{};,.=+\-*/^<>:])
+    (?:\s+|//[^\n]*|/\*.*?\*/)*
+    (?:
+      (?P<number>(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)
+    | (?P<ident>[A-Za-z_][A-Za-z0-9_]*|'(?:[^'\\]|\\.)+')
+    | (?P<string>"(?:[^"\\]|\\.)*")
+    | (?P<op>\.\*|\./|\.\+|\.-|\.\^|:=|==|<>|<=|>=|[()\[\]{};,.=+\-*/^<>:])
+    | (?P<end>\Z)
+    )
     """,
     re.VERBOSE | re.DOTALL,
 )
@@ -124,26 +146,32 @@ _TOKEN = re.compile(
 
 def tokenize(text: str, source: str = "<modelica>") -> list[Token]:
     """Split Modelica text into tokens; comments and white space are dropped."""
+    lines = _Lines(source, text)
     tokens: list[Token] = []
-    line, line_start, i = 1, 0, 0
-    n = len(text)
-    while i < n:
-        m = _TOKEN.match(text, i)
-        pos = Pos(source, line, i - line_start + 1)
+    append, match, keywords = tokens.append, _TOKEN.match, KEYWORDS
+    i = 0
+    while True:
+        m = match(text, i)
         if m is None:
-            what = "an unterminated comment" if text.startswith("/*", i) else repr(text[i])
-            if text[i] == '"':
+            start = _skip_blanks(text, i)
+            what = repr(text[start])
+            if text.startswith("/*", start):
+                what = "an unterminated comment"
+            elif text[start] == '"':
                 what = "an unterminated string"
-            raise ModelicaError(pos, f"syntax error: unexpected {what}")
-        kind, value = m.lastgroup or "", m.group()
-        if kind == "ident" and value in KEYWORDS:
+            raise ModelicaError(lines.pos(start), f"syntax error: unexpected {what}")
+        kind = m.lastgroup or ""
+        start = m.start(kind)
+        if kind == "end":
+            append(Token("eof", "", start, lines))
+            return tokens
+        value = m.group(kind)
+        if kind == "ident" and value in keywords:
             kind = "kw"
-        if kind not in ("ws", "comment"):
-            tokens.append(Token(kind, value, pos))
-        newlines = value.count("\n")
-        if newlines:
-            line += newlines
-            line_start = m.start() + value.rindex("\n") + 1
+        append(Token(kind, value, start, lines))
         i = m.end()
-    tokens.append(Token("eof", "", Pos(source, line, i - line_start + 1)))
-    return tokens
+
+
+def _skip_blanks(text: str, i: int) -> int:
+    m = re.compile(r"(?:\s+|//[^\n]*|/\*.*?\*/)*", re.DOTALL).match(text, i)
+    return m.end() if m else i

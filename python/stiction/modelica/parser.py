@@ -296,7 +296,7 @@ class _Parser:
             self.expect("then", "in the if-expression")
             then = self.expression()
             if self.at("elseif"):
-                self.tokens[self.i] = Token("kw", "if", self.tok.pos)
+                self.tokens[self.i] = self.tok._replace(kind="kw", text="if")
                 return IfExpr(cond, then, self.expression(), start.pos)
             self.expect("else", "in the if-expression")
             return IfExpr(cond, then, self.expression(), start.pos)

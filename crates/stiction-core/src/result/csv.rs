@@ -66,7 +66,11 @@ mod tests {
         let mut lines = text.lines();
         assert_eq!(lines.next(), Some("\"time\",\"J.w\",\"c.mode\""));
         let values: Vec<f64> = lines
-            .flat_map(|l| l.split(',').map(|v| v.parse::<f64>().unwrap()).collect::<Vec<_>>())
+            .flat_map(|l| {
+                l.split(',')
+                    .map(|v| v.parse::<f64>().unwrap())
+                    .collect::<Vec<_>>()
+            })
             .collect();
         assert_eq!(values, table);
         assert!(text.contains(",-1\n") && text.contains(",2\n"));

@@ -76,7 +76,13 @@ pub fn write_mat<W: Write>(
     out.flush()
 }
 
-fn header<W: Write>(out: &mut W, kind: i32, rows: usize, cols: usize, name: &str) -> io::Result<()> {
+fn header<W: Write>(
+    out: &mut W,
+    kind: i32,
+    rows: usize,
+    cols: usize,
+    name: &str,
+) -> io::Result<()> {
     for v in [kind, rows as i32, cols as i32, 0, name.len() as i32 + 1] {
         out.write_all(&v.to_le_bytes())?;
     }
@@ -138,7 +144,10 @@ mod tests {
         let data_info = 20 + 9 + 4 * 3 * 4;
         let data_1 = 20 + 7 + 8 * 2 * 2;
         let data_2 = 20 + 7 + 8 * 4;
-        assert_eq!(buf.len(), aclass + name + description + data_info + data_1 + data_2);
+        assert_eq!(
+            buf.len(),
+            aclass + name + description + data_info + data_1 + data_2
+        );
         let tail = &buf[buf.len() - 8..];
         assert_eq!(f64::from_le_bytes(tail.try_into().unwrap()), 2.0);
     }

@@ -13,7 +13,7 @@ pub fn write_csv<W: Write>(
     table: &[f64],
 ) -> io::Result<()> {
     let width = names.len();
-    if width == 0 || integer.len() != width || table.len() % width != 0 {
+    if width == 0 || integer.len() != width || !table.len().is_multiple_of(width) {
         return Err(io::Error::new(
             io::ErrorKind::InvalidInput,
             "table shape does not match the names",

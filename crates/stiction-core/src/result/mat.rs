@@ -29,7 +29,7 @@ pub fn write_mat<W: Write>(
     parameters: &[Parameter],
 ) -> io::Result<()> {
     let width = names.len();
-    if width == 0 || descriptions.len() != width || table.len() % width != 0 {
+    if width == 0 || descriptions.len() != width || !table.len().is_multiple_of(width) {
         return Err(io::Error::new(
             io::ErrorKind::InvalidInput,
             "table shape does not match the names",

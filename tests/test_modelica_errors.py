@@ -182,13 +182,15 @@ def test_forms_of_the_subset() -> None:
     end Drives;
     """
     a = st.Model.from_modelica(text, model="A")
-    assert a.components["J"].params == {"J": 1.0, "phi": 0.0, "w": 2.0}
+    assert a.parameters == {"f": pytest.approx(2 / 3.141592653589793), "w0": 2.0, "heat": False}
+    assert a.components["J"].params == {"J": 1.0, "phi": 0.0, "w": 2.0}  # start values: evaluated
     assert a.components["brake"].params == {
         "fn_max": 10.0,
         "mu_pos": [[0.0, 0.5], [1.0, 0.3]],
-        "useHeatPort": False,
+        "useHeatPort": {"expr": "heat"},
     }
-    assert a.components["s"].params["f"] == pytest.approx(0.6366197723675814)
+    assert a.components["s"].params["f"] == {"expr": "f"}
+    assert a.parameter_values()["s.f"] == pytest.approx(0.6366197723675814)
     assert a.components["b"].params["tau_pos"] == [[0.0, 0.1], [1.0, 0.2]]
     assert a.components["amb"].type == "Celsius.FixedTemperature"
     assert a.experiment == {"StartTime": 0.0, "StopTime": 0.5, "Interval": 1e-3, "Tolerance": 1e-7}

@@ -80,13 +80,38 @@ def test_power_loss_with_der_equals_the_gear_loss_power() -> None:
     np.testing.assert_allclose(r["PowerLoss"], r["gear.lossPower"], rtol=0, atol=1e-12)
 
 
-def test_parameters_are_evaluated_into_components() -> None:
-    mo, _, _, _ = _runs("CoupledClutches")
-    assert mo.components["step1"].params["startTime"] == 0.4  # T2
-    assert mo.components["sin2"].params["f"] == 0.2  # f
+def test_top_level_parameters_are_kept_and_a_sweep_recomputes_dependents(tmp_path: Path) -> None:
+    """T2 stays a parameter (TOML [parameters]); step1.startTime refers to it; changing T2
+    moves clutch2's engagement, and the TOML form is the same model."""
+    mo, r, _, _ = _runs("CoupledClutches")
+    assert mo.parameters == {"f": 0.2, "T2": 0.4, "T3": 0.9}
+    assert mo.components["step1"].params["startTime"] == {"expr": "T2"}
+    assert mo.parameter_values()["step1.startTime"] == 0.4
+    assert r.parameters["T2"] == 0.4  # written to data_1 of a .mat result
+    mo.save(tmp_path / "cc.toml")
+    again = st.Model.load(tmp_path / "cc.toml")
+    assert again == mo
+    again.parameters["T2"] = 0.6
+    later = again.simulate()
+    engaged = lambda res: res.time[np.argmax(res["clutch2.mode"] != 2)]
+    assert engaged(r) == pytest.approx(0.4) and engaged(later) == pytest.approx(0.6)
     first = st.Model.from_modelica(EXAMPLES / "First.mo")
-    assert first.components["inertia1"].params["J"] == 0.1  # Jmotor
-    assert first.components["damper"].params["d"] == 10.0  # damping
+    assert first.parameter_values()["inertia1.J"] == 0.1  # Jmotor
+    assert first.parameter_values()["damper.d"] == 10.0  # damping
+
+
+def test_parameter_expressions_and_their_errors() -> None:
+    m = st.Model("p")
+    m.parameters.update({"T": 0.5, "T2": "2*T"})
+    m.add("s", st.Step(startTime=st.expr("T2 + 0.1")))
+    assert m.parameter_values()["s.startTime"] == pytest.approx(1.1)
+    m.parameters["T"] = "T2"
+    with pytest.raises(st.ModelError, match="cyclic definition T -> T2 -> T|cyclic definition T2 -> T -> T2"):
+        m.engine_toml()
+    m.parameters["T"] = 0.5
+    m.components["s"].params["startTime"] = st.expr("Tx")
+    with pytest.raises(st.ModelError, match="component 's': parameter 'startTime': no parameter 'Tx'"):
+        m.engine_toml()
 
 
 def test_result_of_the_simulation_api_has_derived_variables() -> None:

@@ -62,6 +62,7 @@ from .errors import (
     UsageError,
 )
 from .model import Model
+from .parameters import expr
 from .result import Event, Result
 from .simulation import CancelHandle, Simulation, SimulationState
 
@@ -128,6 +129,7 @@ __all__ = [
     "TorqueStep",
     "UsageError",
     "compare",
+    "expr",
 ]
 
 

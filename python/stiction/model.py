@@ -51,6 +51,9 @@ class Model:
         # Derived variables: result columns computed from the run, name -> Modelica expression
         # over result variables ("gear.flange_a.tau*der(gear.flange_a.phi)").
         self.variables: dict[str, str] = {}
+        # Top-level parameters: name -> number, Boolean or expression text over the others;
+        # components refer to them with {"expr": "T2"} (see stiction/parameters.py).
+        self.parameters: dict[str, Any] = {}
 
     # --- building ---------------------------------------------------------------------
     def add(self, name: str, component: Component) -> Model:
@@ -140,6 +143,7 @@ class Model:
             and self.experiment == other.experiment
             and self.inputs == other.inputs
             and self.variables == other.variables
+            and self.parameters == other.parameters
         )
 
     __hash__ = None  # type: ignore[assignment]  # mutable
@@ -172,14 +176,19 @@ class Model:
             self.connections,
             self.inputs,
             self.variables,
+            self.parameters,
         )
 
     def engine_toml(self) -> str:
-        """The model-file text the engine reads (derived variables are computed here)."""
+        """The model-file text the engine reads: parameter expressions evaluated, derived
+        variables left out (they are computed from the result)."""
+        from .parameters import evaluate_parameters, resolve_params
+
+        values = evaluate_parameters(self.parameters)
         return modelfile.dumps(
             self.name,
             self.experiment,
-            ((n, c.type, c.params) for n, c in self.components.items()),
+            ((n, c.type, resolve_params(n, c.params, values)) for n, c in self.components.items()),
             self.connections,
             self.inputs,
         )
@@ -240,6 +249,7 @@ class Model:
             model.input(port, start)
         for var_name, expression in data.variables.items():
             model.variable(var_name, expression)
+        model.parameters.update(data.parameters)
         return model
 
     @classmethod
@@ -299,13 +309,16 @@ class Model:
         return result
 
     def parameter_values(self) -> dict[str, float]:
-        """Scalar parameters as ``component.parameter -> value`` (Booleans as 0/1), as a
-        Modelica result's data_1 holds them; start values are trajectories, not here."""
+        """Scalar parameters as ``component.parameter -> value`` (Booleans as 0/1), top-level
+        ones by their name, as a Modelica result's data_1 holds them; start values are
+        trajectories, not here."""
         from .modelica.convert import START_VARIABLES
+        from .parameters import evaluate_parameters, resolve_params
 
-        values: dict[str, float] = {}
+        top = evaluate_parameters(self.parameters)
+        values = {k: float(v) for k, v in top.items() if isinstance(v, (bool, int, float))}
         for comp_name, comp in self.components.items():
-            for key, value in comp.params.items():
+            for key, value in resolve_params(comp_name, comp.params, top).items():
                 if key not in START_VARIABLES and isinstance(value, (bool, int, float)):
                     values[f"{comp_name}.{key}"] = float(value)
         return values

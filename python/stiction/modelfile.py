@@ -24,7 +24,7 @@ __all__ = ["EXPERIMENT_KEYS", "FORMAT_VERSION", "ModelData", "dumps", "parse"]
 EXPERIMENT_KEYS = ("StartTime", "StopTime", "Interval", "Tolerance", "Solver")
 # The model file format written here; every older one is read, a newer one refused by name.
 FORMAT_VERSION = 1
-_TOP_KEYS = ("format", "name", "connect", "inputs", "experiment", "components", "variables")
+_TOP_KEYS = ("format", "name", "connect", "inputs", "experiment", "parameters", "components", "variables")
 _BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
 _INLINE_MAX = 110  # longer components are written as [components.<name>] sections instead
 
@@ -38,6 +38,7 @@ class ModelData(NamedTuple):
     connections: list[tuple[str, str]]
     inputs: dict[str, float]  # model input port -> start value
     variables: dict[str, str]  # derived variable -> Modelica expression over result variables
+    parameters: dict[str, Any]  # top-level parameter -> value or expression text
 
 
 def _suggest(word: str, choices: Iterable[str]) -> str:
@@ -143,7 +144,15 @@ def parse(text: str, source: str = "model") -> ModelData:
     variables = doc.get("variables", {})
     if not isinstance(variables, dict) or not all(isinstance(v, str) for v in variables.values()):
         raise ModelError(f"{source}: 'variables' must be a table of expressions, e.g. dw = \"J1.w - J2.w\"")
-    return ModelData(name, dict(experiment), components, connections, inputs, dict(variables))
+    parameters = doc.get("parameters", {})
+    if not isinstance(parameters, dict):
+        raise ModelError(f"{source}: 'parameters' must be a table, e.g. T2 = 0.4, w = \"2*T2\"")
+    for key, value in parameters.items():
+        if not isinstance(value, (bool, int, float, str, list)):
+            raise ModelError(f"{source}: parameters: '{key}' must be a number, Boolean or expression text")
+    return ModelData(
+        name, dict(experiment), components, connections, inputs, dict(variables), dict(parameters)
+    )
 
 
 # --- writing --------------------------------------------------------------------------
@@ -176,6 +185,7 @@ def dumps(
     connections: Iterable[tuple[str, str]],
     inputs: Mapping[str, float] | None = None,
     variables: Mapping[str, str] | None = None,
+    parameters: Mapping[str, Any] | None = None,
 ) -> str:
     """Write a model file; it parses back to the same data."""
     lines = [f"format = {FORMAT_VERSION}", f"name = {_scalar(name)}"]
@@ -193,6 +203,9 @@ def dumps(
     if experiment:
         lines += ["", "[experiment]"]
         lines.extend(f"{_key(k)} = {_value(v)}" for k, v in experiment.items())
+    if parameters:
+        lines += ["", "[parameters]"]
+        lines.extend(f"{_key(k)} = {_value(v)}" for k, v in parameters.items())
     if variables:
         lines += ["", "[variables]"]
         lines.extend(f"{_key(k)} = {_scalar(v)}" for k, v in variables.items())

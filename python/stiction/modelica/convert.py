@@ -106,6 +106,7 @@ class _Converter:
         self.components: dict[str, tuple[str, Declaration]] = {}
         self.variables: list[Declaration] = []
         self.positions: dict[tuple[str, str], Pos] = {}  # (component, parameter) -> modifier
+        self.connected: set[frozenset[str]] = set()
 
     def run(self) -> Model:
         for name, pos in self.cls.extends:
@@ -173,7 +174,25 @@ class _Converter:
         self.evaluating.pop()
         self.check_declared(decl, value)
         self.values[name] = value
+        integer = decl.type_name == "Integer"
+        self.model.parameters[name] = self.kept(decl.binding, value if integer else _real(value, name))
         return value
+
+    def kept(self, expr: Any, value: Any) -> Any:
+        """What the model keeps of a binding: the value of a literal (or of an expression over
+        constants only), else the expression text over top-level parameters, if that text
+        evaluates to the same value without the file's imports."""
+        from ..parameters import evaluate_parameters, resolve_params
+
+        if isinstance(expr, Literal) or not _refers_to(expr, set(self.params)):
+            return value
+        text = unparse(expr)
+        try:
+            values = evaluate_parameters({k: self.model.parameters.get(k, v) for k, v in self.values.items()})
+            again = resolve_params("check", {"x": {"expr": text}}, values)["x"]
+        except ModelError:
+            return value
+        return text if again == value else value
 
     def check_declared(self, decl: Declaration, value: Any) -> None:
         base = "Real" if is_unit_type(decl.type_name) else decl.type_name
@@ -247,7 +266,8 @@ class _Converter:
                 raise ModelicaError(mod.pos, f"modifier '{mod.name}' of '{comp}' has no value")
             value = _real(python_value(self.expression(mod.value)), key)
             self.check_attributes(f"{comp}.{mod.name}", value, mod.args or [])
-            return key, value
+            kept = self.kept(mod.value, value)
+            return key, {"expr": kept} if isinstance(kept, str) and kept != value else value
         if key not in START_VARIABLES:
             raise ModelicaError(
                 mod.pos, f"'{mod.name}' of '{comp}' is a parameter: give it a value, not attributes"
@@ -268,11 +288,14 @@ class _Converter:
         return attrs
 
     def connect(self, a: Ref, b: Ref) -> None:
-        ends = [self.port(ref) for ref in (a, b)]
-        try:
-            self.model.connect(*ends)
-        except ModelError as exc:  # name the place
-            raise ModelicaError(a.pos, str(exc)) from None
+        ends = (self.port(a), self.port(b))
+        if ends[0] == ends[1]:
+            raise ModelicaError(a.pos, f"connect({ends[0]}, {ends[1]}): a port cannot be connected to itself")
+        key = frozenset(ends)
+        if key in self.connected:
+            raise ModelicaError(a.pos, f"connect({ends[0]}, {ends[1]}): already connected")
+        self.connected.add(key)
+        self.model.connections.append(ends)  # ports checked above (Model.connect is O(n) per call)
 
     def port(self, ref: Ref) -> str:
         comp, _, port = ref.name.partition(".")
@@ -320,11 +343,14 @@ class _Converter:
         place a complaint at its modifier. Components are checked alone, once per distinct
         type and parameters: checking the assembled model costs seconds for thousands of
         components, and the connections were checked above."""
+        from ..parameters import resolve_params
+
         seen: dict[tuple[str, str], str | None] = {}
         for name, comp in self.model.components.items():
-            key = (comp.type, repr(comp.params))
+            params = resolve_params(name, comp.params, self.values)
+            key = (comp.type, repr(params))
             if key not in seen:
-                seen[key] = _component_problem(comp.type, comp.params, str(self.model.base_dir))
+                seen[key] = _component_problem(comp.type, params, str(self.model.base_dir))
             message = seen[key]
             if message is None:
                 continue
@@ -356,6 +382,16 @@ def _component_problem(stype: str, params: dict[str, Any], base_dir: str) -> str
     except ModelError as exc:
         return str(exc) if "parameter '" in str(exc) else None
     return None
+
+
+def _refers_to(expr: Any, names: set[str]) -> bool:
+    """Whether an expression mentions one of ``names``."""
+    if isinstance(expr, Ref):
+        return expr.name in names
+    children = [getattr(expr, f, None) for f in ("left", "right", "operand", "cond", "then", "other")]
+    children += list(getattr(expr, "args", None) or []) + list(getattr(expr, "items", None) or [])
+    children += [item for row in getattr(expr, "rows", None) or [] for item in row]
+    return any(_refers_to(c, names) for c in children if c is not None and not isinstance(c, (str, dict)))
 
 
 def _real(value: Any, key: str) -> Any:

@@ -8,6 +8,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from ..errors import ModelError
+from ..parameters import is_expr
 from .convert import START_VARIABLES
 from .expr import format_literal
 from .names import MSL_CLASSES
@@ -33,6 +34,8 @@ def write_modelica(model: Model) -> str:
     if model.inputs:
         raise ModelError("a model with inputs (unconnected signal inputs) has no Modelica form here")
     lines = [f"model {model.name}"]
+    for name, value in model.parameters.items():
+        lines.append(f"  {_parameter(name, value)};")
     for name, comp in model.components.items():
         lines.append(f"  {_declaration(model, name, comp.type, comp.params)};")
     for name, expression in model.variables.items():
@@ -71,7 +74,18 @@ def _declaration(model: Model, name: str, ctype: str, params: dict[str, Any]) ->
     return f"{cls} {name}({', '.join(mods)})" if mods else f"{cls} {name}"
 
 
+def _parameter(name: str, value: Any) -> str:
+    if isinstance(value, str):
+        return f"parameter Real {name} = {value}"
+    kind = "Boolean" if isinstance(value, bool) else "Integer" if isinstance(value, int) else "Real"
+    if isinstance(value, list):
+        raise ModelError(f"parameter '{name}': array parameters have no Modelica export here")
+    return f"parameter {kind} {name} = {format_literal(value)}"
+
+
 def _modifier(key: str, value: Any) -> str:
+    if is_expr(value):
+        return f"{key}={value['expr']}"
     if key in _ENUMS and isinstance(value, str):
         return f"{key}={_ENUMS[key]}.{value}"
     if key in START_VARIABLES and isinstance(value, dict):

@@ -131,12 +131,12 @@ KEYWORDS = frozenset(
 # Blanks and comments are skipped as the prefix of every token, so one match is one token.
 _TOKEN = re.compile(
     r"""
-    (?:\s+|//[^\n]*|/\*.*?\*/)*
+    \s*(?:(?://[^\n]*|/\*.*?\*/)\s*)*
     (?:
-      (?P<number>(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)
-    | (?P<ident>[A-Za-z_][A-Za-z0-9_]*|'(?:[^'\\]|\\.)+')
+      (?P<ident>[A-Za-z_][A-Za-z0-9_]*|'(?:[^'\\]|\\.)+')
+    | (?P<op>[()\[\]{};,+\-*/^]|\.[*/+\-^]?|:=?|==|=|<[>=]?|>=?)
+    | (?P<number>\d+\.?\d*(?:[eE][+-]?\d+)?|\.\d+(?:[eE][+-]?\d+)?)
     | (?P<string>"(?:[^"\\]|\\.)*")
-    | (?P<op>\.\*|\./|\.\+|\.-|\.\^|:=|==|<>|<=|>=|[()\[\]{};,.=+\-*/^<>:])
     | (?P<end>\Z)
     )
     """,
@@ -144,34 +144,80 @@ _TOKEN = re.compile(
 )
 
 
+_SCAN_ANNOTATION = re.compile(r'"(?:[^"\\]|\\.)*"|//[^\n]*|/\*.*?\*/|\bannotation\s*\(', re.DOTALL)
+_SCAN_PARENS = re.compile(r'"(?:[^"\\]|\\.)*"|//[^\n]*|/\*.*?\*/|[()]', re.DOTALL)
+_NOT_NEWLINE = re.compile(r"[^\n]")
+
+
+def blank_graphics(text: str) -> str:
+    """The text with every annotation that holds no ``experiment`` blanked out (same length and
+    lines, so positions stay true). Placement, line and icon annotations are most of an MSL
+    model's tokens and are skipped anyway; blanking them first keeps a 1500-component import fast.
+    An annotation whose parentheses do not close is left for the parser to report."""
+    pieces: list[str] = []
+    last = 0
+    for m in _SCAN_ANNOTATION.finditer(text):
+        if m.start() < last or not m.group().startswith("annotation"):
+            continue
+        depth = 0
+        for p in _SCAN_PARENS.finditer(text, m.end() - 1):
+            depth += {"(": 1, ")": -1}.get(p.group(), 0)
+            if depth == 0:
+                break
+        else:
+            continue
+        span = text[m.start() : p.end()]
+        if "experiment" in span:
+            continue
+        pieces += [text[last : m.start()], _NOT_NEWLINE.sub(" ", span)]
+        last = p.end()
+    pieces.append(text[last:])
+    return "".join(pieces)
+
+
 def tokenize(text: str, source: str = "<modelica>") -> list[Token]:
-    """Split Modelica text into tokens; comments and white space are dropped."""
+    """Split Modelica text into tokens; comments, white space and graphical annotations
+    (``blank_graphics``) are dropped."""
     lines = _Lines(source, text)
-    tokens: list[Token] = []
-    append, match, keywords = tokens.append, _TOKEN.match, KEYWORDS
-    i = 0
-    while True:
-        m = match(text, i)
-        if m is None:
-            start = _skip_blanks(text, i)
-            what = repr(text[start])
-            if text.startswith("/*", start):
-                what = "an unterminated comment"
-            elif text[start] == '"':
-                what = "an unterminated string"
-            raise ModelicaError(lines.pos(start), f"syntax error: unexpected {what}")
-        kind = m.lastgroup or ""
-        start = m.start(kind)
+    text = blank_graphics(text)
+    found = [
+        (m.lastgroup, m.group(m.lastgroup), m.start(m.lastgroup), m.start(), m.end())
+        for m in _TOKEN.finditer(text)
+    ]
+    previous, stop = 0, len(found)
+    for i, (kind, _, _, blank, end) in enumerate(found):
+        if blank != previous:  # finditer skipped text that no token matches
+            _refuse(text, previous, lines)
         if kind == "end":
-            append(Token("eof", "", start, lines))
-            return tokens
-        value = m.group(kind)
-        if kind == "ident" and value in keywords:
-            kind = "kw"
-        append(Token(kind, value, start, lines))
-        i = m.end()
+            stop = i
+            break
+        previous = end
+    else:
+        _refuse(text, previous, lines)
+    del found[stop + 1 :]
+    keywords = KEYWORDS
+    make = Token._make
+    tokens = [
+        make(("kw" if kind == "ident" and value in keywords else kind, value, start, lines))
+        for kind, value, start, _, _ in found
+    ]
+    tokens[-1] = Token("eof", "", tokens[-1].offset, lines)
+    return tokens
+
+
+def _refuse(text: str, i: int, lines: _Lines) -> None:
+    start = _skip_blanks(text, i)
+    what = repr(text[start]) if start < len(text) else "end of file"
+    if text.startswith("/*", start):
+        what = "an unterminated comment"
+    elif start < len(text) and text[start] == '"':
+        what = "an unterminated string"
+    raise ModelicaError(lines.pos(start), f"syntax error: unexpected {what}")
+
+
+_BLANKS = re.compile(r"(?:\s+|//[^\n]*|/\*.*?\*/)*", re.DOTALL)
 
 
 def _skip_blanks(text: str, i: int) -> int:
-    m = re.compile(r"(?:\s+|//[^\n]*|/\*.*?\*/)*", re.DOTALL).match(text, i)
+    m = _BLANKS.match(text, i)
     return m.end() if m else i

@@ -60,7 +60,8 @@ class _Parser:
         return self.tokens[min(self.i + ahead, len(self.tokens) - 1)]
 
     def at(self, *texts: str) -> bool:
-        return self.tok.kind in ("op", "kw") and self.tok.text in texts
+        # no identifier, number or string is spelled like an operator or keyword
+        return self.tokens[self.i].text in texts
 
     def take(self) -> Token:
         token = self.tok
@@ -182,7 +183,7 @@ class _Parser:
             self.expect(")", "closing connect(…)")
             self.string_comment()
             if self.at("annotation"):
-                self.annotation()
+                self.skip_annotation()
             self.expect(";", "after connect(…)")
             cls.connects.append(Connect(a, b, start.pos))
 
@@ -203,7 +204,7 @@ class _Parser:
             if self.at("("):
                 self.class_modification()
             if self.at("annotation"):
-                self.annotation()
+                self.skip_annotation()
         elif self.at(*_CLASS_KINDS, "encapsulated", "partial"):
             cls.classes.append(self.class_definition())
         else:
@@ -256,7 +257,7 @@ class _Parser:
             raise self.fail(f"unsupported conditional component '{head.text} if …'; {SUPPORTED}")
         decl.description = self.string_comment()
         if self.at("annotation"):
-            self.annotation()
+            self.skip_annotation()
         return decl
 
     # --- modifications ----------------------------------------------------------------
@@ -287,6 +288,28 @@ class _Parser:
     def annotation(self) -> list[Modification]:
         self.expect("annotation")
         return self.class_modification()
+
+    def skip_annotation(self) -> None:
+        """Skip a component's or connection's annotation (graphics only) by matching its
+        brackets: most tokens of an MSL model are placement and line annotations."""
+        self.expect("annotation")
+        opening = self.expect("(", "after 'annotation'")
+        closers = {"(": ")", "[": "]", "{": "}"}
+        stack = [")"]
+        tokens, i = self.tokens, self.i
+        while stack:
+            token = tokens[i]
+            text = token.text
+            if token.kind == "op":
+                if text in closers:
+                    stack.append(closers[text])
+                elif text in (")", "]", "}") and text != stack.pop():
+                    self.i = i
+                    raise self.fail(f"syntax error: unbalanced '{text}' in the annotation")
+            elif token.kind == "eof":
+                raise ModelicaError(opening.pos, "syntax error: the annotation's '(' is never closed")
+            i += 1
+        self.i = i
 
     # --- expressions ------------------------------------------------------------------
     def expression(self) -> Expr:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import shutil
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -76,3 +77,26 @@ def test_cli_import_and_export(tmp_path: Path, cli_runner) -> None:
         == st.Model.load(toml)
         == st.Model.from_modelica(EXAMPLES / "CoupledClutches.mo")
     )
+
+
+@pytest.mark.parametrize("path", SOURCES, ids=[f"{p.stem}{p.suffix}" for p in SOURCES])
+def test_an_independent_modelica_parser_reads_the_export(path: Path) -> None:
+    """pymoca (an ANTLR grammar of full Modelica) parses what we write, with the same
+    declarations and connect equations."""
+    pymoca_parser = pytest.importorskip("pymoca.parser")
+    model = _load(path)
+    tree = pymoca_parser.parse(model.to_modelica())
+    cls = tree.classes[model.name]
+    declared = [*model.parameters, *model.components, *model.variables]
+    assert [s for s in cls.symbols if s in declared] == declared
+    assert len(cls.equations) == len(model.connections)
+    if path.suffix == ".mo":  # our hand-written MSL-style examples are valid Modelica too
+        assert model.name in _class_names(pymoca_parser.parse(path.read_text()))
+
+
+def _class_names(node: Any) -> set[str]:
+    """Every class name in a pymoca tree (``within`` nests them in packages)."""
+    names = set()
+    for name, cls in getattr(node, "classes", {}).items():
+        names |= {name} | _class_names(cls)
+    return names

@@ -134,3 +134,44 @@ def test_csv_written_by_the_core_keeps_every_digit(tmp_path: Path) -> None:
     assert text.splitlines()[0] == '"time","x","c.mode"'
     assert text.splitlines()[1].endswith(",-1")
     assert np.array_equal(st.Result.load(tmp_path / "x.csv").data, data)
+
+
+def test_load_reads_a_bin_normal_result_written_by_another_writer(tmp_path: Path) -> None:
+    """A Dymola-style "binNormal" file (one row per variable name, data_2 with one column per
+    variable, a negative dataInfo index for a variable stored with the opposite sign, a
+    constant in data_1), written by scipy, loads with the right columns and parameters."""
+    scipy_io = pytest.importorskip("scipy.io")
+    names = ["time", "J.w", "J.flange_a.tau", "J.J"]
+    width = max(map(len, names))
+    t = np.array([0.0, 0.5, 0.5, 1.0])  # an event at 0.5: the instant twice
+    w = np.array([1.0, 1.5, 1.5, 2.0])
+    tau = np.array([0.25, -0.5, 0.75, 1.0])
+    scipy_io.savemat(
+        tmp_path / "dymola.mat",
+        {
+            "Aclass": np.array(["Atrajectory", "1.1        ", "           ", "binNormal  "]),
+            "name": np.array([n.ljust(width) for n in names]),
+            "description": np.array(["Time".ljust(8), "", "", ""], dtype=f"<U{8}"),
+            "dataInfo": np.array(
+                [[0, 1, 0, -1], [2, 2, 0, -1], [2, -3, 0, -1], [1, 2, 0, 0]], dtype=np.int32
+            ),
+            "data_1": np.array([[0.0, 2.0], [1.0, 2.0]]),
+            "data_2": np.column_stack([t, w, -tau]),
+        },
+        format="4",
+    )
+    r = st.Result.load(tmp_path / "dymola.mat")
+    assert r.names == ["time", "J.w", "J.flange_a.tau"]
+    assert (
+        np.array_equal(r.time, t) and np.array_equal(r["J.w"], w) and np.array_equal(r["J.flange_a.tau"], tau)
+    )
+    assert r.parameters == {"J.J": 2.0}
+
+
+def test_load_refuses_what_is_not_a_result(tmp_path: Path) -> None:
+    path = tmp_path / "x.mat"
+    path.write_bytes(b"\x00" * 7)
+    with pytest.raises(ValueError, match="not a Dymola/OpenModelica result"):
+        st.Result.load(path)
+    with pytest.raises(ValueError, match="unknown result format"):
+        st.Result.load(tmp_path / "x.h5")

@@ -340,31 +340,47 @@ class _Converter:
 
     def engine_check(self) -> None:
         """Let the engine check each component's values (ranges, table shapes, kinds) and
-        place a complaint at its modifier. Components are checked alone, once per distinct
-        type and parameters: checking the assembled model costs seconds for thousands of
-        components, and the connections were checked above."""
+        place a complaint at its modifier. Components are checked unconnected, in batches, once
+        per distinct type and parameters: checking the assembled model costs seconds for
+        thousands of components, and the connections were checked above."""
         from ..parameters import resolve_params
 
-        seen: dict[tuple[str, str], str | None] = {}
+        distinct: dict[tuple[str, str], tuple[str, str, dict[str, Any]]] = {}
         for name, comp in self.model.components.items():
             params = resolve_params(name, comp.params, self.values)
-            key = (comp.type, repr(params))
-            if key not in seen:
-                seen[key] = _component_problem(comp.type, params, str(self.model.base_dir))
-            message = seen[key]
-            if message is None:
-                continue
-            message = message.replace("component 'c'", f"component '{name}'", 1)
+            distinct.setdefault((comp.type, repr(params)), (name, comp.type, params))
+        found = _first_problem(list(distinct.values()), str(self.model.base_dir))
+        if found is not None:
+            name, message = found
             param = re.search(r"parameter '(\w+)'", message)
             pos = self.positions.get((name, param.group(1))) if param else None
             raise ModelicaError(pos or self.components[name][1].type_pos, message)
 
 
 _SIGNAL_INPUTS = ("f_normalized", "tau", "u", "u1", "u2", "Gc")
+_BATCH = 32
 
 
-def _component_problem(stype: str, params: dict[str, Any], base_dir: str) -> str | None:
-    """The engine's complaint about one component's parameters, or None."""
+def _first_problem(items: list[tuple[str, str, dict[str, Any]]], base_dir: str) -> tuple[str, str] | None:
+    """(component, the engine's complaint about its parameters) for the first bad one, or None."""
+    for start in range(0, len(items), _BATCH):
+        batch = items[start : start + _BATCH]
+        message = _batch_problem(batch, base_dir)
+        if message is None:
+            continue
+        hit = re.match(r"component 'c(\d+)'", message)
+        if hit and "parameter '" in message:
+            name = batch[int(hit.group(1))][0]
+            return name, message.replace(hit.group(0), f"component '{name}'", 1)
+        for item in batch:  # a complaint about no parameter may hide one: check each alone
+            alone = _batch_problem([item], base_dir)
+            if alone is not None and "parameter '" in alone:
+                return item[0], alone.replace("component 'c0'", f"component '{item[0]}'", 1)
+    return None
+
+
+def _batch_problem(items: list[tuple[str, str, dict[str, Any]]], base_dir: str) -> str | None:
+    """The engine's complaint about unconnected components ``c0, c1, …``, or None."""
     from ..components import Component
     from ..model import Model
 
@@ -372,15 +388,16 @@ def _component_problem(stype: str, params: dict[str, Any], base_dir: str) -> str
         from .. import _core
     except ImportError:
         return None
-    alone = Model("check", base_dir=base_dir)
-    alone.components["c"] = Component(stype, params)
-    for port in _ports_of(stype) or []:
-        if port in _SIGNAL_INPUTS:
-            alone.inputs[f"c.{port}"] = 0.0
+    model = Model("check", base_dir=base_dir)
+    for k, (_, stype, params) in enumerate(items):
+        model.components[f"c{k}"] = Component(stype, params)
+        for port in _ports_of(stype) or []:
+            if port in _SIGNAL_INPUTS:
+                model.inputs[f"c{k}.{port}"] = 0.0
     try:
-        _core.check(alone.engine_toml(), base_dir)
+        _core.check(model.engine_toml(), base_dir)
     except ModelError as exc:
-        return str(exc) if "parameter '" in str(exc) else None
+        return str(exc)
     return None
 
 

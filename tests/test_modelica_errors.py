@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import stiction as st
@@ -223,3 +224,18 @@ def test_combi_time_table_reads_as_a_time_table() -> None:
     assert m.connections[0] == ("profile.y", "torque.tau")
     r = m.simulate()
     assert r["J.w"][-1] == pytest.approx(0.5 + 1.0 + 1.0, rel=1e-6)  # ∫ torque dt
+
+
+def test_derived_variable_may_use_a_parameter() -> None:
+    text = (
+        HEAD
+        + "  parameter Real k = 3;\n  Real kw = k*J.w;\n"
+        + OK_BODY
+        + "  annotation(experiment(StopTime=0.1));\nend M;"
+    )
+    m = st.Model.from_modelica(text)
+    assert m.variables == {"kw": "k * J.w"}
+    r = m.simulate()
+    assert np.array_equal(r["kw"], 3.0 * r["J.w"])
+    m.parameters["k"] = 4.0  # a sweep changes the derived variable too
+    assert np.array_equal(m.simulate()["kw"], 4.0 * r["J.w"])

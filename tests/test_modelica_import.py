@@ -119,3 +119,22 @@ def test_result_of_the_simulation_api_has_derived_variables() -> None:
     sim = mo.simulation()
     sim.run()
     assert np.array_equal(sim.result()["gearRatio"], r["gearRatio"])
+
+
+def test_derived_variables_and_parameters_in_the_model_file(tmp_path: Path) -> None:
+    m = st.Model.load(EXAMPLES / "CoupledClutches.toml")
+    m.variable("slip12", "J1.w - J2.w")
+    m.parameters["k"] = 2.0
+    m.variable("scaled", "k * J1.w")
+    m.save(tmp_path / "m.toml")
+    text = (tmp_path / "m.toml").read_text()
+    assert '[variables]\nslip12 = "J1.w - J2.w"' in text and "[parameters]\nk = 2.0" in text
+    back = st.Model.load(tmp_path / "m.toml")
+    assert back == m
+    r = back.simulate()
+    assert np.array_equal(r["slip12"], r["J1.w"] - r["J2.w"])
+    assert np.array_equal(r["scaled"], 2.0 * r["J1.w"])
+    with pytest.raises(st.ModelError, match="'variables' must be a table of expressions"):
+        st.Model.loads('name = "x"\n[variables]\nx = 1\n')
+    with pytest.raises(st.ModelError, match="syntax error"):
+        m.variable("bad", "J1.w +* 2")

@@ -55,8 +55,11 @@ def check_expression(expr: Expr, model: Model, resolve: Callable[..., str], para
     walk(expr)
 
 
-def derived_columns(result: Result, variables: Mapping[str, str]) -> dict[str, np.ndarray]:
-    """The derived variables' columns over the result's rows, in declaration order."""
+def derived_columns(
+    result: Result, variables: Mapping[str, str], parameters: Mapping[str, Any] | None = None
+) -> dict[str, np.ndarray]:
+    """The derived variables' columns over the result's rows, in declaration order;
+    ``parameters`` (top-level, evaluated) may be used by name."""
     from .modelica.expr import CONSTANTS, evaluate
     from .modelica.lexer import ModelicaError
     from .modelica.parser import parse_expression
@@ -68,6 +71,8 @@ def derived_columns(result: Result, variables: Mapping[str, str]) -> dict[str, n
             return columns[ref.name]
         if ref.name in CONSTANTS:
             return CONSTANTS[ref.name]
+        if parameters and ref.name in parameters:
+            return parameters[ref.name]
         if ref.name in result:
             return result[ref.name]
         raise ModelicaError(ref.pos, f"no variable '{ref.name}' in the result")

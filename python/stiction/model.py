@@ -304,7 +304,10 @@ class Model:
         }
         overrides = {k: float(v) for k, v in given.items() if v is not None}
         raw = _core.simulate(self.engine_toml(), str(self.base_dir), overrides)
-        result = Result.from_core(raw, name=self.name, variables=self.variables)
+        from .parameters import evaluate_parameters
+
+        top = evaluate_parameters(self.parameters)
+        result = Result.from_core(raw, name=self.name, variables=self.variables, parameters=top)
         result.parameters = self.parameter_values()
         return result
 

@@ -141,6 +141,12 @@ def parse(text: str, source: str = "model") -> ModelData:
         if not isinstance(comp_type, str):
             raise ModelError(f"{source}: component '{comp_name}': missing 'type' (a string)")
         components.append((comp_name, comp_type, params))
+    variables, parameters = _variables_and_parameters(doc, source)
+    return ModelData(name, dict(experiment), components, connections, inputs, variables, parameters)
+
+
+def _variables_and_parameters(doc: dict[str, Any], source: str) -> tuple[dict[str, str], dict[str, Any]]:
+    """The ``[variables]`` (derived, expression text) and ``[parameters]`` tables, shape-checked."""
     variables = doc.get("variables", {})
     if not isinstance(variables, dict) or not all(isinstance(v, str) for v in variables.values()):
         raise ModelError(f"{source}: 'variables' must be a table of expressions, e.g. dw = \"J1.w - J2.w\"")
@@ -150,9 +156,7 @@ def parse(text: str, source: str = "model") -> ModelData:
     for key, value in parameters.items():
         if not isinstance(value, (bool, int, float, str, list)):
             raise ModelError(f"{source}: parameters: '{key}' must be a number, Boolean or expression text")
-    return ModelData(
-        name, dict(experiment), components, connections, inputs, dict(variables), dict(parameters)
-    )
+    return dict(variables), dict(parameters)
 
 
 # --- writing --------------------------------------------------------------------------

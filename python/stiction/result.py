@@ -75,16 +75,23 @@ class Result:
         self.parameters: dict[str, float] = {}
 
     @classmethod
-    def from_core(cls, raw: Any, name: str = "", variables: Mapping[str, str] | None = None) -> Result:
+    def from_core(
+        cls,
+        raw: Any,
+        name: str = "",
+        variables: Mapping[str, str] | None = None,
+        parameters: Mapping[str, Any] | None = None,
+    ) -> Result:
         """Wrap the engine's raw result; variables are computed when first read.
 
-        ``variables`` (name -> Modelica expression) add derived columns after the engine's.
+        ``variables`` (name -> Modelica expression over result variables and the top-level
+        ``parameters``) add derived columns after the engine's.
         """
         result = cls(raw.names, None, raw.events, raw.stats, name=name, source=raw)
         if variables:
             from .derived import derived_columns
 
-            result._extra = derived_columns(result, variables)
+            result._extra = derived_columns(result, variables, parameters)
             result.names.extend(result._extra)
             result._index = {n: i for i, n in enumerate(result.names)}
         return result

@@ -314,16 +314,13 @@ class _Converter:
 
     # --- variables, experiment ----------------------------------------------------------
     def variable(self, decl: Declaration) -> None:
+        """A derived variable: its binding over result variables and top-level parameters
+        (kept by name, so a sweep of a parameter changes it too)."""
         from ..derived import check_expression
-
-        def substitute(ref: Ref) -> Any:
-            if ref.name in self.params:
-                return Literal(self.values[ref.name], ref.pos)
-            return None
 
         assert decl.binding is not None
         check_expression(decl.binding, self.model, self.scope.resolve, set(self.params))
-        self.model.variables[decl.name] = unparse(decl.binding, substitute)
+        self.model.variables[decl.name] = unparse(decl.binding)
 
     def experiment(self) -> None:
         for mod in self.cls.annotation:

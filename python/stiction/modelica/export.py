@@ -75,6 +75,8 @@ def _declaration(model: Model, name: str, ctype: str, params: dict[str, Any]) ->
 
 
 def _parameter(name: str, value: Any) -> str:
+    if not name.isidentifier():
+        raise ModelError(f"parameter name '{name}' is not a Modelica identifier")
     if isinstance(value, str):
         return f"parameter Real {name} = {value}"
     kind = "Boolean" if isinstance(value, bool) else "Integer" if isinstance(value, int) else "Real"

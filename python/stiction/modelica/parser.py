@@ -39,6 +39,7 @@ _CLASS_KINDS = ("model", "block", "class", "package")
 _UNSUPPORTED_PREFIXES = ("replaceable", "redeclare", "inner", "outer", "flow", "stream")
 _TYPE_PREFIXES = ("parameter", "constant", "input", "output", "discrete")
 _RELATIONS = ("<", "<=", ">", ">=", "==", "<>")
+_AFTER_VALUE = frozenset((",", ")", ";", "}", "]"))
 
 
 def parse(text: str, source: str = "<modelica>") -> StoredDefinition:
@@ -313,6 +314,10 @@ class _Parser:
 
     # --- expressions ------------------------------------------------------------------
     def expression(self) -> Expr:
+        token = self.tok
+        if token.kind == "number" and self.peek().text in _AFTER_VALUE:  # fast path: J=1
+            self.i += 1
+            return Literal(int(token.text) if token.text.isdigit() else float(token.text), token.pos)
         if self.at("if"):
             start = self.take()
             cond = self.expression()

@@ -166,6 +166,7 @@ def test_forms_of_the_subset() -> None:
         parameter SI.Frequency f(displayUnit="Hz") = 2/Modelica.Constants.pi;
         parameter Real w0 = sqrt(4) + exp(0) - cos(0) "= 2";
         parameter Boolean heat = false;
+        parameter Real w100 = Modelica.SIunits.Conversions.from_rpm(100) "MSL 3.2 spelling";
         Components.Inertia J(J=1, phi(fixed=true, start=0), w(start=w0, fixed=true));
         Components.Brake brake(fn_max=10, mue_pos=[0, 0.5; 1, 0.3], useHeatPort=heat);
         Sine s(freqHz=f, amplitude=0.5, offset=0.5);
@@ -183,7 +184,12 @@ def test_forms_of_the_subset() -> None:
     end Drives;
     """
     a = st.Model.from_modelica(text, model="A")
-    assert a.parameters == {"f": pytest.approx(2 / 3.141592653589793), "w0": 2.0, "heat": False}
+    assert a.parameters == {
+        "f": pytest.approx(2 / 3.141592653589793),
+        "w0": 2.0,
+        "heat": False,
+        "w100": pytest.approx(10.471975511965976),
+    }
     assert a.components["J"].params == {"J": 1.0, "phi": 0.0, "w": 2.0}  # start values: evaluated
     assert a.components["brake"].params == {
         "fn_max": 10.0,

@@ -69,7 +69,10 @@ TYPE_OF: dict[str, str] = {msl: t for t, msl in MSL_CLASSES.items()}
 TYPE_OF["Modelica.Blocks.Sources.CombiTimeTable"] = "CombiTimeTable"  # read as a TimeTable
 
 # MSL 3.2.x -> 4.x (MSL's ConvertModelica_from_3.2.3_to_4.0.0 script)
-_PACKAGE_RENAMES = {"Modelica.SIunits": "Modelica.Units.SI"}
+_PACKAGE_RENAMES = {  # the more specific first
+    "Modelica.SIunits.Conversions": "Modelica.Units.Conversions",
+    "Modelica.SIunits": "Modelica.Units.SI",
+}
 PARAMETER_RENAMES: dict[str, dict[str, str]] = {
     "Sine": {"freqHz": "f"},
     "Brake": {"mue_pos": "mu_pos"},

@@ -94,6 +94,8 @@ def _all_classes(classes: list[ClassDef]) -> list[ClassDef]:
 
 
 class _Converter:
+    """One model's conversion; each step raises ModelicaError at the construct it refuses."""
+
     def __init__(self, cls: ClassDef, scope: Scope, base_dir: str) -> None:
         from ..model import Model
 
@@ -116,6 +118,7 @@ class _Converter:
             self.classify(decl)
         for name in self.params:
             self.parameter(name)
+        self.model.parameters = {n: self.model.parameters[n] for n in self.params}  # declared order
         for name, (stype, decl) in self.components.items():
             self.component(name, stype, decl)
         for conn in self.cls.connects:
@@ -182,14 +185,13 @@ class _Converter:
         """What the model keeps of a binding: the value of a literal (or of an expression over
         constants only), else the expression text over top-level parameters, if that text
         evaluates to the same value without the file's imports."""
-        from ..parameters import evaluate_parameters, resolve_params
+        from ..parameters import resolve_params
 
         if isinstance(expr, Literal) or not _refers_to(expr, set(self.params)):
             return value
         text = unparse(expr)
-        try:
-            values = evaluate_parameters({k: self.model.parameters.get(k, v) for k, v in self.values.items()})
-            again = resolve_params("check", {"x": {"expr": text}}, values)["x"]
+        try:  # the parameters it uses are evaluated already (they were needed for `value`)
+            again = resolve_params("check", {"x": {"expr": text}}, self.values)["x"]
         except ModelError:
             return value
         return text if again == value else value

@@ -245,3 +245,22 @@ def test_derived_variable_may_use_a_parameter() -> None:
     assert np.array_equal(r["kw"], 3.0 * r["J.w"])
     m.parameters["k"] = 4.0  # a sweep changes the derived variable too
     assert np.array_equal(m.simulate()["kw"], 4.0 * r["J.w"])
+
+
+def test_damaged_text_gives_a_model_error_never_another_exception() -> None:
+    """Every cut and 150 random small edits of an MSL example: a ModelError or a model."""
+    import random
+
+    examples = Path(__file__).resolve().parents[1] / "examples" / "msl"
+    text = (examples / "SimpleGearShift.mo").read_text()
+    rng = random.Random(11)
+    damaged = [text[:cut] for cut in range(0, len(text), 53)]
+    for _ in range(150):
+        i = rng.randrange(len(text))
+        edit = rng.choice(["", "(", ")", ";", "=", '"', "{", ".", "x", "1e", "/*", "end", "der("])
+        damaged.append(text[:i] + edit + text[i + rng.randrange(0, 5) :])
+    for variant in damaged:
+        try:
+            st.Model.from_modelica(variant)
+        except st.ModelError as exc:
+            assert str(exc).startswith("<modelica>:"), str(exc)

@@ -113,6 +113,8 @@ BAD = [
         ["'peak'"],
     ),
     ("unterminated string", HEAD + '  parameter String s = "abc;\nend M;', "3:24", ["unterminated string"]),
+    ("unterminated comment", HEAD + "  /* never closed\nend M;", "3:3", ["unterminated comment"]),
+    ("stray character", HEAD + "  parameter Real a = 1 $ 2;\nend M;", "3:24", ["unexpected '$'"]),
     (
         "variable without binding",
         HEAD + "  Real x;\n" + OK_BODY + "end M;",
@@ -134,6 +136,13 @@ def test_bad_modelica_is_refused_with_its_place(what: str, text: str, where: str
     assert message.startswith(f"<modelica>:{where}:"), message
     for word in words:
         assert word in message, (word, message)
+
+
+def test_comment_marks_inside_strings_are_text() -> None:
+    m = st.Model.from_modelica(
+        HEAD + '  parameter String s = "/* not a comment // either";\n' + OK_BODY + "end M;"
+    )
+    assert m.parameters["s"] == "/* not a comment // either"
 
 
 def test_errors_name_the_file(tmp_path: Path) -> None:

@@ -10,6 +10,8 @@ lines and lets every error carry ``file:line:column`` and the name at fault.
 from __future__ import annotations
 
 import bisect
+import functools
+import itertools
 import re
 from typing import NamedTuple
 
@@ -128,51 +130,63 @@ KEYWORDS = frozenset(
     ]
 )
 
-# Blanks and comments are skipped as the prefix of every token, so one match is one token.
+# Blanks and comments are the first group, the token the second: one match per token, and
+# findall builds the whole list in C (the 1500-component import spends its time here).
 _TOKEN = re.compile(
     r"""
-    \s*(?:(?://[^\n]*|/\*.*?\*/)\s*)*
-    (?:
-      (?P<ident>[A-Za-z_][A-Za-z0-9_]*|'(?:[^'\\]|\\.)+')
-    | (?P<op>[()\[\]{};,+\-*/^]|\.[*/+\-^]?|:=?|==|=|<[>=]?|>=?)
-    | (?P<number>\d+\.?\d*(?:[eE][+-]?\d+)?|\.\d+(?:[eE][+-]?\d+)?)
-    | (?P<string>"(?:[^"\\]|\\.)*")
-    | (?P<end>\Z)
+    (\s*(?:(?://[^\n]*|/\*.*?\*/)\s*)*)
+    ( [A-Za-z_][A-Za-z0-9_]*|'(?:[^'\\]|\\.)+'
+    | \d+\.?\d*(?:[eE][+-]?\d+)?|\.\d+(?:[eE][+-]?\d+)?
+    | [()\[\]{};,+\-*/^]|\.[*/+\-^]?|:=?|==|=|<[>=]?|>=?
+    | "(?:[^"\\]|\\.)*"
     )
     """,
     re.VERBOSE | re.DOTALL,
 )
+_KIND = {
+    **{c: "ident" for c in "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz_'"},
+    **{c: "number" for c in "0123456789"},
+    '"': "string",
+}
 
 
-_SCAN_ANNOTATION = re.compile(r'"(?:[^"\\]|\\.)*"|//[^\n]*|/\*.*?\*/|\bannotation\s*\(', re.DOTALL)
-_SCAN_PARENS = re.compile(r'"(?:[^"\\]|\\.)*"|//[^\n]*|/\*.*?\*/|[()]', re.DOTALL)
+def _kind(text: str, keywords: frozenset[str] = KEYWORDS) -> str:
+    kind = _KIND.get(text[0], "op")
+    if kind == "ident" and text in keywords:
+        return "kw"
+    if text[0] == "." and len(text) > 1 and text[1].isdigit():
+        return "number"
+    return kind
+
+
 _NOT_NEWLINE = re.compile(r"[^\n]")
+
+
+def _nested_parens(depth: int) -> str:
+    """A regex for balanced parentheses up to ``depth`` levels, no strings inside."""
+    inner = r"[^()\"]*"
+    for _ in range(depth):
+        inner = rf"(?:[^()\"]|\({inner}\))*"
+    return rf"\({inner}\)"
+
+
+# A string or comment (kept as it is) or a graphical annotation (strings inside it, deeper
+# nesting: left to the parser, which skips it token by token).
+_GRAPHICS = re.compile(r'"(?:[^"\\]|\\.)*"|//[^\n]*|/\*.*?\*/|\bannotation\s*' + _nested_parens(6), re.DOTALL)
+
+
+def _blank(m: re.Match[str]) -> str:
+    span = m.group()
+    if not span.startswith("annotation") or "experiment" in span:
+        return span
+    return _NOT_NEWLINE.sub(" ", span) if "\n" in span else " " * len(span)
 
 
 def blank_graphics(text: str) -> str:
     """The text with every annotation that holds no ``experiment`` blanked out (same length and
     lines, so positions stay true). Placement, line and icon annotations are most of an MSL
-    model's tokens and are skipped anyway; blanking them first keeps a 1500-component import fast.
-    An annotation whose parentheses do not close is left for the parser to report."""
-    pieces: list[str] = []
-    last = 0
-    for m in _SCAN_ANNOTATION.finditer(text):
-        if m.start() < last or not m.group().startswith("annotation"):
-            continue
-        depth = 0
-        for p in _SCAN_PARENS.finditer(text, m.end() - 1):
-            depth += {"(": 1, ")": -1}.get(p.group(), 0)
-            if depth == 0:
-                break
-        else:
-            continue
-        span = text[m.start() : p.end()]
-        if "experiment" in span:
-            continue
-        pieces += [text[last : m.start()], _NOT_NEWLINE.sub(" ", span)]
-        last = p.end()
-    pieces.append(text[last:])
-    return "".join(pieces)
+    model's tokens and are skipped anyway; blanking them first keeps a 1500-component import fast."""
+    return _GRAPHICS.sub(_blank, text)
 
 
 def tokenize(text: str, source: str = "<modelica>") -> list[Token]:
@@ -180,39 +194,42 @@ def tokenize(text: str, source: str = "<modelica>") -> list[Token]:
     (``blank_graphics``) are dropped."""
     lines = _Lines(source, text)
     text = blank_graphics(text)
-    found = [
-        (m.lastgroup, m.group(m.lastgroup), m.start(m.lastgroup), m.start(), m.end())
-        for m in _TOKEN.finditer(text)
-    ]
-    previous, stop = 0, len(found)
-    for i, (kind, _, _, blank, end) in enumerate(found):
-        if blank != previous:  # finditer skipped text that no token matches
-            _refuse(text, previous, lines)
-        if kind == "end":
-            stop = i
-            break
-        previous = end
-    else:
-        _refuse(text, previous, lines)
-    del found[stop + 1 :]
-    keywords = KEYWORDS
-    make = Token._make
-    tokens = [
-        make(("kw" if kind == "ident" and value in keywords else kind, value, start, lines))
-        for kind, value, start, _, _ in found
-    ]
-    tokens[-1] = Token("eof", "", tokens[-1].offset, lines)
+    found = _TOKEN.findall(text)
+    ends = list(itertools.accumulate(len(blank) + len(token) for blank, token in found))
+    covered = ends[-1] if ends else 0
+    rest = _skip_blanks(text, covered)
+    if rest != len(text):  # findall skipped text no token matches: the matches end later
+        _refuse(text, _first_gap(text), lines)
+    texts = [token for _, token in found]
+    starts = [end - len(token) for end, token in zip(ends, texts, strict=True)]
+    if "/*" in text:  # a comment that never closes reads as the tokens '/' '*'
+        for token, start in zip(texts, starts, strict=True):
+            if token == "/" and text.startswith("/*", start):
+                _refuse(text, start, lines)
+    make = functools.partial(tuple.__new__, Token)
+    tokens = list(map(make, zip(map(_kind, texts), texts, starts, itertools.repeat(lines))))
+    tokens.append(Token("eof", "", rest, lines))
     return tokens
+
+
+def _first_gap(text: str) -> int:
+    """Where the first text no token matches begins (only called for bad text)."""
+    i = 0
+    while True:
+        m = _TOKEN.match(text, i)
+        if m is None:
+            return i
+        i = m.end()
 
 
 def _refuse(text: str, i: int, lines: _Lines) -> None:
     start = _skip_blanks(text, i)
-    what = repr(text[start]) if start < len(text) else "end of file"
+    what = f"unexpected {text[start]!r}" if start < len(text) else "unexpected end of file"
     if text.startswith("/*", start):
-        what = "an unterminated comment"
+        what = "unterminated comment"
     elif start < len(text) and text[start] == '"':
-        what = "an unterminated string"
-    raise ModelicaError(lines.pos(start), f"syntax error: unexpected {what}")
+        what = "unterminated string"
+    raise ModelicaError(lines.pos(start), f"syntax error: {what}")
 
 
 _BLANKS = re.compile(r"(?:\s+|//[^\n]*|/\*.*?\*/)*", re.DOTALL)

@@ -426,17 +426,20 @@ def _is_one(ref: Ref) -> bool:
 
 
 def _parameters_of(stype: str) -> list[str] | None:
-    from ..components import component_types
     from .timetable import COMBI_PARAMETERS
 
     if stype == "CombiTimeTable":
         return list(COMBI_PARAMETERS)
-    known = component_types()
+    known = _catalogue()
     return None if known is None else known.get(stype, {}).get("parameters", [])
 
 
 def _ports_of(stype: str) -> list[str] | None:
+    known = _catalogue()
+    return None if known is None else known.get(stype, {}).get("ports", [])
+
+
+def _catalogue() -> dict[str, dict[str, list[str]]] | None:
     from ..components import component_types
 
-    known = component_types()
-    return None if known is None else known.get(stype, {}).get("ports", [])
+    return component_types()

@@ -146,17 +146,18 @@ _TOKEN = re.compile(
 _KIND = {
     **{c: "ident" for c in "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz_'"},
     **{c: "number" for c in "0123456789"},
+    **{c: "op" for c in "()[]{};,+-*/^:=<>"},
     '"': "string",
 }
 
 
-def _kind(text: str, keywords: frozenset[str] = KEYWORDS) -> str:
-    kind = _KIND.get(text[0], "op")
-    if kind == "ident" and text in keywords:
-        return "kw"
-    if text[0] == "." and len(text) > 1 and text[1].isdigit():
-        return "number"
-    return kind
+def _kinds(texts: list[str]) -> list[str]:
+    """The kind of every token text: keyword, identifier, number, string or operator."""
+    keywords, kind = KEYWORDS, _KIND
+    kinds = ["kw" if t in keywords else kind.get(t[0], "") for t in texts]
+    for i in (i for i, k in enumerate(kinds) if not k):  # starts with "."
+        kinds[i] = "number" if texts[i][1:2].isdigit() else "op"
+    return kinds
 
 
 _NOT_NEWLINE = re.compile(r"[^\n]")
@@ -195,7 +196,7 @@ def tokenize(text: str, source: str = "<modelica>") -> list[Token]:
     lines = _Lines(source, text)
     text = blank_graphics(text)
     found = _TOKEN.findall(text)
-    ends = list(itertools.accumulate(len(blank) + len(token) for blank, token in found))
+    ends = list(itertools.accumulate(map(len, map("".join, found))))
     covered = ends[-1] if ends else 0
     rest = _skip_blanks(text, covered)
     if rest != len(text):  # findall skipped text no token matches: the matches end later
@@ -207,7 +208,7 @@ def tokenize(text: str, source: str = "<modelica>") -> list[Token]:
             if token == "/" and text.startswith("/*", start):
                 _refuse(text, start, lines)
     make = functools.partial(tuple.__new__, Token)
-    tokens = list(map(make, zip(map(_kind, texts), texts, starts, itertools.repeat(lines))))
+    tokens = list(map(make, zip(_kinds(texts), texts, starts, itertools.repeat(lines))))
     tokens.append(Token("eof", "", rest, lines))
     return tokens
 

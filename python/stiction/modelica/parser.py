@@ -95,10 +95,14 @@ class _Parser:
 
     def name(self, what: str = "a name") -> tuple[str, Pos]:
         first = self.ident(what)
+        tokens, i = self.tokens, self.i
+        if tokens[i].text != ".":  # the common case: one identifier
+            return first.text, first.pos
         parts = [first.text]
-        while self.at(".") and self.peek().kind == "ident":
-            self.take()
-            parts.append(self.take().text)
+        while tokens[i].text == "." and tokens[i + 1].kind == "ident":
+            parts.append(tokens[i + 1].text)
+            i += 2
+        self.i = i
         return ".".join(parts), first.pos
 
     def string_comment(self) -> str:

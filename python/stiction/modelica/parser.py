@@ -277,17 +277,21 @@ class _Parser:
         return args
 
     def argument(self) -> Modification:
-        while self.accept("each") or self.accept("final"):
-            pass
+        while self.tokens[self.i].text in ("each", "final"):
+            self.i += 1
         if self.at("redeclare", "replaceable"):
             raise self.fail(f"unsupported '{self.tok.text}' modifier; {SUPPORTED}")
         name, pos = self.name("a modifier name")
         mod = Modification(name, pos)
-        if self.at("("):
+        text = self.tokens[self.i].text
+        if text == "(":
             mod.args = self.class_modification()
-        if self.accept("=") or self.accept(":="):
+            text = self.tokens[self.i].text
+        if text in ("=", ":="):
+            self.i += 1
             mod.value = self.expression()
-        mod.description = self.string_comment()
+        if self.tokens[self.i].kind == "string":
+            mod.description = self.string_comment()
         return mod
 
     def annotation(self) -> list[Modification]:

@@ -11,12 +11,15 @@ from __future__ import annotations
 import re
 from typing import TYPE_CHECKING, Any
 
+from ..components import Component, component_types
 from ..errors import ModelError
+from ..parameters import resolve_params
 from .ast import ClassDef, Declaration, Literal, Modification, Ref, StoredDefinition
 from .expr import CONSTANTS, evaluate, python_value, unparse
 from .lexer import ModelicaError, Pos
 from .names import MSL_CLASSES, PARAMETER_RENAMES, TYPE_OF, Scope, is_enumeration, is_icon, is_unit_type
 from .parser import SUPPORTED
+from .timetable import COMBI_PARAMETERS, combi_time_table
 
 if TYPE_CHECKING:
     from ..model import Model
@@ -185,8 +188,6 @@ class _Converter:
         """What the model keeps of a binding: the value of a literal (or of an expression over
         constants only), else the expression text over top-level parameters, if that text
         evaluates to the same value without the file's imports."""
-        from ..parameters import resolve_params
-
         if isinstance(expr, Literal) or not _refers_to(expr, set(self.params)):
             return value
         text = unparse(expr)
@@ -237,9 +238,6 @@ class _Converter:
 
     # --- components -----------------------------------------------------------------------
     def component(self, name: str, stype: str, decl: Declaration) -> None:
-        from ..components import Component
-        from .timetable import combi_time_table
-
         if decl.binding is not None:
             raise ModelicaError(decl.binding.pos, f"component '{name}' cannot have a binding '= …'")
         params = {}
@@ -342,8 +340,6 @@ class _Converter:
         place a complaint at its modifier. Components are checked unconnected, in batches, once
         per distinct type and parameters: checking the assembled model costs seconds for
         thousands of components, and the connections were checked above."""
-        from ..parameters import resolve_params
-
         distinct: dict[tuple[str, str], tuple[str, str, dict[str, Any]]] = {}
         for name, comp in self.model.components.items():
             params = resolve_params(name, comp.params, self.values)
@@ -380,7 +376,6 @@ def _first_problem(items: list[tuple[str, str, dict[str, Any]]], base_dir: str) 
 
 def _batch_problem(items: list[tuple[str, str, dict[str, Any]]], base_dir: str) -> str | None:
     """The engine's complaint about unconnected components ``c0, c1, …``, or None."""
-    from ..components import Component
     from ..model import Model
 
     try:
@@ -426,8 +421,6 @@ def _is_one(ref: Ref) -> bool:
 
 
 def _parameters_of(stype: str) -> list[str] | None:
-    from .timetable import COMBI_PARAMETERS
-
     if stype == "CombiTimeTable":
         return list(COMBI_PARAMETERS)
     known = _catalogue()
@@ -440,6 +433,4 @@ def _ports_of(stype: str) -> list[str] | None:
 
 
 def _catalogue() -> dict[str, dict[str, list[str]]] | None:
-    from ..components import component_types
-
     return component_types()

@@ -64,6 +64,7 @@ from .errors import (
     UsageError,
 )
 from .model import Model
+from .parameters import expr
 from .result import Event, Result
 from .simulation import CancelHandle, Simulation, SimulationState
 from .sweeps import SweepResult, grid, sample, sweep
@@ -134,6 +135,7 @@ __all__ = [
     "TorqueStep",
     "UsageError",
     "compare",
+    "expr",
     "grid",
     "sample",
     "sweep",

@@ -11,12 +11,15 @@ import functools
 import sys
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any, NoReturn, TypeVar
+from typing import TYPE_CHECKING, Any, NoReturn, TypeVar
 
 import click
 
 from . import __version__
 from .errors import ModelError
+
+if TYPE_CHECKING:
+    from .model import Model
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -79,13 +82,38 @@ def _experiment_options(func: F) -> F:
     return func
 
 
+def _load(model_file: Path, model_name: str | None = None) -> Model:
+    """A model from a TOML model file or a Modelica ``.mo`` file (``model_name`` picks one)."""
+    from .model import Model
+
+    if model_file.suffix.lower() == ".mo":
+        return Model.from_modelica(model_file, model_name)
+    if model_name is not None:
+        raise ModelError(f"{model_file}: --model applies to Modelica (.mo) files only")
+    return Model.load(model_file)
+
+
+def _model_option(func: F) -> F:
+    return click.option(
+        "--model",
+        "model_name",
+        default=None,
+        help="The model to use when a .mo file holds several (short or qualified name).",
+    )(func)
+
+
 @main.command()
 @click.argument("model_file", type=click.Path(dir_okay=False, path_type=Path))
 @click.option(
     "-o",
     "--output",
     type=click.Path(dir_okay=False, path_type=Path),
-    help="Write the result as an MSL-style CSV.",
+    help="Write the result: .csv (MSL style), .mat (Dymola/OpenModelica) or .parquet.",
+)
+@click.option(
+    "--outputs",
+    default=None,
+    help="Signals to write: names or globs, comma-separated (J1.w,clutch*.mode). Default: all.",
 )
 @click.option(
     "--plot",
@@ -98,25 +126,31 @@ def _experiment_options(func: F) -> F:
     default=None,
     help="Signals to plot: a,b,c (one axes each); join with + to share axes: a+b,c.",
 )
+@_model_option
 @_experiment_options
 @_friendly_errors
 def simulate(
     model_file: Path,
     output: Path | None,
+    outputs: str | None,
     plot_file: Path | None,
     signals: str | None,
+    model_name: str | None,
     **experiment: float | None,
 ) -> None:
-    """Run MODEL_FILE and print a summary."""
-    from .model import Model
+    """Run MODEL_FILE (.toml or Modelica .mo) and print a summary."""
+    from .resultio import result_format
 
-    model = Model.load(model_file)
+    if output is not None:
+        result_format(output)  # refuse an unknown format before running
+    model = _load(model_file, model_name)
     try:
         result = model.simulate(**experiment)
     except ModelError as exc:
         raise _in_file(model_file, exc) from None
     if output is not None:
-        result.to_csv(output)
+        chosen = [n.strip() for n in outputs.split(",") if n.strip()] if outputs else None
+        result.save(output, chosen)
     if plot_file is not None:
         groups = [g.split("+") for g in signals.split(",") if g.strip()] if signals else []
         groups = [[n.strip() for n in g if n.strip()] for g in groups]
@@ -128,14 +162,49 @@ def simulate(
         click.echo(f"wrote {plot_file}")
 
 
+@main.command(name="import")
+@click.argument("mo_file", type=click.Path(dir_okay=False, path_type=Path))
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False, path_type=Path),
+    required=True,
+    help="The TOML model file to write.",
+)
+@_model_option
+@_friendly_errors
+def import_cmd(mo_file: Path, output: Path, model_name: str | None) -> None:
+    """Convert a Modelica model (MO_FILE) into a TOML model file."""
+    from .model import Model
+
+    model = Model.from_modelica(mo_file, model_name)
+    model.save(output)
+    click.echo(f"wrote {output} ({len(model.components)} components, {len(model.connections)} connections)")
+
+
+@main.command(name="export")
+@click.argument("model_file", type=click.Path(dir_okay=False, path_type=Path))
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False, path_type=Path),
+    required=True,
+    help="The Modelica file to write (Model.mo).",
+)
+@_friendly_errors
+def export_cmd(model_file: Path, output: Path) -> None:
+    """Write MODEL_FILE as a Modelica model with fully qualified MSL classes."""
+    model = _load(model_file)
+    model.to_modelica(output)
+    click.echo(f"wrote {output}")
+
+
 @main.command()
 @click.argument("model_file", type=click.Path(dir_okay=False, path_type=Path))
 @_friendly_errors
 def check(model_file: Path) -> None:
-    """Validate MODEL_FILE without running it."""
-    from .model import Model
-
-    model = Model.load(model_file)
+    """Validate MODEL_FILE (.toml or .mo) without running it."""
+    model = _load(model_file)
     try:
         model.check()
     except ModelError as exc:
@@ -162,7 +231,9 @@ def check(model_file: Path) -> None:
 )
 @_friendly_errors
 def compare_cmd(result_csv: Path, reference_csv: Path, tolerance: float, signals_file: Path | None) -> None:
-    """Check RESULT_CSV against REFERENCE_CSV (MSL tube method); exit 1 on failure."""
+    """Check RESULT_CSV against REFERENCE_CSV (MSL tube method); exit 1 on failure.
+
+    Either file may be a CSV, a Dymola/OpenModelica .mat result or a Parquet table."""
     from .compare import compare
 
     if signals_file is None:

@@ -24,7 +24,7 @@ from typing import Any, Union
 
 import numpy as np
 
-from . import csvio
+from . import csvio, resultio
 
 __all__ = ["CompareReport", "SignalReport", "compare", "read_signal_list", "tube"]
 
@@ -183,6 +183,9 @@ def read_signal_list(path: str | os.PathLike[str]) -> list[str]:
 
 def _as_table(source: Trajectories, what: str) -> tuple[list[str], np.ndarray]:
     if isinstance(source, (str, os.PathLike)):
+        if Path(source).suffix.lower() in resultio.FORMATS:  # CSV, Dymola/OpenModelica .mat, Parquet
+            names, data, _ = resultio.read(source)
+            return names, data
         return csvio.read_csv(source)
     if hasattr(source, "names") and hasattr(source, "data"):  # a Result
         return list(source.names), np.asarray(source.data, dtype=np.float64)

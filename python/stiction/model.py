@@ -51,6 +51,12 @@ class Model:
         self.base_dir = Path(base_dir)
         # The compiled form of the model text it was made from (see `compile`).
         self._compiled: tuple[tuple[str, str], CompiledModel] | None = None
+        # Derived variables: result columns computed from the run, name -> Modelica expression
+        # over result variables ("gear.flange_a.tau*der(gear.flange_a.phi)").
+        self.variables: dict[str, str] = {}
+        # Top-level parameters: name -> number, Boolean or expression text over the others;
+        # components refer to them with {"expr": "T2"} (see stiction/parameters.py).
+        self.parameters: dict[str, Any] = {}
 
     # --- building ---------------------------------------------------------------------
     def add(self, name: str, component: Component) -> Model:
@@ -139,6 +145,8 @@ class Model:
             and self.connections == other.connections
             and self.experiment == other.experiment
             and self.inputs == other.inputs
+            and self.variables == other.variables
+            and self.parameters == other.parameters
         )
 
     __hash__ = None  # type: ignore[assignment]  # mutable
@@ -148,16 +156,70 @@ class Model:
             f"<Model {self.name!r}: {len(self.components)} components, {len(self.connections)} connections>"
         )
 
+    def variable(self, name: str, expression: str) -> Model:
+        """Add a derived variable: a result column computed from the run by a Modelica
+        expression over result variables, e.g. ``"J1.w - J2.w"`` or ``"J.w*der(J.phi)"``."""
+        from .modelica.parser import parse_expression
+
+        if not isinstance(name, str) or not _IDENTIFIER.fullmatch(name):
+            raise ModelError(f"variable name {name!r} is not a valid identifier")
+        if name in self.components or name in self.variables:
+            raise ModelError(f"variable '{name}': the name is already used")
+        parse_expression(expression, f"variable '{name}'")
+        self.variables[name] = expression
+        return self
+
     # --- files ------------------------------------------------------------------------
     def to_toml(self) -> str:
-        """The model as model-file text (what ``save`` writes and the engine reads)."""
+        """The model as model-file text (what ``save`` writes)."""
         return modelfile.dumps(
             self.name,
             self.experiment,
             ((n, c.type, c.params) for n, c in self.components.items()),
             self.connections,
             self.inputs,
+            self.variables,
+            self.parameters,
         )
+
+    def engine_toml(self) -> str:
+        """The model-file text the engine reads: parameter expressions evaluated, derived
+        variables left out (they are computed from the result)."""
+        from .parameters import evaluate_parameters, resolve_params
+
+        values = evaluate_parameters(self.parameters)
+        return modelfile.dumps(
+            self.name,
+            self.experiment,
+            ((n, c.type, resolve_params(n, c.params, values)) for n, c in self.components.items()),
+            self.connections,
+            self.inputs,
+        )
+
+    @classmethod
+    def from_modelica(
+        cls,
+        source: str | os.PathLike[str],
+        model: str | None = None,
+    ) -> Model:
+        """Read a Modelica model (a ``.mo`` path or its text); ``model`` picks one of several.
+
+        The subset MSL-style models use is read (see docs/modelica.md); anything else raises
+        ``ModelError`` starting with ``file:line:column``.
+        """
+        from .modelica import read_modelica
+
+        return read_modelica(source, model)
+
+    def to_modelica(self, path: str | os.PathLike[str] | None = None) -> str:
+        """The model as Modelica text with fully qualified MSL classes; written to ``path``
+        if given. ``Model.from_modelica`` reads it back to the same model."""
+        from .modelica.export import write_modelica
+
+        text = write_modelica(self)
+        if path is not None:
+            Path(path).write_text(text, encoding="utf-8")
+        return text
 
     def save(self, path: str | os.PathLike[str]) -> None:
         """Write the model file; relative file parameters stay relative to it."""
@@ -188,6 +250,9 @@ class Model:
             model.connect(a, b)
         for port, start in data.inputs.items():
             model.input(port, start)
+        for var_name, expression in data.variables.items():
+            model.variable(var_name, expression)
+        model.parameters.update(data.parameters)
         return model
 
     @classmethod
@@ -222,7 +287,7 @@ class Model:
         """Let the engine validate the whole model without running it."""
         from . import _core
 
-        _core.check(self.to_toml(), str(self.base_dir))
+        _core.check(self.engine_toml(), str(self.base_dir))
 
     def compile(self) -> CompiledModel:
         """The model compiled for repeated runs; reused while the model is unchanged.
@@ -231,7 +296,7 @@ class Model:
         """
         from .compiled import CompiledModel
 
-        key = (self.to_toml(), str(self.base_dir))
+        key = (self.engine_toml(), str(self.base_dir))
         if self._compiled is None or self._compiled[0] != key:
             self._compiled = (key, CompiledModel(key[0], self.base_dir, self.name))
         return self._compiled[1]
@@ -250,11 +315,30 @@ class Model:
         ``params`` overrides parameters and start values by name for this run
         (``{"clutch1.fn_max": 30, "J1.w": 5}``); the model itself is unchanged.
         """
-        return self.compile().simulate(
-            params,
-            StartTime=StartTime,
-            StopTime=StopTime,
-            Interval=Interval,
-            Tolerance=Tolerance,
-            Solver=Solver,
-        )
+        from .compiled import merge_overrides
+        from .parameters import evaluate_parameters
+
+        given = {"StartTime": StartTime, "StopTime": StopTime, "Interval": Interval}
+        given |= {"Tolerance": Tolerance, "Solver": Solver}
+        overrides = merge_overrides(params, given)
+        core = self.compile()._core
+        raw = (core.variant(overrides) if overrides else core).simulate()
+        top = evaluate_parameters(self.parameters)
+        result = Result.from_core(raw, name=self.name, variables=self.variables, parameters=top)
+        result.parameters = self.parameter_values()
+        return result
+
+    def parameter_values(self) -> dict[str, float]:
+        """Scalar parameters as ``component.parameter -> value`` (Booleans as 0/1), top-level
+        ones by their name, as a Modelica result's data_1 holds them; start values are
+        trajectories, not here."""
+        from .modelica.convert import START_VARIABLES
+        from .parameters import evaluate_parameters, resolve_params
+
+        top = evaluate_parameters(self.parameters)
+        values = {k: float(v) for k, v in top.items() if isinstance(v, (bool, int, float))}
+        for comp_name, comp in self.components.items():
+            for key, value in resolve_params(comp_name, comp.params, top).items():
+                if key not in START_VARIABLES and isinstance(value, (bool, int, float)):
+                    values[f"{comp_name}.{key}"] = float(value)
+        return values

@@ -33,7 +33,7 @@ EXPERIMENT_KEYS = (
 )
 # The model file format written here; every older one is read, a newer one refused by name.
 FORMAT_VERSION = 1
-_TOP_KEYS = ("format", "name", "connect", "inputs", "experiment", "components")
+_TOP_KEYS = ("format", "name", "connect", "inputs", "experiment", "parameters", "components", "variables")
 _BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
 _INLINE_MAX = 110  # longer components are written as [components.<name>] sections instead
 
@@ -46,6 +46,8 @@ class ModelData(NamedTuple):
     components: list[tuple[str, str, dict[str, Any]]]  # (name, type, parameters)
     connections: list[tuple[str, str]]
     inputs: dict[str, float]  # model input port -> start value
+    variables: dict[str, str]  # derived variable -> Modelica expression over result variables
+    parameters: dict[str, Any]  # top-level parameter -> value or expression text
 
 
 def _suggest(word: str, choices: Iterable[str]) -> str:
@@ -148,7 +150,22 @@ def parse(text: str, source: str = "model") -> ModelData:
         if not isinstance(comp_type, str):
             raise ModelError(f"{source}: component '{comp_name}': missing 'type' (a string)")
         components.append((comp_name, comp_type, params))
-    return ModelData(name, dict(experiment), components, connections, inputs)
+    variables, parameters = _variables_and_parameters(doc, source)
+    return ModelData(name, dict(experiment), components, connections, inputs, variables, parameters)
+
+
+def _variables_and_parameters(doc: dict[str, Any], source: str) -> tuple[dict[str, str], dict[str, Any]]:
+    """The ``[variables]`` (derived, expression text) and ``[parameters]`` tables, shape-checked."""
+    variables = doc.get("variables", {})
+    if not isinstance(variables, dict) or not all(isinstance(v, str) for v in variables.values()):
+        raise ModelError(f"{source}: 'variables' must be a table of expressions, e.g. dw = \"J1.w - J2.w\"")
+    parameters = doc.get("parameters", {})
+    if not isinstance(parameters, dict):
+        raise ModelError(f"{source}: 'parameters' must be a table, e.g. T2 = 0.4, w = \"2*T2\"")
+    for key, value in parameters.items():
+        if not isinstance(value, (bool, int, float, str, list)):
+            raise ModelError(f"{source}: parameters: '{key}' must be a number, Boolean or expression text")
+    return dict(variables), dict(parameters)
 
 
 # --- writing --------------------------------------------------------------------------
@@ -180,6 +197,8 @@ def dumps(
     components: Iterable[tuple[str, str, Mapping[str, Any]]],
     connections: Iterable[tuple[str, str]],
     inputs: Mapping[str, float] | None = None,
+    variables: Mapping[str, str] | None = None,
+    parameters: Mapping[str, Any] | None = None,
 ) -> str:
     """Write a model file; it parses back to the same data."""
     lines = [f"format = {FORMAT_VERSION}", f"name = {_scalar(name)}"]
@@ -197,6 +216,12 @@ def dumps(
     if experiment:
         lines += ["", "[experiment]"]
         lines.extend(f"{_key(k)} = {_value(v)}" for k, v in experiment.items())
+    if parameters:
+        lines += ["", "[parameters]"]
+        lines.extend(f"{_key(k)} = {_value(v)}" for k, v in parameters.items())
+    if variables:
+        lines += ["", "[variables]"]
+        lines.extend(f"{_key(k)} = {_scalar(v)}" for k, v in variables.items())
 
     comps = [(n, {"type": t, **dict(p)}) for n, t, p in components]
     inline = [f"{_key(n)} = {_value(entry)}" for n, entry in comps]

@@ -7,14 +7,16 @@ from arrays), so it can be tested, saved and compared without the compiled modul
 from __future__ import annotations
 
 import difflib
+import fnmatch
 import math
 import os
 from collections.abc import Iterable, Mapping, Sequence
+from pathlib import Path
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from . import csvio
+from . import csvio, resultio
 
 if TYPE_CHECKING:
     import pandas
@@ -57,6 +59,7 @@ class Result:
         self._source = source
         self._data: np.ndarray | None = None
         self._columns: dict[str, np.ndarray] = {}
+        self._extra: dict[str, np.ndarray] = {}  # derived variables of a lazy result
         if data is not None or source is None:
             table = np.asarray(data, dtype=np.float64)
             if table.ndim != 2 or table.shape[1] != len(self.names):
@@ -68,11 +71,30 @@ class Result:
         self.stats: dict[str, float | int] = dict(stats or {})
         self.name = name
         self._index = {n: i for i, n in enumerate(self.names)}
+        # Parameter values (name -> value) of the run, written to data_1 of a .mat result.
+        self.parameters: dict[str, float] = {}
 
     @classmethod
-    def from_core(cls, raw: Any, name: str = "") -> Result:
-        """Wrap the engine's raw result; variables are computed when first read."""
-        return cls(raw.names, None, raw.events, raw.stats, name=name, source=raw)
+    def from_core(
+        cls,
+        raw: Any,
+        name: str = "",
+        variables: Mapping[str, str] | None = None,
+        parameters: Mapping[str, Any] | None = None,
+    ) -> Result:
+        """Wrap the engine's raw result; variables are computed when first read.
+
+        ``variables`` (name -> Modelica expression over result variables and the top-level
+        ``parameters``) add derived columns after the engine's.
+        """
+        result = cls(raw.names, None, raw.events, raw.stats, name=name, source=raw)
+        if variables:
+            from .derived import derived_columns
+
+            result._extra = derived_columns(result, variables, parameters)
+            result.names.extend(result._extra)
+            result._index = {n: i for i, n in enumerate(result.names)}
+        return result
 
     def metric(self, text: str) -> float:
         """A metric of this run, written as what it computes: ``final(J4.w)``, ``max(J1.w)``,
@@ -87,12 +109,24 @@ class Result:
     def data(self) -> np.ndarray:
         """All variables, one column per name (computed on first use)."""
         if self._data is None:
-            self._data = np.asarray(self._source.table(), dtype=np.float64)
+            table = np.asarray(self._source.table(), dtype=np.float64)
+            if self._extra:
+                table = np.column_stack([table, *self._extra.values()])
+            self._data = table
         return self._data
 
     @classmethod
+    def load(cls, path: str | os.PathLike[str]) -> Result:
+        """Read a result file by its extension: CSV (ours or an MSL reference), a Dymola or
+        OpenModelica ``.mat`` result, or Parquet. Events and statistics are not in files."""
+        names, data, parameters = resultio.read(path)
+        result = cls(names, data, name=Path(path).stem)
+        result.parameters = parameters
+        return result
+
+    @classmethod
     def from_csv(cls, path: str | os.PathLike[str]) -> Result:
-        """Read a result or MSL reference CSV (events and statistics are not in it)."""
+        """Read a result or MSL reference CSV (kept for old code; ``load`` reads every format)."""
         names, data = csvio.read_csv(path)
         return cls(names, data)
 
@@ -102,6 +136,8 @@ class Result:
             column = self._index[name]
             if self._data is not None:
                 return self._data[:, column]
+            if name in self._extra:
+                return self._extra[name]
             if name not in self._columns:
                 self._columns[name] = np.asarray(self._source.column(name), dtype=np.float64)
             return self._columns[name]
@@ -134,9 +170,50 @@ class Result:
 
         return pd.DataFrame(self.data, columns=self.names)
 
-    def to_csv(self, path: str | os.PathLike[str]) -> None:
+    def select(self, outputs: Iterable[str] | None = None) -> list[str]:
+        """The names ``outputs`` choose (exact names or globs such as ``J*.w``), ``time``
+        first, in column order; all names for None. An unknown name raises KeyError."""
+        if outputs is None:
+            return list(self.names)
+        chosen: set[str] = {"time"}
+        for pattern in outputs:
+            if any(ch in pattern for ch in "*?["):
+                matched = fnmatch.filter(self.names, pattern)
+                if not matched:
+                    raise KeyError(f"no signal in the result matches {pattern!r}")
+                chosen.update(matched)
+            else:
+                self[pattern]  # the helpful KeyError
+                chosen.add(pattern)
+        return [n for n in self.names if n in chosen]
+
+    def _table(self, outputs: Iterable[str] | None) -> tuple[list[str], np.ndarray]:
+        names = self.select(outputs)
+        if names == self.names:
+            return names, self.data
+        return names, np.column_stack([self[n] for n in names])
+
+    def save(self, path: str | os.PathLike[str], outputs: Iterable[str] | None = None) -> None:
+        """Write the result in the format of the extension: ``.csv``, ``.mat`` or ``.parquet``."""
+        resultio.result_format(path)
+        names, data = self._table(outputs)
+        resultio.write(path, names, data, self.parameters)
+
+    def to_csv(self, path: str | os.PathLike[str], outputs: Iterable[str] | None = None) -> None:
         """Write an MSL-style CSV (quoted header, full precision, integer modes)."""
-        csvio.write_csv(path, self.names, self.data)
+        names, data = self._table(outputs)
+        resultio.write_csv(path, names, data)
+
+    def to_mat(self, path: str | os.PathLike[str], outputs: Iterable[str] | None = None) -> None:
+        """Write a Dymola/OpenModelica result file (MATLAB v4: Aclass, name, description,
+        dataInfo, data_1 with the parameters, data_2 with the trajectories)."""
+        names, data = self._table(outputs)
+        resultio.write_mat(path, names, data, self.parameters)
+
+    def to_parquet(self, path: str | os.PathLike[str], outputs: Iterable[str] | None = None) -> None:
+        """Write the trajectories as a Parquet table (one float64 column per name; pyarrow)."""
+        names, data = self._table(outputs)
+        resultio.write_parquet(path, names, data)
 
     def plot(
         self,

@@ -11,6 +11,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from .errors import UsageError
+from .parameters import evaluate_parameters
 from .result import Result
 
 if TYPE_CHECKING:
@@ -31,7 +32,9 @@ class Simulation:
 
         overrides = {k: float(v) for k, v in experiment.items()}
         self._name = model.name
-        self._core = _core.Simulation(model.to_toml(), str(model.base_dir), overrides)
+        self._variables = dict(model.variables)
+        self._parameters = evaluate_parameters(model.parameters)
+        self._core = _core.Simulation(model.engine_toml(), str(model.base_dir), overrides)
 
     @property
     def time(self) -> float:
@@ -91,7 +94,9 @@ class Simulation:
 
     def result(self) -> Result:
         """The rows recorded so far, as a ``Result``; the simulation is closed."""
-        return Result.from_core(self._core.result(), name=self._name)
+        return Result.from_core(
+            self._core.result(), name=self._name, variables=self._variables, parameters=self._parameters
+        )
 
     def __repr__(self) -> str:
         return f"<Simulation {self._name!r} at t = {self.time}>"

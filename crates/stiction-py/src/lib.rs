@@ -6,10 +6,11 @@ mod compiled;
 use std::collections::HashMap;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-use numpy::{PyArray1, PyArray2, PyArrayMethods};
-use pyo3::exceptions::{PyKeyError, PyRuntimeError};
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::exceptions::{PyKeyError, PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use stiction_core::result::mat::Parameter;
 use stiction_core::simulation::{CancelHandle, SimState};
 use stiction_core::{ModelError as CoreModelError, ModelSpec, SimError, SimResult, Simulation};
 
@@ -135,6 +136,74 @@ impl RawResult {
         let table = py.detach(|| self.0.table());
         PyArray1::from_slice(py, table).reshape([self.0.rows(), self.0.names.len()])
     }
+}
+
+/// The values of a C-contiguous `rows × names` array, or a clear error.
+fn table_values<'a>(data: &'a PyReadonlyArray2<'_, f64>, names: usize) -> PyResult<&'a [f64]> {
+    if data.shape()[1] != names {
+        return Err(PyValueError::new_err(format!(
+            "data has {} columns for {names} names",
+            data.shape()[1]
+        )));
+    }
+    data.as_slice()
+        .map_err(|_| PyValueError::new_err("data must be a C-contiguous float64 array"))
+}
+
+/// Writes `data` (rows × names) as an MSL-style CSV; `integer` marks mode and flag columns.
+#[pyfunction]
+fn write_csv(
+    py: Python<'_>,
+    path: &str,
+    names: Vec<String>,
+    integer: Vec<bool>,
+    data: PyReadonlyArray2<'_, f64>,
+) -> PyResult<()> {
+    let values = table_values(&data, names.len())?;
+    py.detach(|| {
+        let file = std::fs::File::create(path)?;
+        stiction_core::result::csv::write_csv(file, &names, &integer, values)
+    })
+    .map_err(|e| {
+        PyOSError::new_err((
+            e.raw_os_error().unwrap_or(0),
+            e.to_string(),
+            path.to_string(),
+        ))
+    })
+}
+
+/// Writes `data` (rows × names, `time` first) and `parameters` (name, description, value) as a
+/// Dymola/OpenModelica result file (MATLAB v4).
+#[pyfunction]
+fn write_mat(
+    py: Python<'_>,
+    path: &str,
+    names: Vec<String>,
+    descriptions: Vec<String>,
+    data: PyReadonlyArray2<'_, f64>,
+    parameters: Vec<(String, String, f64)>,
+) -> PyResult<()> {
+    let values = table_values(&data, names.len())?;
+    let params: Vec<Parameter> = parameters
+        .into_iter()
+        .map(|(name, description, value)| Parameter {
+            name,
+            description,
+            value,
+        })
+        .collect();
+    py.detach(|| {
+        let file = std::fs::File::create(path)?;
+        stiction_core::result::mat::write_mat(file, &names, &descriptions, values, &params)
+    })
+    .map_err(|e| {
+        PyOSError::new_err((
+            e.raw_os_error().unwrap_or(0),
+            e.to_string(),
+            path.to_string(),
+        ))
+    })
 }
 
 /// Simulates a model given as TOML text; `overrides` replace `[experiment]` settings.
@@ -315,6 +384,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add_function(wrap_pyfunction!(component_types, m)?)?;
+    m.add_function(wrap_pyfunction!(write_csv, m)?)?;
+    m.add_function(wrap_pyfunction!(write_mat, m)?)?;
     m.add_class::<RawResult>()?;
     m.add_class::<PySimulation>()?;
     m.add_class::<PyCancelHandle>()?;

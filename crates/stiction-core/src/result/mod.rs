@@ -1,6 +1,8 @@
 //! Results: every output variable by its MSL name on the output grid plus both sides of every
 //! event (as MSL reference files have them), the event log and solver statistics.
 
+pub mod csv;
+pub mod mat;
 pub mod metric;
 mod probe;
 

@@ -1,0 +1,436 @@
+"""From a parsed ``.mo`` file to a ``Model``: choose the class, resolve names, evaluate
+parameters, turn modifiers into component parameters, connections and the experiment.
+
+Top-level parameters are evaluated (in any order, cycles refused) and their values put into
+the components; variables with a binding become derived result columns (``Model.variables``).
+Every refusal names the construct at its ``file:line:column``.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import TYPE_CHECKING, Any
+
+from ..components import Component, component_types
+from ..errors import ModelError
+from ..parameters import resolve_params
+from .ast import ClassDef, Declaration, Literal, Modification, Ref, StoredDefinition
+from .expr import CONSTANTS, evaluate, python_value, unparse
+from .lexer import ModelicaError, Pos
+from .names import MSL_CLASSES, PARAMETER_RENAMES, TYPE_OF, Scope, is_enumeration, is_icon, is_unit_type
+from .parser import SUPPORTED
+from .timetable import COMBI_PARAMETERS, combi_time_table
+
+if TYPE_CHECKING:
+    from ..model import Model
+
+__all__ = ["IGNORED_MODIFIERS", "START_VARIABLES", "convert", "select_class"]
+
+# Variables whose start value and fixedness a modifier sets: phi(start=0, fixed=true).
+START_VARIABLES = frozenset(
+    [
+        "phi",
+        "w",
+        "a",
+        "phi_rel",
+        "w_rel",
+        "a_rel",
+        "startForward",
+        "startBackward",
+        "stuck",
+        "locked",
+        "T",
+        "mode",
+        "free",
+    ]
+)
+# Modifiers that choose states or scale the solver in Modelica and have no effect here.
+IGNORED_MODIFIERS = frozenset(("stateSelect", "phi_nominal"))
+INTEGER_PARAMETERS = frozenset(("nperiod", "columns"))
+_ATTRIBUTES = ("start", "fixed", "nominal", "stateSelect", "unit", "displayUnit", "quantity", "min", "max")
+_EXPERIMENT = ("StartTime", "StopTime", "Interval", "Tolerance")
+_TYPES = {"Real": (int, float), "Integer": (int,), "Boolean": (bool,), "String": (str,)}
+
+
+def select_class(tree: StoredDefinition, wanted: str | None, source: str) -> tuple[ClassDef, str, list]:
+    """The model to convert, its enclosing package path and the classes around it."""
+    found: list[tuple[ClassDef, str, list[ClassDef]]] = []
+
+    def walk(classes: list[ClassDef], prefix: str, outer: list[ClassDef]) -> None:
+        for cls in classes:
+            qualified = f"{prefix}.{cls.name}" if prefix else cls.name
+            if cls.kind == "package":
+                walk(cls.classes, qualified, [*outer, cls])
+            else:
+                found.append((cls, prefix, [*outer, cls]))
+
+    walk(tree.classes, tree.within, [])
+    if wanted is not None:
+        matches = [f for f in found if wanted in (f[0].name, f"{f[1]}.{f[0].name}")]
+        if not matches:
+            names = ", ".join(c.name for c, _, _ in found) or "none"
+            raise ModelicaError(Pos(source, 1, 1), f"no model '{wanted}' in the file (models: {names})")
+        return matches[0]
+    if len(found) != 1:
+        names = ", ".join(c.name for c, _, _ in found) or "none"
+        raise ModelicaError(
+            Pos(source, 1, 1), f"the file holds several models ({names}); choose one with model="
+        )
+    return found[0]
+
+
+def convert(tree: StoredDefinition, wanted: str | None, source: str, base_dir: str) -> Model:
+    """Build the Model of class ``wanted`` (or the only one) of a parsed file."""
+    cls, enclosing, chain = select_class(tree, wanted, source)
+    local = {c.name: f"{enclosing}.{c.name}" if enclosing else c.name for c in _all_classes(tree.classes)}
+    imports = [imp for c in chain for imp in c.imports]
+    scope = Scope(enclosing, imports, local)
+    return _Converter(cls, scope, base_dir).run()
+
+
+def _all_classes(classes: list[ClassDef]) -> list[ClassDef]:
+    out = []
+    for c in classes:
+        out.append(c)
+        out.extend(_all_classes(c.classes))
+    return out
+
+
+class _Converter:
+    """One model's conversion; each step raises ModelicaError at the construct it refuses."""
+
+    def __init__(self, cls: ClassDef, scope: Scope, base_dir: str) -> None:
+        from ..model import Model
+
+        self.cls = cls
+        self.scope = scope
+        self.model = Model(cls.name, base_dir=base_dir)
+        self.params: dict[str, Declaration] = {}
+        self.values: dict[str, Any] = {}
+        self.evaluating: list[str] = []
+        self.components: dict[str, tuple[str, Declaration]] = {}
+        self.variables: list[Declaration] = []
+        self.positions: dict[tuple[str, str], Pos] = {}  # (component, parameter) -> modifier
+        self.connected: set[frozenset[str]] = set()
+
+    def run(self) -> Model:
+        for name, pos in self.cls.extends:
+            if not is_icon(self.scope.resolve(name, pos)):
+                raise ModelicaError(pos, f"unsupported 'extends {name}'; only Modelica.Icons.* is ignored")
+        for decl in self.cls.declarations:
+            self.classify(decl)
+        for name in self.params:
+            self.parameter(name)
+        self.model.parameters = {n: self.model.parameters[n] for n in self.params}  # declared order
+        for name, (stype, decl) in self.components.items():
+            self.component(name, stype, decl)
+        for conn in self.cls.connects:
+            self.connect(conn.a, conn.b)
+        for decl in self.variables:
+            self.variable(decl)
+        self.experiment()
+        self.engine_check()
+        return self.model
+
+    # --- declarations -------------------------------------------------------------------
+    def classify(self, decl: Declaration) -> None:
+        if decl.name in self.params or decl.name in self.components:
+            raise ModelicaError(decl.pos, f"'{decl.name}' is declared twice")
+        full = self.scope.resolve(decl.type_name, decl.type_pos)
+        if full in _TYPES or is_unit_type(full):
+            decl.type_name = full
+            if decl.prefix in ("parameter", "constant"):
+                self.params[decl.name] = decl
+            elif decl.prefix == "input":
+                raise ModelicaError(decl.pos, f"unsupported top-level input '{decl.name}'; {SUPPORTED}")
+            elif decl.binding is None:
+                raise ModelicaError(
+                    decl.pos,
+                    f"variable '{decl.name}' has no binding; equations other than connect(…) are not "
+                    "supported, so declare it as 'Real x = expression;'",
+                )
+            else:
+                self.variables.append(decl)
+        elif full in TYPE_OF:
+            self.components[decl.name] = (TYPE_OF[full], decl)
+        elif full.startswith("Modelica."):
+            known = ", ".join(sorted(t.split(".")[-1] for t in TYPE_OF))
+            raise ModelicaError(
+                decl.type_pos,
+                f"unknown MSL class '{full}' (component '{decl.name}'); stiction implements {known}",
+            )
+        else:
+            raise ModelicaError(
+                decl.type_pos,
+                f"component '{decl.name}' of class '{decl.type_name}': only MSL components can be "
+                "instantiated (models of the same file cannot be composed)",
+            )
+
+    def parameter(self, name: str) -> Any:
+        if name in self.values:
+            return self.values[name]
+        decl = self.params[name]
+        if name in self.evaluating:
+            cycle = " -> ".join([*self.evaluating[self.evaluating.index(name) :], name])
+            raise ModelicaError(decl.pos, f"cyclic parameter definition: {cycle}")
+        if decl.binding is None:
+            raise ModelicaError(decl.pos, f"parameter '{name}' has no value (write '{name} = …')")
+        self.evaluating.append(name)
+        value = python_value(self.expression(decl.binding))
+        self.evaluating.pop()
+        self.check_declared(decl, value)
+        self.values[name] = value
+        integer = decl.type_name == "Integer"
+        self.model.parameters[name] = self.kept(decl.binding, value if integer else _real(value, name))
+        return value
+
+    def kept(self, expr: Any, value: Any) -> Any:
+        """What the model keeps of a binding: the value of a literal (or of an expression over
+        constants only), else the expression text over top-level parameters, if that text
+        evaluates to the same value without the file's imports."""
+        if isinstance(expr, Literal) or not _refers_to(expr, set(self.params)):
+            return value
+        text = unparse(expr)
+        try:  # the parameters it uses are evaluated already (they were needed for `value`)
+            again = resolve_params("check", {"x": {"expr": text}}, self.values)["x"]
+        except ModelError:
+            return value
+        return text if again == value else value
+
+    def check_declared(self, decl: Declaration, value: Any) -> None:
+        base = "Real" if is_unit_type(decl.type_name) else decl.type_name
+        wanted = _TYPES[base]
+        if isinstance(value, bool) and base != "Boolean" or not isinstance(value, wanted):
+            raise ModelicaError(
+                decl.binding.pos if decl.binding else decl.pos,
+                f"type mismatch: parameter '{decl.name}' is {base} but its value is {value!r}",
+            )
+        self.check_attributes(decl.name, value, decl.args)
+
+    def check_attributes(self, name: str, value: Any, attributes: list[Modification]) -> None:
+        """Attributes of a parameter: min/max checked, unit/displayUnit/… accepted."""
+        for mod in attributes:
+            if mod.name not in _ATTRIBUTES or mod.name in ("start", "fixed") or mod.value is None:
+                raise ModelicaError(mod.pos, f"unknown attribute '{mod.name}' of parameter '{name}'")
+            bound = self.expression(mod.value) if mod.name in ("min", "max") else None
+            if mod.name == "min" and value < bound or mod.name == "max" and value > bound:
+                raise ModelicaError(
+                    mod.pos, f"parameter '{name}' = {value!r} violates its {mod.name} = {bound!r}"
+                )
+
+    def expression(self, expr: Any) -> Any:
+        return evaluate(expr, self.lookup, self.scope.resolve)
+
+    def lookup(self, ref: Ref) -> Any:
+        if ref.subscripts:
+            raise ModelicaError(ref.pos, f"subscripted name '{ref.name}[…]' is not supported in a parameter")
+        if ref.name in self.params:
+            return self.parameter(ref.name)
+        full = self.scope.resolve(ref.name, ref.pos, "name") if "." in ref.name else ref.name
+        if full in CONSTANTS:
+            return CONSTANTS[full]
+        if is_enumeration(full):
+            return full.rsplit(".", 1)[-1]
+        what = "a component or variable" if ref.name.split(".")[0] in self.components else "undefined"
+        raise ModelicaError(
+            ref.pos, f"'{ref.name}' is {what}; parameter values may use parameters and constants"
+        )
+
+    # --- components -----------------------------------------------------------------------
+    def component(self, name: str, stype: str, decl: Declaration) -> None:
+        if decl.binding is not None:
+            raise ModelicaError(decl.binding.pos, f"component '{name}' cannot have a binding '= …'")
+        params = {}
+        for mod in decl.args:
+            key, value = self.modifier(name, stype, mod)
+            if key is not None:
+                params[key] = value
+                self.positions[(name, key)] = mod.pos
+        if stype == "CombiTimeTable":
+            stype, params = combi_time_table(name, decl, params)
+        self.model.components[name] = Component(stype, params)
+
+    def modifier(self, comp: str, stype: str, mod: Modification) -> tuple[str | None, Any]:
+        key = PARAMETER_RENAMES.get(stype, {}).get(mod.name, mod.name)
+        if key in IGNORED_MODIFIERS:
+            return None, None
+        allowed = _parameters_of(stype)
+        if allowed is not None and key not in allowed:
+            raise ModelicaError(
+                mod.pos,
+                f"unknown modifier '{mod.name}' of {MSL_CLASSES.get(stype, stype)} '{comp}' "
+                f"(parameters: {', '.join(allowed)})",
+            )
+        if mod.args is None or (mod.value is not None and key not in START_VARIABLES):
+            if mod.value is None:
+                raise ModelicaError(mod.pos, f"modifier '{mod.name}' of '{comp}' has no value")
+            value = _real(python_value(self.expression(mod.value)), key)
+            self.check_attributes(f"{comp}.{mod.name}", value, mod.args or [])
+            kept = self.kept(mod.value, value)
+            return key, {"expr": kept} if isinstance(kept, str) and kept != value else value
+        if key not in START_VARIABLES:
+            raise ModelicaError(
+                mod.pos, f"'{mod.name}' of '{comp}' is a parameter: give it a value, not attributes"
+            )
+        if mod.value is not None:
+            raise ModelicaError(mod.value.pos, f"a binding of variable '{comp}.{mod.name}' is not supported")
+        return key, self.start_value(comp, mod)
+
+    def start_value(self, comp: str, mod: Modification) -> Any:
+        attrs: dict[str, Any] = {}
+        for sub in mod.args or []:
+            if sub.name not in _ATTRIBUTES or sub.value is None:
+                raise ModelicaError(sub.pos, f"unknown attribute '{sub.name}' of '{comp}.{mod.name}'")
+            if sub.name in ("start", "fixed"):
+                attrs[sub.name] = _real(python_value(self.expression(sub.value)), mod.name)
+        if attrs.get("fixed") is True and isinstance(attrs.get("start"), float):
+            return attrs["start"]  # the model file's short form of a fixed start value
+        return attrs
+
+    def connect(self, a: Ref, b: Ref) -> None:
+        ends = (self.port(a), self.port(b))
+        if ends[0] == ends[1]:
+            raise ModelicaError(a.pos, f"connect({ends[0]}, {ends[1]}): a port cannot be connected to itself")
+        key = frozenset(ends)
+        if key in self.connected:
+            raise ModelicaError(a.pos, f"connect({ends[0]}, {ends[1]}): already connected")
+        self.connected.add(key)
+        self.model.connections.append(ends)  # ports checked above (Model.connect is O(n) per call)
+
+    def port(self, ref: Ref) -> str:
+        comp, _, port = ref.name.partition(".")
+        if comp not in self.model.components:
+            raise ModelicaError(ref.pos, f"connect to '{ref.name}': no component '{comp}' in the model")
+        ports = _ports_of(self.model.components[comp].type)
+        if not port or "." in port or ports is not None and port not in ports:
+            raise ModelicaError(
+                ref.pos,
+                f"connect to '{ref.name}': {self.model.components[comp].type} '{comp}' has no port "
+                f"'{port}' (ports: {', '.join(ports or [])})",
+            )
+        if ref.subscripts and not (self.components[comp][0] == "CombiTimeTable" and _is_one(ref)):
+            raise ModelicaError(ref.pos, f"connect to '{ref.name}[…]': array connectors are not supported")
+        return ref.name
+
+    # --- variables, experiment ----------------------------------------------------------
+    def variable(self, decl: Declaration) -> None:
+        """A derived variable: its binding over result variables and top-level parameters
+        (kept by name, so a sweep of a parameter changes it too)."""
+        from ..derived import check_expression
+
+        assert decl.binding is not None
+        check_expression(decl.binding, self.model, self.scope.resolve, set(self.params))
+        self.model.variables[decl.name] = unparse(decl.binding)
+
+    def experiment(self) -> None:
+        for mod in self.cls.annotation:
+            if mod.name != "experiment":
+                continue
+            for sub in mod.args or []:
+                if sub.name == "__stiction_Solver" and sub.value is not None:
+                    self.model.experiment["Solver"] = python_value(self.expression(sub.value))
+                if sub.name in _EXPERIMENT and sub.value is not None:
+                    value = python_value(self.expression(sub.value))
+                    if isinstance(value, bool) or not isinstance(value, (int, float)):
+                        raise ModelicaError(sub.pos, f"experiment {sub.name} must be a number, got {value!r}")
+                    self.model.experiment[sub.name] = float(value)
+
+    def engine_check(self) -> None:
+        """Let the engine check each component's values (ranges, table shapes, kinds) and
+        place a complaint at its modifier. Components are checked unconnected, in batches, once
+        per distinct type and parameters: checking the assembled model costs seconds for
+        thousands of components, and the connections were checked above."""
+        distinct: dict[tuple[str, str], tuple[str, str, dict[str, Any]]] = {}
+        for name, comp in self.model.components.items():
+            params = resolve_params(name, comp.params, self.values)
+            distinct.setdefault((comp.type, repr(params)), (name, comp.type, params))
+        found = _first_problem(list(distinct.values()), str(self.model.base_dir))
+        if found is not None:
+            name, message = found
+            param = re.search(r"parameter '(\w+)'", message)
+            pos = self.positions.get((name, param.group(1))) if param else None
+            raise ModelicaError(pos or self.components[name][1].type_pos, message)
+
+
+_SIGNAL_INPUTS = ("f_normalized", "tau", "u", "u1", "u2", "Gc")
+_BATCH = 32
+
+
+def _first_problem(items: list[tuple[str, str, dict[str, Any]]], base_dir: str) -> tuple[str, str] | None:
+    """(component, the engine's complaint about its parameters) for the first bad one, or None."""
+    for start in range(0, len(items), _BATCH):
+        batch = items[start : start + _BATCH]
+        message = _batch_problem(batch, base_dir)
+        if message is None:
+            continue
+        hit = re.match(r"component 'c(\d+)'", message)
+        if hit and "parameter '" in message:
+            name = batch[int(hit.group(1))][0]
+            return name, message.replace(hit.group(0), f"component '{name}'", 1)
+        for item in batch:  # a complaint about no parameter may hide one: check each alone
+            alone = _batch_problem([item], base_dir)
+            if alone is not None and "parameter '" in alone:
+                return item[0], alone.replace("component 'c0'", f"component '{item[0]}'", 1)
+    return None
+
+
+def _batch_problem(items: list[tuple[str, str, dict[str, Any]]], base_dir: str) -> str | None:
+    """The engine's complaint about unconnected components ``c0, c1, …``, or None."""
+    from ..model import Model
+
+    try:
+        from .. import _core
+    except ImportError:
+        return None
+    model = Model("check", base_dir=base_dir)
+    for k, (_, stype, params) in enumerate(items):
+        model.components[f"c{k}"] = Component(stype, params)
+        for port in _ports_of(stype) or []:
+            if port in _SIGNAL_INPUTS:
+                model.inputs[f"c{k}.{port}"] = 0.0
+    try:
+        _core.check(model.engine_toml(), base_dir)
+    except ModelError as exc:
+        return str(exc)
+    return None
+
+
+def _refers_to(expr: Any, names: set[str]) -> bool:
+    """Whether an expression mentions one of ``names``."""
+    if isinstance(expr, Ref):
+        return expr.name in names
+    children = [getattr(expr, f, None) for f in ("left", "right", "operand", "cond", "then", "other")]
+    children += list(getattr(expr, "args", None) or []) + list(getattr(expr, "items", None) or [])
+    children += [item for row in getattr(expr, "rows", None) or [] for item in row]
+    return any(_refers_to(c, names) for c in children if c is not None and not isinstance(c, (str, dict)))
+
+
+def _real(value: Any, key: str) -> Any:
+    """Modelica's ``J=1`` sets a Real parameter to 1.0; only Integer parameters keep ints."""
+    if isinstance(value, list):
+        return [_real(v, key) for v in value]
+    if type(value) is int and key not in INTEGER_PARAMETERS:
+        return float(value)
+    return value
+
+
+def _is_one(ref: Ref) -> bool:
+    return (
+        len(ref.subscripts) == 1 and isinstance(ref.subscripts[0], Literal) and ref.subscripts[0].value == 1
+    )
+
+
+def _parameters_of(stype: str) -> list[str] | None:
+    if stype == "CombiTimeTable":
+        return list(COMBI_PARAMETERS)
+    known = _catalogue()
+    return None if known is None else known.get(stype, {}).get("parameters", [])
+
+
+def _ports_of(stype: str) -> list[str] | None:
+    known = _catalogue()
+    return None if known is None else known.get(stype, {}).get("ports", [])
+
+
+def _catalogue() -> dict[str, dict[str, list[str]]] | None:
+    return component_types()

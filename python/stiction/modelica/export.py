@@ -1,0 +1,114 @@
+"""Writing a ``Model`` as a Modelica model: fully qualified MSL classes, modifiers, derived
+variables, ``connect`` equations and the experiment annotation, in plain Modelica that
+``Model.from_modelica`` (and any Modelica tool) reads back to the same model.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from ..errors import ModelError
+from ..parameters import is_expr
+from .convert import START_VARIABLES
+from .expr import format_literal
+from .names import MSL_CLASSES
+from .timetable import COMBI_CLASS, time_table_modifiers
+
+if TYPE_CHECKING:
+    from ..model import Model
+
+__all__ = ["write_modelica"]
+
+_ENUMS = {
+    "reg": "Modelica.Mechanics.Rotational.Types.Regularization",
+    "extrapolation": "Modelica.Blocks.Types.Extrapolation",
+    "smoothness": "Modelica.Blocks.Types.Smoothness",
+}
+_EXPERIMENT = ("StartTime", "StopTime", "Interval", "Tolerance")
+
+
+def write_modelica(model: Model) -> str:
+    """Modelica text of ``model``."""
+    if not model.name.isidentifier():
+        raise ModelError(f"model name '{model.name}' is not a Modelica identifier")
+    if model.inputs:
+        raise ModelError("a model with inputs (unconnected signal inputs) has no Modelica form here")
+    lines = [f"model {model.name}"]
+    for name, value in model.parameters.items():
+        lines.append(f"  {_parameter(name, value)};")
+    for name, comp in model.components.items():
+        lines.append(f"  {_declaration(model, name, comp.type, comp.params)};")
+    for name, expression in model.variables.items():
+        lines.append(f"  Real {name} = {expression};")
+    lines.append("equation")
+    for a, b in model.connections:
+        lines.append(f"  connect({_end(model, a)}, {_end(model, b)});")
+    experiment = [
+        f"{k}={format_literal(float(model.experiment[k]))}" for k in _EXPERIMENT if k in model.experiment
+    ]
+    if "Solver" in model.experiment:
+        experiment.append(f'__stiction_Solver="{model.experiment["Solver"]}"')
+    if experiment:
+        lines.append(f"  annotation(experiment({', '.join(experiment)}));")
+    lines.append(f"end {model.name};")
+    return "\n".join(lines) + "\n"
+
+
+def _is_combi(model: Model, name: str) -> bool:
+    comp = model.components[name]
+    return comp.type == "TimeTable" and ("file" in comp.params or "extrapolation" in comp.params)
+
+
+def _end(model: Model, end: str) -> str:
+    comp, _, port = end.partition(".")
+    return f"{end}[1]" if _is_combi(model, comp) and port == "y" else end
+
+
+def _declaration(model: Model, name: str, ctype: str, params: dict[str, Any]) -> str:
+    if ctype not in MSL_CLASSES:
+        raise ModelError(f"component '{name}' ({ctype}): no MSL class to export it as")
+    cls = MSL_CLASSES[ctype]
+    if _is_combi(model, name):
+        cls, params = COMBI_CLASS, time_table_modifiers(params, _table_rows(model, name, params))
+    mods = [_modifier(key, value) for key, value in params.items()]
+    return f"{cls} {name}({', '.join(mods)})" if mods else f"{cls} {name}"
+
+
+def _parameter(name: str, value: Any) -> str:
+    if not name.isidentifier():
+        raise ModelError(f"parameter name '{name}' is not a Modelica identifier")
+    if isinstance(value, str):
+        return f"parameter Real {name} = {value}"
+    kind = "Boolean" if isinstance(value, bool) else "Integer" if isinstance(value, int) else "Real"
+    if isinstance(value, list):
+        raise ModelError(f"parameter '{name}': array parameters have no Modelica export here")
+    return f"parameter {kind} {name} = {format_literal(value)}"
+
+
+def _modifier(key: str, value: Any) -> str:
+    if is_expr(value):
+        return f"{key}={value['expr']}"
+    if key in _ENUMS and isinstance(value, str):
+        return f"{key}={_ENUMS[key]}.{value}"
+    if key in START_VARIABLES and isinstance(value, dict):
+        attrs = ", ".join(f"{k}={format_literal(v)}" for k, v in value.items())
+        return f"{key}({attrs})"
+    if key in START_VARIABLES and isinstance(value, (int, float)) and not isinstance(value, bool):
+        return f"{key}(start={format_literal(float(value))}, fixed=true)"
+    try:
+        return f"{key}={format_literal(value)}"
+    except ValueError as exc:
+        raise ModelError(f"parameter '{key}': {exc}") from None
+
+
+def _table_rows(model: Model, name: str, params: dict[str, Any]) -> list[list[float]]:
+    if "table" in params:
+        return params["table"]
+    from ..csvio import read_csv
+
+    path = model.base_dir / str(params["file"])
+    try:
+        _, data = read_csv(path)
+    except (OSError, ValueError) as exc:
+        raise ModelError(f"component '{name}' (TimeTable): cannot inline '{path}': {exc}") from None
+    return data[:, :2].tolist()

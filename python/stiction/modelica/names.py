@@ -1,0 +1,170 @@
+"""MSL class names: the catalogue of what stiction implements, and Modelica's name lookup.
+
+A class name in a model resolves as Modelica resolves it, restricted to the MSL packages
+stiction knows: through the model's imports, then relative to each enclosing package
+(``within Modelica.Mechanics.Rotational.Examples`` makes ``Rotational.Components.Inertia``
+and ``Components.Clutch`` name MSL classes), then as a fully qualified name. Names MSL 3.2.x
+used and 4.x renamed are mapped as MSL's conversion script maps them.
+"""
+
+from __future__ import annotations
+
+from .ast import Import
+from .lexer import ModelicaError, Pos
+
+__all__ = [
+    "MSL_CLASSES",
+    "PARAMETER_RENAMES",
+    "TYPE_OF",
+    "Scope",
+    "is_enumeration",
+    "is_icon",
+    "is_unit_type",
+]
+
+_ROT = "Modelica.Mechanics.Rotational"
+_HEAT = "Modelica.Thermal.HeatTransfer"
+
+# stiction type -> MSL class (the name export writes)
+MSL_CLASSES: dict[str, str] = {
+    **{
+        t: f"{_ROT}.Components.{t}"
+        for t in [
+            "Inertia",
+            "Fixed",
+            "Spring",
+            "Damper",
+            "SpringDamper",
+            "ElastoBacklash",
+            "IdealGear",
+            "IdealPlanetary",
+            "Brake",
+            "Clutch",
+            "OneWayClutch",
+            "BearingFriction",
+            "LossyGear",
+        ]
+    },
+    **{
+        t: f"{_ROT}.Sources.{t}"
+        for t in [
+            "Torque",
+            "ConstantTorque",
+            "TorqueStep",
+            "LinearSpeedDependentTorque",
+            "QuadraticSpeedDependentTorque",
+            "SignTorque",
+            "InverseSpeedDependentTorque",
+            "ConstantSpeed",
+        ]
+    },
+    **{t: f"Modelica.Blocks.Sources.{t}" for t in ["Constant", "Step", "Ramp", "Sine", "Pulse", "TimeTable"]},
+    **{t: f"Modelica.Blocks.Math.{t}" for t in ["Product", "Feedback", "Add", "Gain"]},
+    **{t: f"{_HEAT}.Components.{t}" for t in ["HeatCapacitor", "ThermalConductor", "Convection"]},
+    "FixedTemperature": f"{_HEAT}.Sources.FixedTemperature",
+    "Celsius.FixedTemperature": f"{_HEAT}.Celsius.FixedTemperature",
+}
+# MSL class -> stiction type
+TYPE_OF: dict[str, str] = {msl: t for t, msl in MSL_CLASSES.items()}
+TYPE_OF["Modelica.Blocks.Sources.CombiTimeTable"] = "CombiTimeTable"  # read as a TimeTable
+
+# MSL 3.2.x -> 4.x (MSL's ConvertModelica_from_3.2.3_to_4.0.0 script)
+_PACKAGE_RENAMES = {  # the more specific first
+    "Modelica.SIunits.Conversions": "Modelica.Units.Conversions",
+    "Modelica.SIunits": "Modelica.Units.SI",
+}
+PARAMETER_RENAMES: dict[str, dict[str, str]] = {
+    "Sine": {"freqHz": "f"},
+    "Brake": {"mue_pos": "mu_pos"},
+    "Clutch": {"mue_pos": "mu_pos"},
+    "OneWayClutch": {"mue_pos": "mu_pos"},
+}
+_UNIT_PACKAGES = ("Modelica.Units.SI.", "Modelica.Units.NonSI.")
+_ENUMERATIONS = ("Regularization", "Smoothness", "Extrapolation", "TimeEvents", "StateSelect", "Init")
+_PACKAGES = frozenset(
+    ".".join(name.split(".")[:i])
+    for name in [
+        *TYPE_OF,
+        "Modelica.Units.SI.X",
+        "Modelica.Units.NonSI.X",
+        "Modelica.Icons.X",
+        "Modelica.Constants.X",
+        "Modelica.Math.X",
+        "Modelica.Units.Conversions.X",
+        f"{_ROT}.Types.X",
+        "Modelica.Blocks.Types.X",
+    ]
+    for i in range(1, name.count(".") + 1)
+)
+_BUILTIN_TYPES = ("Real", "Integer", "Boolean", "String")
+
+
+def is_unit_type(name: str) -> bool:
+    """``Modelica.Units.SI.Inertia`` and friends: a Real with a unit."""
+    return name.startswith(_UNIT_PACKAGES)
+
+
+def is_icon(name: str) -> bool:
+    """``Modelica.Icons.Example``: only a picture, ignored."""
+    return name.startswith("Modelica.Icons.")
+
+
+def is_enumeration(name: str) -> bool:
+    """``Modelica.Mechanics.Rotational.Types.Regularization.Linear`` and the like."""
+    parts = name.split(".")
+    return len(parts) >= 2 and parts[-2] in _ENUMERATIONS
+
+
+def _renamed(name: str) -> str:
+    for old, new in _PACKAGE_RENAMES.items():
+        if name == old or name.startswith(old + "."):
+            return new + name[len(old) :]
+    return name
+
+
+def _known(name: str) -> bool:
+    return name in TYPE_OF or name in _PACKAGES or is_unit_type(name) or is_enumeration(name)
+
+
+class Scope:
+    """Where names of one model are looked up: its enclosing packages and its imports."""
+
+    def __init__(self, enclosing: str, imports: list[Import], local_classes: dict[str, str]) -> None:
+        # enclosing packages, innermost first: "A.B.C" -> ["A.B.C", "A.B", "A"]
+        parts = enclosing.split(".") if enclosing else []
+        self.prefixes = [".".join(parts[:i]) for i in range(len(parts), 0, -1)]
+        self.local_classes = local_classes  # name -> qualified name of classes in this file
+        self.aliases: dict[str, str] = {}
+        self.wildcards: list[str] = []
+        for imp in imports:
+            target = _renamed(imp.target)
+            if imp.wildcard:
+                self.wildcards.append(target)
+            else:
+                self.aliases[imp.alias or target.rsplit(".", 1)[-1]] = target
+        if enclosing.split(".")[0] == "Modelica":  # MSL's packages import SI themselves
+            self.aliases.setdefault("SI", "Modelica.Units.SI")
+
+    def resolve(self, name: str, pos: Pos, what: str = "class") -> str:
+        """The fully qualified name ``name`` denotes here (MSL 3.2 names renamed)."""
+        if name in _BUILTIN_TYPES:
+            return name
+        first, _, rest = name.partition(".")
+        tail = f".{rest}" if rest else ""
+        if first in self.local_classes:
+            return self.local_classes[first] + tail
+        if first in self.aliases:
+            return _renamed(self.aliases[first] + tail)
+        for package in self.wildcards:
+            if _known(f"{package}.{first}"):
+                return _renamed(f"{package}.{name}")
+        for prefix in self.prefixes:
+            candidate = _renamed(f"{prefix}.{name}")
+            if _known(f"{_renamed(prefix)}.{first}") or candidate in TYPE_OF:
+                return candidate
+        full = _renamed(name)
+        if first == "Modelica" or _known(full):
+            return full
+        raise ModelicaError(
+            pos, f"unknown {what} '{name}': not found through the imports or enclosing packages"
+        )

@@ -47,3 +47,19 @@ def test_a_one_way_clutch_started_backward_is_refused_before_the_run():
         with pytest.raises(st.ModelError, match=r"oneWayClutch.*w_rel starts at -1\.5"):
             run()
     st.Model.loads(text).check()  # the example's own start is fine
+
+
+def test_ctrl_c_interrupts_a_long_run_promptly():
+    import _thread
+    import threading
+    import time
+
+    model = st.Model.load(MSL / "CoupledClutches.toml")
+    timer = threading.Timer(0.3, _thread.interrupt_main)
+    started = time.perf_counter()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        model.simulate(StopTime=20_000.0, Interval=1.0)  # about 6 s uninterrupted
+    latency = time.perf_counter() - started - 0.3
+    timer.cancel()
+    assert latency < 1.0, f"stopped {latency:.3f} s after the signal"

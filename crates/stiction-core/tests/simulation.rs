@@ -263,3 +263,19 @@ fn every_msl_example_advanced_in_pieces_is_bit_identical() {
         assert_identical(&whole, &sim.into_result());
     }
 }
+
+#[test]
+fn advancing_in_wall_clock_slices_is_bit_identical_to_one_call() {
+    let spec = spec(COUPLED);
+    let whole = stiction_core::simulate(&spec).unwrap();
+    let mut sim = Simulation::from_spec(&spec).unwrap();
+    let mut slices = 0;
+    while !sim
+        .advance_for(1.5, std::time::Duration::from_micros(20))
+        .unwrap()
+    {
+        slices += 1;
+    }
+    assert!(slices > 3, "the run paused between steps: {slices}");
+    assert_identical(&sim.into_result(), &whole);
+}

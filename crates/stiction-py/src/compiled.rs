@@ -8,9 +8,9 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use stiction_core::assembly::CompiledModel;
 use stiction_core::sweep::{run_variants, Override, Plan};
-use stiction_core::{ModelSpec, SimError, Simulation};
+use stiction_core::{ModelSpec, Simulation};
 
-use crate::{guarded, model_err, py_error, RawResult};
+use crate::{advance_interruptibly, guarded, model_err, py_error, RawResult};
 
 /// A Python value as the model file would hold it: a number, a Boolean, a string, a (nested)
 /// list, or a table such as `{"start": 1.0, "fixed": True}`.
@@ -109,17 +109,13 @@ impl PyCompiled {
         Ok(Self(variant))
     }
 
-    /// Runs this model to its StopTime.
+    /// Runs this model to its StopTime (Ctrl-C raises `KeyboardInterrupt` promptly).
     fn simulate(&self, py: Python<'_>) -> PyResult<RawResult> {
         let sys = self.0.system();
-        let result = py.detach(|| {
-            guarded(|| {
-                let mut sim = Simulation::new(sys)?;
-                sim.run()?;
-                Ok::<_, SimError>(sim.into_result())
-            })
-        })?;
-        Ok(RawResult(result))
+        let mut sim = guarded(|| Simulation::new(sys))?;
+        let stop = sim.system().experiment.stop_time;
+        advance_interruptibly(py, &mut sim, stop)?;
+        Ok(RawResult(sim.into_result()))
     }
 
     /// Checks metrics and outputs before a sweep (ModelError naming the bad one).

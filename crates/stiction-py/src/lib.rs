@@ -216,8 +216,10 @@ fn simulate(
     overrides: Option<HashMap<String, f64>>,
 ) -> PyResult<RawResult> {
     let spec = parse(model_toml, base_dir, &overrides.unwrap_or_default())?;
-    let result = py.detach(|| guarded(|| stiction_core::simulate(&spec)))?;
-    Ok(RawResult(result))
+    let mut sim = guarded(|| Simulation::from_spec(&spec))?;
+    let stop = sim.system().experiment.stop_time;
+    advance_interruptibly(py, &mut sim, stop)?;
+    Ok(RawResult(sim.into_result()))
 }
 
 /// Validates a model (parameters, ports, connections, initial values) without simulating.
@@ -243,6 +245,24 @@ fn component_types(py: Python<'_>) -> PyResult<Py<PyDict>> {
         out.set_item(name, entry)?;
     }
     Ok(out.unbind())
+}
+
+/// Advances `sim` to `t` with the GIL released, in slices of about 50 ms of wall-clock time,
+/// checking for signals between them: Ctrl-C raises `KeyboardInterrupt` within a slice. The
+/// result is that of one uninterrupted call (the slices pause between integrator steps).
+fn advance_interruptibly(py: Python<'_>, sim: &mut Simulation, t: f64) -> PyResult<()> {
+    let slice = std::time::Duration::from_millis(50);
+    loop {
+        let on_this_thread = OnThisThread(&mut *sim);
+        let reached = py.detach(move || {
+            let sim = on_this_thread;
+            guarded(|| sim.0.advance_for(t, slice))
+        })?;
+        py.check_signals()?;
+        if reached {
+            return Ok(());
+        }
+    }
 }
 
 /// Moves a value into `Python::detach` that is not `Send` (a `Simulation` holds `Rc`s).
@@ -295,13 +315,9 @@ impl PySimulation {
         Ok(self.sim()?.finished())
     }
 
-    /// Advances to `t` with the GIL released (Ctrl-C: cancel through a handle).
+    /// Advances to `t` with the GIL released; Ctrl-C raises `KeyboardInterrupt` promptly.
     fn advance_to(&mut self, py: Python<'_>, t: f64) -> PyResult<()> {
-        let sim = OnThisThread(self.sim()?);
-        py.detach(move || {
-            let sim = sim;
-            guarded(|| sim.0.advance_to(t))
-        })
+        advance_interruptibly(py, self.sim()?, t)
     }
 
     fn inputs(&mut self) -> PyResult<Vec<(String, f64)>> {

@@ -215,6 +215,18 @@ impl Simulation {
         })
     }
 
+    /// Advances towards `t` for at most about `budget` of wall-clock time (it pauses between
+    /// two integrator steps); returns whether `t` was reached. A caller that must stay
+    /// responsive (Ctrl-C in Python) loops over it: the result is that of one `advance_to`.
+    pub fn advance_for(&mut self, t: f64, budget: std::time::Duration) -> Result<bool, SimError> {
+        self.stepper.deadline = Some(Instant::now() + budget);
+        let outcome = self.advance_to(t);
+        self.stepper.deadline = None;
+        outcome?;
+        Ok(self.stepper.finished
+            || self.stepper.now >= t.min(self.stepper.sys.experiment.stop_time))
+    }
+
     /// Runs to StopTime.
     pub fn run(&mut self) -> Result<(), SimError> {
         self.advance_to(self.stepper.sys.experiment.stop_time)

@@ -90,6 +90,8 @@ pub(super) struct Stepper {
     pub(super) cancel: Arc<AtomicBool>,
     /// When the run began (for the `timeout` limit).
     pub(super) started: Instant,
+    /// `advance_for`: pause between steps once this instant has passed.
+    pub(super) deadline: Option<Instant>,
     /// Mode changes per element, to tell chattering from many legitimate events.
     pub(super) chatter: ChatterWatch,
     pub(super) candidates: Vec<(usize, f64, f64)>,
@@ -141,6 +143,7 @@ impl Stepper {
             last_row: f64::NAN,
             cancel: Arc::new(AtomicBool::new(false)),
             started: Instant::now(),
+            deadline: None,
             chatter,
             candidates: Vec::new(),
         }
@@ -434,6 +437,11 @@ impl Stepper {
             if self.pending.is_none() {
                 if self.t_prev >= target {
                     break;
+                }
+                if self.deadline.is_some_and(|d| Instant::now() >= d) {
+                    // paused between two steps: resuming is the same as never stopping
+                    self.now = self.now.max(self.t_prev);
+                    return Ok(());
                 }
                 self.take_step(solver)?;
             }

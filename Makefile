@@ -29,6 +29,7 @@ test-python:
 
 lint: setup
 	$(PY) scripts/check_structure.py
+	$(PY) scripts/generate.py --check
 	cargo fmt --all --check
 	cargo clippy --release --all-targets -- -D warnings
 	$(VENV)/bin/ruff check python tests scripts

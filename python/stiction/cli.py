@@ -143,6 +143,28 @@ def check(model_file: Path) -> None:
     click.echo(f"ok: {model.name} ({len(model.components)} components, {len(model.connections)} connections)")
 
 
+@main.command(name="list")
+@_friendly_errors
+def list_cmd() -> None:
+    """List every component type with its MSL class and description."""
+    from .catalogue import catalogue
+
+    known = catalogue()
+    width = max(len(n) for n in known)
+    for info in known.values():
+        click.echo(f"{info.name:<{width}}  {info.description} ({info.msl_class})")
+
+
+@main.command()
+@click.argument("type_name")
+@_friendly_errors
+def describe(type_name: str) -> None:
+    """Show TYPE_NAME's parameters (default, unit, range), ports and variables."""
+    from .catalogue import describe as describe_type
+
+    click.echo(str(describe_type(type_name)))
+
+
 @main.command(name="compare")
 @click.argument("result_csv", type=click.Path(dir_okay=False, path_type=Path))
 @click.argument("reference_csv", type=click.Path(dir_okay=False, path_type=Path))

@@ -2,6 +2,7 @@
 //! Library defines it (state events, no smoothing). Pure Rust; the Python bindings are elsewhere.
 
 pub mod assembly;
+pub mod catalogue;
 pub mod compare;
 pub mod components;
 pub mod engine;

@@ -7,7 +7,9 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::{PyKeyError, PyRuntimeError};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyList};
+use stiction_core::catalogue::{self as core_catalogue, TypeInfo};
+use stiction_core::model::ParamKind;
 use stiction_core::simulation::{CancelHandle, SimState};
 use stiction_core::{ModelError as CoreModelError, ModelSpec, SimError, SimResult, Simulation};
 
@@ -156,15 +158,71 @@ fn check(model_toml: &str, base_dir: &str) -> PyResult<()> {
     })
 }
 
-/// `{type: {"parameters": [...], "ports": [...]}}` for every component type.
-#[pyfunction]
-fn component_types(py: Python<'_>) -> PyResult<Py<PyDict>> {
+/// A parameter default (TOML data) as a Python value.
+fn toml_to_py<'py>(py: Python<'py>, v: &toml::Value) -> PyResult<Bound<'py, PyAny>> {
+    Ok(match v {
+        toml::Value::Float(x) => x.into_pyobject(py)?.into_any(),
+        toml::Value::Integer(i) => i.into_pyobject(py)?.into_any(),
+        toml::Value::Boolean(b) => b.into_pyobject(py)?.to_owned().into_any(),
+        toml::Value::String(s) => s.into_pyobject(py)?.into_any(),
+        toml::Value::Array(a) => {
+            let items = a
+                .iter()
+                .map(|x| toml_to_py(py, x))
+                .collect::<PyResult<Vec<_>>>()?;
+            PyList::new(py, items)?.into_any()
+        }
+        other => other.to_string().into_pyobject(py)?.into_any(),
+    })
+}
+
+/// One component type of the catalogue as a dict (see `stiction.catalogue`).
+fn type_info<'py>(py: Python<'py>, t: &TypeInfo) -> PyResult<Bound<'py, PyDict>> {
     let out = PyDict::new(py);
-    for (name, params, ports) in stiction_core::components::schema() {
-        let entry = PyDict::new(py);
-        entry.set_item("parameters", params)?;
-        entry.set_item("ports", ports)?;
-        out.set_item(name, entry)?;
+    out.set_item("name", t.name)?;
+    out.set_item("msl_class", t.class)?;
+    out.set_item("description", t.description)?;
+    let params = PyList::empty(py);
+    for p in &t.params {
+        let d = PyDict::new(py);
+        d.set_item("name", &p.name)?;
+        d.set_item("kind", p.kind.label())?;
+        if let ParamKind::Choice(options) = &p.kind {
+            d.set_item("choices", options)?;
+        }
+        let default = match &p.default {
+            Some(v) => Some(toml_to_py(py, v)?),
+            None => None,
+        };
+        d.set_item("default", default)?;
+        d.set_item("required", p.required)?;
+        d.set_item("unit", &p.unit)?;
+        d.set_item("description", &p.description)?;
+        d.set_item("range", &p.range)?;
+        params.append(d)?;
+    }
+    out.set_item("parameters", params)?;
+    let ports = PyList::empty(py);
+    for p in &t.ports {
+        let kind = p.kind.describe().trim_start_matches("a ");
+        ports.append((&p.name, kind, &p.enabled_by))?;
+    }
+    out.set_item("ports", ports)?;
+    let vars: Vec<(&str, &str)> = t
+        .variables
+        .iter()
+        .map(|v| (v.name.as_str(), v.unit))
+        .collect();
+    out.set_item("variables", vars)?;
+    Ok(out)
+}
+
+/// The component catalogue: one dict per registered type, in registry order.
+#[pyfunction]
+fn catalogue(py: Python<'_>) -> PyResult<Py<PyList>> {
+    let out = PyList::empty(py);
+    for t in core_catalogue::catalogue() {
+        out.append(type_info(py, &t)?)?;
     }
     Ok(out.unbind())
 }
@@ -307,7 +365,7 @@ impl PyState {
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
-    m.add_function(wrap_pyfunction!(component_types, m)?)?;
+    m.add_function(wrap_pyfunction!(catalogue, m)?)?;
     m.add_class::<RawResult>()?;
     m.add_class::<PySimulation>()?;
     m.add_class::<PyCancelHandle>()?;

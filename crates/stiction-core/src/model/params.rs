@@ -218,8 +218,9 @@ impl<'a> Params<'a> {
         Ok(value)
     }
 
-    /// A matrix with a fixed number of columns, e.g. `mu_pos = [[0, 0.5], [10, 0.4]]`.
-    /// A flat list `[0, 0.5]` is one row, as Modelica writes `[0, 0.5]`.
+    /// A matrix with a fixed number of columns, e.g. `mu_pos = [[0, 0.5], [10, 0.4]]`. A flat
+    /// list `[0.5, 0.4]` is refused (was it one row or one column?) with the matrix it may mean;
+    /// so is a ragged one.
     pub fn matrix(
         &self,
         decl: &'static str,
@@ -236,20 +237,17 @@ impl<'a> Params<'a> {
         let Some(v) = self.get(name) else {
             return Ok(default.iter().map(|r| r.to_vec()).collect());
         };
+        let example = matrix_example(columns);
         let shape_err = || {
             self.error(
                 name,
-                format!(
-                    "expected a table of rows with {columns} columns, like [[0, 0.5], [10, 0.4]]"
-                ),
+                format!("expected a matrix of rows with {columns} columns, like {example}"),
             )
         };
         let rows = v.as_array().ok_or_else(shape_err)?;
-        let rows: Vec<&toml::Value> = if rows.iter().all(|r| !r.is_array()) {
-            vec![v]
-        } else {
-            rows.iter().collect()
-        };
+        if rows.iter().any(|r| !r.is_array()) {
+            return Err(self.error(name, flat_message(v, rows, columns, &example)));
+        }
         let mut out = Vec::with_capacity(rows.len());
         for row in rows {
             let cells = row.as_array().ok_or_else(shape_err)?;
@@ -257,7 +255,8 @@ impl<'a> Params<'a> {
                 return Err(self.error(
                     name,
                     format!(
-                        "every row must have {columns} columns, found a row with {}",
+                        "every row must have {columns} columns, found {row} with {}; \
+                         expected the form {example}",
                         cells.len()
                     ),
                 ));
@@ -353,4 +352,47 @@ impl<'a> Params<'a> {
         }
         Ok(())
     }
+}
+
+/// `[[x1, y1], [x2, y2]]` with as many entries per row as the table has columns.
+fn matrix_example(columns: usize) -> String {
+    let row = |k: usize| {
+        let cells: Vec<String> = (1..=columns)
+            .map(|c| {
+                format!(
+                    "{}{k}",
+                    ["x", "y", "z", "u", "v"].get(c - 1).unwrap_or(&"c")
+                )
+            })
+            .collect();
+        format!("[{}]", cells.join(", "))
+    };
+    format!("[{}, {}, …]", row(1), row(2))
+}
+
+/// The message for a flat list: what the matrix form looks like, with the user's numbers when
+/// they fill whole rows.
+fn flat_message(v: &toml::Value, items: &[toml::Value], columns: usize, example: &str) -> String {
+    let what = if items.iter().any(|x| x.is_array()) {
+        "mixes rows and single numbers"
+    } else {
+        "is a flat list"
+    };
+    let mut text = format!(
+        "{v} {what}, but a table is a matrix (a list of rows with {columns} columns): {example}"
+    );
+    if !items.is_empty()
+        && items.len().is_multiple_of(columns)
+        && items.iter().all(|x| !x.is_array())
+    {
+        let rows: Vec<String> = items
+            .chunks(columns)
+            .map(|r| {
+                let cells: Vec<String> = r.iter().map(|x| x.to_string()).collect();
+                format!("[{}]", cells.join(", "))
+            })
+            .collect();
+        text += &format!("; as rows, {v} reads [{}]", rows.join(", "));
+    }
+    text
 }

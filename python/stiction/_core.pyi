@@ -50,11 +50,21 @@ class RawResult:
     def table(self) -> npt.NDArray[np.float64]:
         """All variables, shape (rows, len(names)); event instants appear twice."""
 
-def simulate(model_toml: str, base_dir: str = ".", overrides: dict[str, float] | None = None) -> RawResult:
+def simulate(
+    model_toml: str, base_dir: str = ".", overrides: dict[str, float] | None = None, solver: str | None = None
+) -> RawResult:
     """Run a model given as model-file text.
 
-    ``overrides`` keys: StartTime, StopTime, Interval, Tolerance.
+    ``overrides`` keys: StartTime, StopTime, Interval, Tolerance; ``solver`` overrides Solver.
     """
+
+def experiment(
+    model_toml: str, base_dir: str = ".", overrides: dict[str, float] | None = None, solver: str | None = None
+) -> dict[str, Any]:
+    """The experiment settings a run uses, and under "defaults" those nobody gave."""
+
+def initialization(model_toml: str, base_dir: str = ".") -> list[tuple[str, float, str, float]]:
+    """(variable, start, "fixed" | "guessed" | "computed", initial value) per start value."""
 
 def check(model_toml: str, base_dir: str = ".") -> None:
     """Validate a model without running it; raises ModelError."""

@@ -68,6 +68,13 @@ def main() -> None:
 
 
 def _experiment_options(func: F) -> F:
+    func = click.option(
+        "--Solver",
+        "Solver",
+        type=click.Choice(["tsit45", "bdf", "esdirk34"]),
+        default=None,
+        help="Override the experiment's Solver (tsit45 default; bdf, esdirk34 for stiff models).",
+    )(func)
     for key in reversed(("StartTime", "StopTime", "Interval", "Tolerance")):
         func = click.option(
             f"--{key}",
@@ -105,7 +112,7 @@ def simulate(
     output: Path | None,
     plot_file: Path | None,
     signals: str | None,
-    **experiment: float | None,
+    **experiment: Any,
 ) -> None:
     """Run MODEL_FILE and print a summary."""
     from .model import Model
@@ -130,17 +137,23 @@ def simulate(
 
 @main.command()
 @click.argument("model_file", type=click.Path(dir_okay=False, path_type=Path))
+@click.option("-v", "--verbose", is_flag=True, help="Also show the experiment and every start value.")
 @_friendly_errors
-def check(model_file: Path) -> None:
+def check(model_file: Path, verbose: bool) -> None:
     """Validate MODEL_FILE without running it."""
     from .model import Model
 
     model = Model.load(model_file)
     try:
         model.check()
+        info = model.run_info() if verbose else None
     except ModelError as exc:
         raise _in_file(model_file, exc) from None
     click.echo(f"ok: {model.name} ({len(model.components)} components, {len(model.connections)} connections)")
+    if info is not None:
+        click.echo(f"experiment: {info.experiment}")
+        click.echo(f"start values: {info.initialization.counts()}")
+        click.echo(str(info.initialization))
 
 
 @main.command(name="list")

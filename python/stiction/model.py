@@ -20,6 +20,7 @@ from . import modelfile
 from .components import FACTORIES, Component, component_types
 from .errors import ModelError
 from .result import Result
+from .runinfo import RunInfo
 
 if TYPE_CHECKING:
     from .simulation import Simulation
@@ -206,14 +207,18 @@ class Model:
             raise ModelError(message) from None
 
     # --- running ----------------------------------------------------------------------
-    def simulation(self, **experiment: float) -> Simulation:
+    def simulation(self, Solver: str | None = None, **experiment: float) -> Simulation:
         """A resumable run of the model (``advance_to``, ``set_input``, ``get`` …).
 
-        Keyword arguments (``StopTime=2.0`` …) override the experiment for this run.
+        Keyword arguments (``StopTime=2.0``, ``Solver="bdf"`` …) override the experiment.
         """
         from .simulation import Simulation
 
-        return Simulation(self, **experiment)
+        return Simulation(self, Solver, **experiment)
+
+    def run_info(self) -> RunInfo:
+        """The experiment and initialization a run of this model would use, without running."""
+        return RunInfo(self.to_toml(), str(self.base_dir), {})
 
     def check(self) -> None:
         """Let the engine validate the whole model without running it."""
@@ -227,8 +232,14 @@ class Model:
         StopTime: float | None = None,
         Interval: float | None = None,
         Tolerance: float | None = None,
+        Solver: str | None = None,
     ) -> Result:
-        """Run the model; arguments override its experiment settings for this run."""
+        """Run the model; arguments override its experiment settings for this run.
+
+        ``Solver`` is "tsit45" (the default), "bdf" or "esdirk34" (stiff models). The result
+        reports the experiment used (``r.experiment``, with the settings left at defaults)
+        and the initialization (``r.initialization``).
+        """
         from . import _core
 
         given: Mapping[str, float | None] = {
@@ -238,5 +249,6 @@ class Model:
             "Tolerance": Tolerance,
         }
         overrides = {k: float(v) for k, v in given.items() if v is not None}
-        raw = _core.simulate(self.to_toml(), str(self.base_dir), overrides)
-        return Result.from_core(raw, name=self.name)
+        text, base = self.to_toml(), str(self.base_dir)
+        raw = _core.simulate(text, base, overrides, Solver)
+        return Result.from_core(raw, name=self.name, info=RunInfo(text, base, overrides, Solver))

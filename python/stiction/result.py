@@ -21,6 +21,8 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
+    from .runinfo import Experiment, Initialization, RunInfo
+
 __all__ = ["Event", "Result"]
 
 # Signal kinds worth showing first in a summary, most telling first.
@@ -48,9 +50,11 @@ class Result:
         stats: Mapping[str, float | int] | None = None,
         name: str = "",
         source: Any = None,
+        info: RunInfo | None = None,
     ) -> None:
         """``data`` is the full table, or None when a ``source`` (the engine's raw result,
-        with ``column(name)``, ``table()`` and ``rows``) computes variables on demand."""
+        with ``column(name)``, ``table()`` and ``rows``) computes variables on demand;
+        ``info`` reports the run's experiment and initialization."""
         self.names: list[str] = [str(n) for n in names]
         if not self.names or self.names[0] != "time":
             raise ValueError("the first signal must be 'time'")
@@ -67,12 +71,23 @@ class Result:
         ]
         self.stats: dict[str, float | int] = dict(stats or {})
         self.name = name
+        self._info = info
         self._index = {n: i for i, n in enumerate(self.names)}
 
     @classmethod
-    def from_core(cls, raw: Any, name: str = "") -> Result:
+    def from_core(cls, raw: Any, name: str = "", info: RunInfo | None = None) -> Result:
         """Wrap the engine's raw result; variables are computed when first read."""
-        return cls(raw.names, None, raw.events, raw.stats, name=name, source=raw)
+        return cls(raw.names, None, raw.events, raw.stats, name=name, source=raw, info=info)
+
+    @property
+    def experiment(self) -> Experiment | None:
+        """The experiment the run used, saying which settings were defaults (None if unknown)."""
+        return self._info.experiment if self._info else None
+
+    @property
+    def initialization(self) -> Initialization | None:
+        """Every start value: fixed, guessed (kept) or computed, with its initial value."""
+        return self._info.initialization if self._info else None
 
     @property
     def data(self) -> np.ndarray:
@@ -168,6 +183,9 @@ class Result:
         span = f"t = {t[0]:g} … {t[-1]:g} s" if len(t) else "no rows"
         title = f"{self.name}: " if self.name else ""
         lines = [f"{title}{span}, {len(self)} rows, {len(self.events)} events"]
+        if self._info is not None:
+            lines.append(f"experiment: {self._info.experiment}")
+            lines.append(f"start values: {self._info.initialization.counts()} (r.initialization)")
         main = self.main_signals()
         if main and len(t):
             lines.append("final values:")

@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING
 
 from .errors import UsageError
 from .result import Result
+from .runinfo import RunInfo
 
 if TYPE_CHECKING:
     from .model import Model
@@ -26,12 +27,14 @@ class Simulation:
     initialization) at its StartTime. Keyword arguments override the experiment.
     """
 
-    def __init__(self, model: Model, **experiment: float) -> None:
+    def __init__(self, model: Model, Solver: str | None = None, **experiment: float) -> None:
         from . import _core
 
         overrides = {k: float(v) for k, v in experiment.items()}
         self._name = model.name
-        self._core = _core.Simulation(model.to_toml(), str(model.base_dir), overrides)
+        text, base = model.to_toml(), str(model.base_dir)
+        self._core = _core.Simulation(text, base, overrides, Solver)
+        self._info = RunInfo(text, base, overrides, Solver)
 
     @property
     def time(self) -> float:
@@ -91,7 +94,7 @@ class Simulation:
 
     def result(self) -> Result:
         """The rows recorded so far, as a ``Result``; the simulation is closed."""
-        return Result.from_core(self._core.result(), name=self._name)
+        return Result.from_core(self._core.result(), name=self._name, info=self._info)
 
     def __repr__(self) -> str:
         return f"<Simulation {self._name!r} at t = {self.time}>"

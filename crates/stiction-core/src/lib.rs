@@ -7,6 +7,7 @@ pub mod compare;
 pub mod components;
 pub mod engine;
 pub mod error;
+pub mod initialization;
 pub mod model;
 pub mod rel;
 pub mod result;

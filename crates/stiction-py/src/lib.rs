@@ -40,10 +40,14 @@ fn parse(
     model_toml: &str,
     base_dir: &str,
     overrides: &HashMap<String, f64>,
+    solver: Option<&str>,
 ) -> PyResult<ModelSpec> {
     let mut spec = ModelSpec::from_toml(model_toml, base_dir).map_err(model_err)?;
     for (key, value) in overrides {
         spec.experiment.set(key, *value).map_err(model_err)?;
+    }
+    if let Some(solver) = solver {
+        spec.experiment.set_solver(solver);
     }
     spec.experiment.validate().map_err(model_err)?;
     Ok(spec)
@@ -134,14 +138,15 @@ impl RawResult {
 
 /// Simulates a model given as TOML text; `overrides` replace `[experiment]` settings.
 #[pyfunction]
-#[pyo3(signature = (model_toml, base_dir = ".", overrides = None))]
+#[pyo3(signature = (model_toml, base_dir = ".", overrides = None, solver = None))]
 fn simulate(
     py: Python<'_>,
     model_toml: &str,
     base_dir: &str,
     overrides: Option<HashMap<String, f64>>,
+    solver: Option<&str>,
 ) -> PyResult<RawResult> {
-    let spec = parse(model_toml, base_dir, &overrides.unwrap_or_default())?;
+    let spec = parse(model_toml, base_dir, &overrides.unwrap_or_default(), solver)?;
     let result = py.detach(|| guarded(|| stiction_core::simulate(&spec)))?;
     Ok(RawResult(result))
 }
@@ -150,12 +155,49 @@ fn simulate(
 #[pyfunction]
 #[pyo3(signature = (model_toml, base_dir = "."))]
 fn check(model_toml: &str, base_dir: &str) -> PyResult<()> {
-    let spec = parse(model_toml, base_dir, &HashMap::new())?;
+    let spec = parse(model_toml, base_dir, &HashMap::new(), None)?;
     guarded(|| {
         let sys = stiction_core::assembly::assemble(&spec)?;
         stiction_core::simulation::initial_state(&sys)?;
         Ok(())
     })
+}
+
+/// The experiment a run uses: `{StartTime, StopTime, Interval, Tolerance, Solver, defaults}`,
+/// `defaults` naming the settings neither the model nor an override gave.
+#[pyfunction]
+#[pyo3(signature = (model_toml, base_dir = ".", overrides = None, solver = None))]
+fn experiment<'py>(
+    py: Python<'py>,
+    model_toml: &str,
+    base_dir: &str,
+    overrides: Option<HashMap<String, f64>>,
+    solver: Option<&str>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let e = parse(model_toml, base_dir, &overrides.unwrap_or_default(), solver)?.experiment;
+    let d = PyDict::new(py);
+    d.set_item("StartTime", e.start_time)?;
+    d.set_item("StopTime", e.stop_time)?;
+    d.set_item("Interval", e.interval)?;
+    d.set_item("Tolerance", e.tolerance)?;
+    d.set_item("Solver", &e.solver)?;
+    d.set_item("defaults", e.defaults())?;
+    Ok(d)
+}
+
+/// Every start value: `(variable, start, "fixed" | "guessed" | "computed", initial value)`.
+#[pyfunction]
+#[pyo3(signature = (model_toml, base_dir = "."))]
+fn initialization(model_toml: &str, base_dir: &str) -> PyResult<Vec<(String, f64, String, f64)>> {
+    let spec = parse(model_toml, base_dir, &HashMap::new(), None)?;
+    let values = guarded(|| {
+        let mut sys = stiction_core::assembly::assemble(&spec)?;
+        Ok(stiction_core::initialization::report(&mut sys)?)
+    })?;
+    Ok(values
+        .into_iter()
+        .map(|v| (v.variable, v.start, v.status.label().to_string(), v.value))
+        .collect())
 }
 
 /// A parameter default (TOML data) as a Python value.
@@ -251,13 +293,14 @@ impl PySimulation {
 #[pymethods]
 impl PySimulation {
     #[new]
-    #[pyo3(signature = (model_toml, base_dir = ".", overrides = None))]
+    #[pyo3(signature = (model_toml, base_dir = ".", overrides = None, solver = None))]
     fn new(
         model_toml: &str,
         base_dir: &str,
         overrides: Option<HashMap<String, f64>>,
+        solver: Option<&str>,
     ) -> PyResult<Self> {
-        let spec = parse(model_toml, base_dir, &overrides.unwrap_or_default())?;
+        let spec = parse(model_toml, base_dir, &overrides.unwrap_or_default(), solver)?;
         let sim = guarded(|| Simulation::from_spec(&spec))?;
         Ok(Self(Some(sim)))
     }
@@ -366,6 +409,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add_function(wrap_pyfunction!(catalogue, m)?)?;
+    m.add_function(wrap_pyfunction!(experiment, m)?)?;
+    m.add_function(wrap_pyfunction!(initialization, m)?)?;
     m.add_class::<RawResult>()?;
     m.add_class::<PySimulation>()?;
     m.add_class::<PyCancelHandle>()?;

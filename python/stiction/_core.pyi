@@ -58,6 +58,9 @@ def simulate(
     ``overrides`` keys: StartTime, StopTime, Interval, Tolerance; ``solver`` overrides Solver.
     """
 
+def check_parameters(model_toml: str, base_dir: str = ".") -> None:
+    """Check every component's parameters without assembling; raises ModelError."""
+
 def experiment(
     model_toml: str, base_dir: str = ".", overrides: dict[str, float] | None = None, solver: str | None = None
 ) -> dict[str, Any]:

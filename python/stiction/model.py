@@ -111,6 +111,36 @@ class Model:
         self.connections.append((a, b))
         return self
 
+    def set(self, name: str, value: Any) -> Model:
+        """Change one parameter, ``m.set("brake.fn_max", 1800.0)``; returns the model.
+
+        The name and the value get the checks a component gets when the model is read:
+        unknown names (with suggestions), types, ranges and table shapes — now, not at the
+        next run. On an error the model is left unchanged.
+        """
+        comp_name, _, param = name.partition(".")
+        if comp_name not in self.components or not param:
+            raise ModelError(
+                f"set '{name}': expected 'component.parameter' with a component of this model"
+                f"{_did_you_mean(comp_name, list(self.components))}"
+            )
+        old = self.components[comp_name]
+        params = {**old.params, param: value}
+        new = FACTORIES[old.type](**params) if old.type in FACTORIES else Component(old.type, params)
+        known = component_types()
+        allowed = known[old.type]["parameters"] if known and old.type in known else [param]
+        if param not in allowed:
+            raise ModelError(
+                f"component '{comp_name}' ({old.type}): parameter '{param}': "
+                f"unknown parameter{_did_you_mean(param, allowed)}"
+            )
+        from . import _core
+
+        text = modelfile.dumps(self.name, {}, [(comp_name, new.type, new.params)], [], {})
+        _core.check_parameters(text, str(self.base_dir))
+        self.components[comp_name] = new
+        return self
+
     def input(self, port: str, start: float = 0.0) -> Model:
         """Declare an unconnected signal input ("brake.f_normalized") an input of the model.
 
@@ -218,7 +248,7 @@ class Model:
 
     def run_info(self) -> RunInfo:
         """The experiment and initialization a run of this model would use, without running."""
-        return RunInfo(self.to_toml(), str(self.base_dir), {})
+        return RunInfo(self.to_toml(), str(self.base_dir), {}, None, self.types())
 
     def check(self) -> None:
         """Let the engine validate the whole model without running it."""
@@ -251,4 +281,9 @@ class Model:
         overrides = {k: float(v) for k, v in given.items() if v is not None}
         text, base = self.to_toml(), str(self.base_dir)
         raw = _core.simulate(text, base, overrides, Solver)
-        return Result.from_core(raw, name=self.name, info=RunInfo(text, base, overrides, Solver))
+        info = RunInfo(text, base, overrides, Solver, self.types())
+        return Result.from_core(raw, name=self.name, info=info)
+
+    def types(self) -> dict[str, str]:
+        """Component name → type name (``{"brake": "Brake"}``)."""
+        return {name: c.type for name, c in self.components.items()}

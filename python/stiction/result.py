@@ -9,7 +9,7 @@ from __future__ import annotations
 import difflib
 import math
 import os
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
@@ -23,10 +23,20 @@ if TYPE_CHECKING:
 
     from .runinfo import Experiment, Initialization, RunInfo
 
-__all__ = ["Event", "Result"]
+__all__ = ["MODE_NAMES", "Event", "Result", "mode_name"]
 
 # Signal kinds worth showing first in a summary, most telling first.
 _MAIN_SUFFIXES = ("w", "w_rel", "mode", "tau", "phi", "phi_rel", "T", "y")
+
+
+MODE_NAMES = {-1: "sliding backward", 0: "stuck", 1: "sliding forward", 2: "free", 3: "unknown"}
+"""MSL's friction modes (``Backward``, ``Stuck``, ``Forward``, ``Free``, ``Unknown``); 3
+(Unknown) is only the value before initialization, the ``old_mode`` of the first events."""
+
+
+def mode_name(mode: int) -> str:
+    """``"sliding forward"`` for 1 and so on (see ``MODE_NAMES``)."""
+    return MODE_NAMES.get(int(mode), f"mode {mode}")
 
 
 class Event(NamedTuple):
@@ -37,6 +47,19 @@ class Event(NamedTuple):
     old_mode: int
     new_mode: int
     cause: str
+
+    @property
+    def old(self) -> str:
+        """The mode before, by name (``"sliding forward"``)."""
+        return mode_name(self.old_mode)
+
+    @property
+    def new(self) -> str:
+        """The mode after, by name (``"stuck"``)."""
+        return mode_name(self.new_mode)
+
+    def __str__(self) -> str:
+        return f"t = {self.time:.9g} s  {self.component}: {self.old} → {self.new}  ({self.cause})"
 
 
 class Result:
@@ -133,12 +156,62 @@ class Result:
         """The time column (event instants appear twice: left then right value)."""
         return self["time"]
 
+    def unit(self, name: str) -> str:
+        """The unit of a variable (``"N.m"`` for ``brake.tau``; "" if unknown or none)."""
+        if name == "time":
+            return "s"
+        return self._info.unit(name) if self._info else ""
+
+    # --- analysis ---------------------------------------------------------------------
+    def energy(self, component: str, cumulative: bool = False) -> Any:
+        """Energy dissipated by one component [J]: the integral of its ``lossPower``.
+
+        The total (a float), or with ``cumulative=True`` its course over ``time``. Exact for
+        a loss power linear between rows; event rows (a repeated time) add nothing.
+        """
+        name = f"{component}.lossPower"
+        if name not in self:
+            lossy = sorted({n.split(".")[0] for n in self.names if n.endswith(".lossPower")})
+            raise KeyError(f"{component!r} has no lossPower; components that dissipate: {', '.join(lossy)}")
+        t, p = self.time, self[name]
+        steps = np.concatenate(([0.0], 0.5 * (p[1:] + p[:-1]) * np.diff(t)))
+        course = np.cumsum(steps)
+        return course if cumulative else float(course[-1])
+
+    def first(self, name: str, condition: Callable[[np.ndarray], np.ndarray] | None = None) -> float | None:
+        """The first time a signal is true (nonzero), or meets ``condition``; None if never.
+
+        ``r.first("clutch2.locked")``; ``r.first("J.w", lambda w: w < 1.0)``.
+        """
+        hit = np.asarray(condition(self[name]) if condition else self[name] != 0.0, dtype=bool)
+        rows = np.flatnonzero(hit)
+        return float(self.time[rows[0]]) if rows.size else None
+
+    def lock_times(self, component: str) -> list[float]:
+        """The instants a friction element becomes locked (its ``locked`` rises; t0 counts)."""
+        locked = self[f"{component}.locked"] != 0.0
+        rises = np.flatnonzero(locked[1:] & ~locked[:-1]) + 1
+        times = [float(self.time[i]) for i in rises]
+        return ([float(self.time[0])] if locked.size and locked[0] else []) + times
+
     # --- export -----------------------------------------------------------------------
-    def to_pandas(self) -> pandas.DataFrame:
-        """The trajectories as a DataFrame with ``time`` as an ordinary column."""
+    def to_pandas(self, events: str = "all") -> pandas.DataFrame:
+        """The trajectories as a DataFrame; ``df.attrs["units"]`` gives each column's unit.
+
+        ``events="all"``: every row, ``time`` an ordinary column (an event instant has two
+        rows, left and right value). ``"last"`` or ``"first"``: one row per instant (the value
+        after, or before, each event), indexed by ``time`` — unique and increasing, so
+        ``resample``, ``interpolate`` and ``np.gradient`` work.
+        """
         import pandas as pd
 
-        return pd.DataFrame(self.data, columns=self.names)
+        if events not in ("all", "first", "last"):
+            raise ValueError(f'events must be "all", "first" or "last", got {events!r}')
+        df = pd.DataFrame(self.data, columns=self.names)
+        if events != "all":
+            df = df.drop_duplicates(subset="time", keep=events).set_index("time")
+        df.attrs["units"] = {n: self.unit(n) for n in self.names}
+        return df
 
     def to_csv(self, path: str | os.PathLike[str]) -> None:
         """Write an MSL-style CSV (quoted header, full precision, integer modes)."""

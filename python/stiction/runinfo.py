@@ -75,11 +75,23 @@ class RunInfo:
     """The engine's view of one model text and its overrides, computed when first asked for."""
 
     def __init__(
-        self, model_toml: str, base_dir: str, overrides: dict[str, float], solver: str | None = None
+        self,
+        model_toml: str,
+        base_dir: str,
+        overrides: dict[str, float],
+        solver: str | None = None,
+        types: dict[str, str] | None = None,
     ) -> None:
         self._args = (model_toml, base_dir)
         self._overrides = overrides
         self._solver = solver
+        self._types = dict(types or {})
+
+    def unit(self, variable: str) -> str:
+        """The unit of a result variable, from the component catalogue."""
+        from .catalogue import unit_of
+
+        return unit_of(variable, self._types)
 
     @functools.cached_property
     def experiment(self) -> Experiment:

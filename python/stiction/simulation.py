@@ -34,7 +34,7 @@ class Simulation:
         self._name = model.name
         text, base = model.to_toml(), str(model.base_dir)
         self._core = _core.Simulation(text, base, overrides, Solver)
-        self._info = RunInfo(text, base, overrides, Solver)
+        self._info = RunInfo(text, base, overrides, Solver, model.types())
 
     @property
     def time(self) -> float:

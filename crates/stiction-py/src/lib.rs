@@ -163,6 +163,17 @@ fn check(model_toml: &str, base_dir: &str) -> PyResult<()> {
     })
 }
 
+/// Checks every component's parameters (names, types, ranges, tables) without assembling.
+#[pyfunction]
+#[pyo3(signature = (model_toml, base_dir = "."))]
+fn check_parameters(model_toml: &str, base_dir: &str) -> PyResult<()> {
+    let spec = parse(model_toml, base_dir, &HashMap::new(), None)?;
+    for c in &spec.components {
+        stiction_core::components::create(c, &spec.base_dir).map_err(model_err)?;
+    }
+    Ok(())
+}
+
 /// The experiment a run uses: `{StartTime, StopTime, Interval, Tolerance, Solver, defaults}`,
 /// `defaults` naming the settings neither the model nor an override gave.
 #[pyfunction]
@@ -410,6 +421,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add_function(wrap_pyfunction!(catalogue, m)?)?;
     m.add_function(wrap_pyfunction!(experiment, m)?)?;
+    m.add_function(wrap_pyfunction!(check_parameters, m)?)?;
     m.add_function(wrap_pyfunction!(initialization, m)?)?;
     m.add_class::<RawResult>()?;
     m.add_class::<PySimulation>()?;

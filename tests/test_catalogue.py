@@ -124,3 +124,13 @@ def test_cli_list_and_describe(capsys: pytest.CaptureFixture[str]) -> None:
         main(["describe", "Brake"])
     out = capsys.readouterr().out
     assert "fn_max : Real [N], required, >= 0" in out and "support: flange (if useSupport = true)" in out
+
+
+def test_the_public_namespace_is_the_api() -> None:
+    """dir(st) shows __all__ (and __version__), nothing imported for the package's own use."""
+    assert dir(st) == sorted([*st.__all__, "__version__"])
+    assert not {"annotations", "Any", "version", "PackageNotFoundError"} & set(dir(st))
+    for name in st.__all__:
+        assert getattr(st, name) is not None
+    for name in ("ModelError", "SimulationError", "StictionError", "UsageError", "SingularSystemError"):
+        assert issubclass(getattr(st, name), Exception) and getattr(st, name).__module__ == "stiction"

@@ -5,7 +5,7 @@ model file, run it (``Model.simulate`` → ``Result``), and check results agains
 references (``compare``).
 """
 
-from __future__ import annotations
+import importlib.metadata as _metadata
 
 from .catalogue import ComponentInfo, describe
 from .compare import CompareReport, compare
@@ -131,8 +131,11 @@ __all__ = [
 # END generated
 
 try:
-    from importlib.metadata import PackageNotFoundError, version
-
-    __version__ = version("stiction")
-except PackageNotFoundError:  # running from a source tree without installing
+    __version__ = _metadata.version("stiction")
+except _metadata.PackageNotFoundError:  # running from a source tree without installing
     __version__ = "0+unknown"
+
+
+def __dir__() -> list[str]:
+    """The public API only: ``__all__`` and ``__version__`` (not submodules or helpers)."""
+    return sorted([*__all__, "__version__"])

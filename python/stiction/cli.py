@@ -16,6 +16,7 @@ from typing import Any, NoReturn, TypeVar
 import click
 
 from . import __version__
+from .compare import DEFAULT_FLOOR
 from .errors import ModelError
 
 F = TypeVar("F", bound=Callable[..., Any])
@@ -103,7 +104,7 @@ def _experiment_options(func: F) -> F:
 @click.option(
     "--signals",
     default=None,
-    help="Signals to plot: a,b,c (one axes each); join with + to share axes: a+b,c.",
+    help="Signals to plot: a,b,c or @FILE (one per line), one axes each; a+b shares axes.",
 )
 @_experiment_options
 @_friendly_errors
@@ -125,8 +126,9 @@ def simulate(
     if output is not None:
         result.to_csv(output)
     if plot_file is not None:
-        groups = [g.split("+") for g in signals.split(",") if g.strip()] if signals else []
-        groups = [[n.strip() for n in g if n.strip()] for g in groups]
+        from .compare import parse_signals
+
+        groups = [[n.strip() for n in g.split("+") if n.strip()] for g in parse_signals(signals or "")]
         result.plot(*groups, path=plot_file)
     click.echo(result.summary())
     if output is not None:
@@ -189,27 +191,34 @@ def describe(type_name: str) -> None:
     help="Relative tube size, in y (of the signal range) and in t (of the time span).",
 )
 @click.option(
+    "--floor",
+    type=float,
+    default=DEFAULT_FLOOR,
+    show_default=True,
+    help="Smallest tube half-height, so exact zeros compare equal to round-off (0: MSL's method).",
+)
+@click.option(
     "--signals",
-    "signals_file",
-    type=click.Path(dir_okay=False, path_type=Path),
-    help="Signal list (one name per line, time first). Default: REFERENCE.signals.txt "
+    default=None,
+    help="Signals to compare: a,b,c or @FILE (one per line). Default: REFERENCE.signals.txt "
     "next to the reference if it exists, else every reference column.",
 )
+@click.option("-v", "--verbose", is_flag=True, help="Print every signal, not only the failures.")
 @_friendly_errors
-def compare_cmd(result_csv: Path, reference_csv: Path, tolerance: float, signals_file: Path | None) -> None:
+def compare_cmd(
+    result_csv: Path, reference_csv: Path, tolerance: float, floor: float, signals: str | None, verbose: bool
+) -> None:
     """Check RESULT_CSV against REFERENCE_CSV (MSL tube method); exit 1 on failure."""
-    from .compare import compare
+    from .compare import compare, parse_signals
 
-    if signals_file is None:
-        sibling = reference_csv.with_suffix(".signals.txt")
-        if sibling.is_file():
-            signals_file = sibling
-    report = compare(result_csv, reference_csv, tolerance=tolerance, signals=signals_file)
-    click.echo(str(report))
-    failed = len(report.failed)
-    source = f", signals from {signals_file}" if signals_file else ""
-    passed = len(report) - failed
-    click.echo(f"{passed}/{len(report)} signals passed (tolerance {tolerance:g}{source})")
+    sibling = reference_csv.with_suffix(".signals.txt")
+    if signals is None and sibling.is_file():
+        signals = f"@{sibling}"
+    names = parse_signals(signals) if signals else None
+    report = compare(result_csv, reference_csv, tolerance=tolerance, signals=names, floor=floor)
+    click.echo(report.summary(verbose))
+    if signals and signals.startswith("@"):
+        click.echo(f"signals from {signals[1:]}")
     if not report.passed:
         sys.exit(1)
 

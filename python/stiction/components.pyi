@@ -991,7 +991,7 @@ class LossyGear(_Factory):
     ratio : Real [1], default 1.0, != 0
         Transmission ratio flange_a.phi/flange_b.phi
     lossTable : table [:, 5] [rad/s, 1, 1, N.m, N.m], default [[0.0, 1.0, 1.0, 0.0, 0.0]], eta_mf1, eta_mf2 in (0, 1]
-        Rows [|w_a|, eta_mf1, eta_mf2, tau_bf1, tau_bf2]
+        Rows [abs(w_a), eta_mf1, eta_mf2, tau_bf1, tau_bf2]
     useSupport : Boolean, default False
         true: enable the support connector (else the housing is fixed at angle 0)
     useHeatPort : Boolean, default False

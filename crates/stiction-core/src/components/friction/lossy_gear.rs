@@ -120,7 +120,7 @@ fn lossy_gear(p: &Params) -> ModelResult<Box<dyn Component>> {
     )?;
     let ratio = p.nonzero("ratio", ratio)?;
     let table = p.matrix(
-        "lossTable [rad/s, 1, 1, N.m, N.m] Rows [|w_a|, eta_mf1, eta_mf2, tau_bf1, tau_bf2]",
+        "lossTable [rad/s, 1, 1, N.m, N.m] Rows [abs(w_a), eta_mf1, eta_mf2, tau_bf1, tau_bf2]",
         5,
         &[&[0.0, 1.0, 1.0, 0.0, 0.0]],
     )?;

@@ -19,6 +19,8 @@ def test_vehicle_launch_locks_then_brakes_to_a_stop_and_its_energy_closes() -> N
     assert r["clutch.w_rel"][0] == pytest.approx(-150.0)  # engine at 150 rad/s, vehicle at rest
     t_clutch = r.first("clutch.locked")
     assert t_clutch is not None and 0.1 < t_clutch < 2.5  # locks while the throttle is open
+    press = next(e for e in r.events if e.component == "brake" and e.new == "sliding forward")
+    assert press.time == 2.5 and "time event of throttle (Step), brake_pedal (Step)" in press.cause
     [t_brake] = r.lock_times("brake")
     assert 2.5 < t_brake < 5.0 and abs(r["wheel.w"][-1]) < 1e-6
     # work of the sources = kinetic + potential energy + what clutch, brake, shaft dissipated

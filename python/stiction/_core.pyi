@@ -61,6 +61,11 @@ def simulate(
 def check_parameters(model_toml: str, base_dir: str = ".") -> None:
     """Check every component's parameters without assembling; raises ModelError."""
 
+def time_event_sources(
+    model_toml: str, base_dir: str, overrides: dict[str, float], times: list[float]
+) -> list[list[str]]:
+    """For each time, the components ("name (Type)") whose time event falls on it."""
+
 def experiment(
     model_toml: str, base_dir: str = ".", overrides: dict[str, float] | None = None, solver: str | None = None
 ) -> dict[str, Any]:

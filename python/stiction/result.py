@@ -62,6 +62,14 @@ class Event(NamedTuple):
         return f"t = {self.time:.9g} s  {self.component}: {self.old} → {self.new}  ({self.cause})"
 
 
+def _with_source(event: Event, sources: list[str]) -> Event:
+    """``time event`` → ``time event of press (Step)``."""
+    if not sources:
+        return event
+    cause = event.cause.replace("time event", f"time event of {', '.join(sources)}", 1)
+    return event._replace(cause=cause)
+
+
 class Result:
     """Trajectories on the output grid and both sides of each event, with statistics."""
 
@@ -89,9 +97,8 @@ class Result:
             if table.ndim != 2 or table.shape[1] != len(self.names):
                 raise ValueError(f"data shape {table.shape} does not match {len(self.names)} names")
             self._data = table
-        self.events: list[Event] = [
-            Event(float(t), str(c), int(a), int(b), str(why)) for t, c, a, b, why in events
-        ]
+        self._events = [Event(float(t), str(c), int(a), int(b), str(why)) for t, c, a, b, why in events]
+        self._events_named = False
         self.stats: dict[str, float | int] = dict(stats or {})
         self.name = name
         self._info = info
@@ -101,6 +108,18 @@ class Result:
     def from_core(cls, raw: Any, name: str = "", info: RunInfo | None = None) -> Result:
         """Wrap the engine's raw result; variables are computed when first read."""
         return cls(raw.names, None, raw.events, raw.stats, name=name, source=raw, info=info)
+
+    @property
+    def events(self) -> list[Event]:
+        """Every mode change: time, component, old and new mode (``.old``/``.new`` by name),
+        cause; a time event's cause names the components whose time event it was."""
+        if not self._events_named and self._info is not None:
+            timed = [e for e in self._events if e.cause.startswith("time event")]
+            sources = self._info.time_event_sources([e.time for e in timed]) if timed else []
+            named = {id(e): s for e, s in zip(timed, sources, strict=True)}
+            self._events = [_with_source(e, named.get(id(e), [])) for e in self._events]
+        self._events_named = True
+        return self._events
 
     @property
     def experiment(self) -> Experiment | None:

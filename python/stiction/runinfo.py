@@ -102,6 +102,12 @@ class RunInfo:
         defaults = tuple(raw.pop("defaults"))
         return Experiment(**raw, defaults=defaults)
 
+    def time_event_sources(self, times: list[float]) -> list[list[str]]:
+        """For each time, the components whose time event it is (``"press (Step)"``)."""
+        from . import _core
+
+        return _core.time_event_sources(*self._args, self._overrides, times)
+
     @functools.cached_property
     def initialization(self) -> Initialization:
         """Every start value: fixed, guessed or computed, with its initial value."""

@@ -100,3 +100,12 @@ def test_cli_solver_option(capsys: pytest.CaptureFixture[str]) -> None:
         main(["simulate", str(model), "--Solver", "esdirk34", "--StopTime", "0.1"])
     assert done.value.code == 0
     assert "Solver esdirk34" in capsys.readouterr().out
+
+
+def test_a_simulation_reports_its_experiment_and_solver() -> None:
+    sim = _two_shafts().simulation(Solver="esdirk34", StopTime=0.2)
+    sim.run()
+    r = sim.result()
+    assert r.experiment is not None and r.experiment.Solver == "esdirk34"
+    assert r.experiment.defaults == ("StartTime", "Interval", "Tolerance")
+    assert r.time[-1] == 0.2

@@ -115,9 +115,9 @@ class ComponentInfo:
             for p in self.parameters:
                 lines += [f"{p.name} : {p.summary()}", f"    {p.description}"]
             lines.append("")
-        lines += ["Ports", "-----"] + [p.summary() for p in self.ports] + [""]
+        lines += ["Ports", "-----"] + [f"- {p.summary()}" for p in self.ports] + [""]
         lines += ["Variables", "---------"]
-        lines += [f"{v.name} [{v.unit}]" if v.unit else v.name for v in self.variables]
+        lines += [f"- {v.name} [{v.unit}]" if v.unit else f"- {v.name}" for v in self.variables]
         return "\n".join(lines)
 
     def signature(self) -> inspect.Signature:
@@ -125,11 +125,12 @@ class ComponentInfo:
         params = []
         for p in self.parameters:
             default: Any = inspect.Parameter.empty if p.required else p.default
+            annotation = p.annotation
             if "start" in p.kind or p.kind == "String":
-                default = None  # not given: a guess / no file
+                default, annotation = None, f"{annotation} | None"  # not given: a guess / no file
             params.append(
                 inspect.Parameter(
-                    p.name, inspect.Parameter.KEYWORD_ONLY, default=default, annotation=p.annotation
+                    p.name, inspect.Parameter.KEYWORD_ONLY, default=default, annotation=annotation
                 )
             )
         return inspect.Signature(params, return_annotation=None)

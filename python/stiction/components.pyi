@@ -84,18 +84,18 @@ class Inertia(_Factory):
 
     Ports
     -----
-    flange_a: flange
-    flange_b: flange
+    - flange_a: flange
+    - flange_b: flange
 
     Variables
     ---------
-    phi [rad]
-    w [rad/s]
-    a [rad/s2]
-    flange_a.phi [rad]
-    flange_a.tau [N.m]
-    flange_b.phi [rad]
-    flange_b.tau [N.m]
+    - phi [rad]
+    - w [rad/s]
+    - a [rad/s2]
+    - flange_a.phi [rad]
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad]
+    - flange_b.tau [N.m]
     """
 
     def __init__(
@@ -118,12 +118,12 @@ class Fixed(_Factory):
 
     Ports
     -----
-    flange: flange
+    - flange: flange
 
     Variables
     ---------
-    flange.phi [rad]
-    flange.tau [N.m]
+    - flange.phi [rad]
+    - flange.tau [N.m]
     """
 
     def __init__(
@@ -148,17 +148,17 @@ class Spring(_Factory):
 
     Ports
     -----
-    flange_a: flange
-    flange_b: flange
+    - flange_a: flange
+    - flange_b: flange
 
     Variables
     ---------
-    phi_rel [rad]
-    tau [N.m]
-    flange_a.phi [rad]
-    flange_a.tau [N.m]
-    flange_b.phi [rad]
-    flange_b.tau [N.m]
+    - phi_rel [rad]
+    - tau [N.m]
+    - flange_a.phi [rad]
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad]
+    - flange_b.tau [N.m]
     """
 
     def __init__(
@@ -187,23 +187,23 @@ class Damper(_Factory):
 
     Ports
     -----
-    flange_a: flange
-    flange_b: flange
-    heatPort: heat port (if useHeatPort = true)
+    - flange_a: flange
+    - flange_b: flange
+    - heatPort: heat port (if useHeatPort = true)
 
     Variables
     ---------
-    phi_rel [rad]
-    w_rel [rad/s]
-    a_rel [rad/s2]
-    tau [N.m]
-    lossPower [W]
-    flange_a.phi [rad]
-    flange_a.tau [N.m]
-    flange_b.phi [rad]
-    flange_b.tau [N.m]
-    heatPort.T [K]
-    heatPort.Q_flow [W]
+    - phi_rel [rad]
+    - w_rel [rad/s]
+    - a_rel [rad/s2]
+    - tau [N.m]
+    - lossPower [W]
+    - flange_a.phi [rad]
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad]
+    - flange_b.tau [N.m]
+    - heatPort.T [K]
+    - heatPort.Q_flow [W]
     """
 
     def __init__(
@@ -237,25 +237,25 @@ class SpringDamper(_Factory):
 
     Ports
     -----
-    flange_a: flange
-    flange_b: flange
-    heatPort: heat port (if useHeatPort = true)
+    - flange_a: flange
+    - flange_b: flange
+    - heatPort: heat port (if useHeatPort = true)
 
     Variables
     ---------
-    phi_rel [rad]
-    w_rel [rad/s]
-    a_rel [rad/s2]
-    tau [N.m]
-    tau_c [N.m]
-    tau_d [N.m]
-    lossPower [W]
-    flange_a.phi [rad]
-    flange_a.tau [N.m]
-    flange_b.phi [rad]
-    flange_b.tau [N.m]
-    heatPort.T [K]
-    heatPort.Q_flow [W]
+    - phi_rel [rad]
+    - w_rel [rad/s]
+    - a_rel [rad/s2]
+    - tau [N.m]
+    - tau_c [N.m]
+    - tau_d [N.m]
+    - lossPower [W]
+    - flange_a.phi [rad]
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad]
+    - flange_b.tau [N.m]
+    - heatPort.T [K]
+    - heatPort.Q_flow [W]
     """
 
     def __init__(
@@ -293,23 +293,23 @@ class ElastoBacklash(_Factory):
 
     Ports
     -----
-    flange_a: flange
-    flange_b: flange
-    heatPort: heat port (if useHeatPort = true)
+    - flange_a: flange
+    - flange_b: flange
+    - heatPort: heat port (if useHeatPort = true)
 
     Variables
     ---------
-    phi_rel [rad]
-    w_rel [rad/s]
-    a_rel [rad/s2]
-    tau [N.m]
-    lossPower [W]
-    flange_a.phi [rad]
-    flange_a.tau [N.m]
-    flange_b.phi [rad]
-    flange_b.tau [N.m]
-    heatPort.T [K]
-    heatPort.Q_flow [W]
+    - phi_rel [rad]
+    - w_rel [rad/s]
+    - a_rel [rad/s2]
+    - tau [N.m]
+    - lossPower [W]
+    - flange_a.phi [rad]
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad]
+    - flange_b.tau [N.m]
+    - heatPort.T [K]
+    - heatPort.Q_flow [W]
     """
 
     def __init__(
@@ -338,20 +338,20 @@ class IdealGear(_Factory):
 
     Ports
     -----
-    flange_a: flange
-    flange_b: flange
-    support: flange (if useSupport = true)
+    - flange_a: flange
+    - flange_b: flange
+    - support: flange (if useSupport = true)
 
     Variables
     ---------
-    phi_a [rad]
-    phi_b [rad]
-    flange_a.phi [rad]
-    flange_a.tau [N.m]
-    flange_b.phi [rad]
-    flange_b.tau [N.m]
-    support.phi [rad]
-    support.tau [N.m]
+    - phi_a [rad]
+    - phi_b [rad]
+    - flange_a.phi [rad]
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad]
+    - flange_b.tau [N.m]
+    - support.phi [rad]
+    - support.tau [N.m]
     """
 
     def __init__(
@@ -373,18 +373,18 @@ class IdealPlanetary(_Factory):
 
     Ports
     -----
-    sun: flange
-    carrier: flange
-    ring: flange
+    - sun: flange
+    - carrier: flange
+    - ring: flange
 
     Variables
     ---------
-    sun.phi [rad]
-    sun.tau [N.m]
-    carrier.phi [rad]
-    carrier.tau [N.m]
-    ring.phi [rad]
-    ring.tau [N.m]
+    - sun.phi [rad]
+    - sun.tau [N.m]
+    - carrier.phi [rad]
+    - carrier.tau [N.m]
+    - ring.phi [rad]
+    - ring.tau [N.m]
     """
 
     def __init__(
@@ -405,19 +405,19 @@ class Torque(_Factory):
 
     Ports
     -----
-    flange: flange
-    support: flange (if useSupport = true)
-    tau: signal input
+    - flange: flange
+    - support: flange (if useSupport = true)
+    - tau: signal input
 
     Variables
     ---------
-    tau [N.m]
-    phi [rad]
-    w [rad/s]
-    flange.phi [rad]
-    flange.tau [N.m]
-    support.phi [rad]
-    support.tau [N.m]
+    - tau [N.m]
+    - phi [rad]
+    - w [rad/s]
+    - flange.phi [rad]
+    - flange.tau [N.m]
+    - support.phi [rad]
+    - support.tau [N.m]
     """
 
     def __init__(
@@ -440,18 +440,18 @@ class ConstantTorque(_Factory):
 
     Ports
     -----
-    flange: flange
-    support: flange (if useSupport = true)
+    - flange: flange
+    - support: flange (if useSupport = true)
 
     Variables
     ---------
-    tau [N.m]
-    phi [rad]
-    w [rad/s]
-    flange.phi [rad]
-    flange.tau [N.m]
-    support.phi [rad]
-    support.tau [N.m]
+    - tau [N.m]
+    - phi [rad]
+    - w [rad/s]
+    - flange.phi [rad]
+    - flange.tau [N.m]
+    - support.phi [rad]
+    - support.tau [N.m]
     """
 
     def __init__(
@@ -479,18 +479,18 @@ class TorqueStep(_Factory):
 
     Ports
     -----
-    flange: flange
-    support: flange (if useSupport = true)
+    - flange: flange
+    - support: flange (if useSupport = true)
 
     Variables
     ---------
-    tau [N.m]
-    phi [rad]
-    w [rad/s]
-    flange.phi [rad]
-    flange.tau [N.m]
-    support.phi [rad]
-    support.tau [N.m]
+    - tau [N.m]
+    - phi [rad]
+    - w [rad/s]
+    - flange.phi [rad]
+    - flange.tau [N.m]
+    - support.phi [rad]
+    - support.tau [N.m]
     """
 
     def __init__(
@@ -520,18 +520,18 @@ class LinearSpeedDependentTorque(_Factory):
 
     Ports
     -----
-    flange: flange
-    support: flange (if useSupport = true)
+    - flange: flange
+    - support: flange (if useSupport = true)
 
     Variables
     ---------
-    tau [N.m]
-    phi [rad]
-    w [rad/s]
-    flange.phi [rad]
-    flange.tau [N.m]
-    support.phi [rad]
-    support.tau [N.m]
+    - tau [N.m]
+    - phi [rad]
+    - w [rad/s]
+    - flange.phi [rad]
+    - flange.tau [N.m]
+    - support.phi [rad]
+    - support.tau [N.m]
     """
 
     def __init__(
@@ -561,18 +561,18 @@ class QuadraticSpeedDependentTorque(_Factory):
 
     Ports
     -----
-    flange: flange
-    support: flange (if useSupport = true)
+    - flange: flange
+    - support: flange (if useSupport = true)
 
     Variables
     ---------
-    tau [N.m]
-    phi [rad]
-    w [rad/s]
-    flange.phi [rad]
-    flange.tau [N.m]
-    support.phi [rad]
-    support.tau [N.m]
+    - tau [N.m]
+    - phi [rad]
+    - w [rad/s]
+    - flange.phi [rad]
+    - flange.tau [N.m]
+    - support.phi [rad]
+    - support.tau [N.m]
     """
 
     def __init__(
@@ -602,18 +602,18 @@ class SignTorque(_Factory):
 
     Ports
     -----
-    flange: flange
-    support: flange (if useSupport = true)
+    - flange: flange
+    - support: flange (if useSupport = true)
 
     Variables
     ---------
-    tau [N.m]
-    phi [rad]
-    w [rad/s]
-    flange.phi [rad]
-    flange.tau [N.m]
-    support.phi [rad]
-    support.tau [N.m]
+    - tau [N.m]
+    - phi [rad]
+    - w [rad/s]
+    - flange.phi [rad]
+    - flange.tau [N.m]
+    - support.phi [rad]
+    - support.tau [N.m]
     """
 
     def __init__(
@@ -645,18 +645,18 @@ class InverseSpeedDependentTorque(_Factory):
 
     Ports
     -----
-    flange: flange
-    support: flange (if useSupport = true)
+    - flange: flange
+    - support: flange (if useSupport = true)
 
     Variables
     ---------
-    tau [N.m]
-    phi [rad]
-    w [rad/s]
-    flange.phi [rad]
-    flange.tau [N.m]
-    support.phi [rad]
-    support.tau [N.m]
+    - tau [N.m]
+    - phi [rad]
+    - w [rad/s]
+    - flange.phi [rad]
+    - flange.tau [N.m]
+    - support.phi [rad]
+    - support.tau [N.m]
     """
 
     def __init__(
@@ -685,18 +685,18 @@ class ConstantSpeed(_Factory):
 
     Ports
     -----
-    flange: flange
-    support: flange (if useSupport = true)
+    - flange: flange
+    - support: flange (if useSupport = true)
 
     Variables
     ---------
-    tau [N.m]
-    phi [rad]
-    w [rad/s]
-    flange.phi [rad]
-    flange.tau [N.m]
-    support.phi [rad]
-    support.tau [N.m]
+    - tau [N.m]
+    - phi [rad]
+    - w [rad/s]
+    - flange.phi [rad]
+    - flange.tau [N.m]
+    - support.phi [rad]
+    - support.tau [N.m]
     """
 
     def __init__(
@@ -731,38 +731,38 @@ class Brake(_Factory):
 
     Ports
     -----
-    flange_a: flange
-    flange_b: flange
-    support: flange (if useSupport = true)
-    f_normalized: signal input
-    heatPort: heat port (if useHeatPort = true)
+    - flange_a: flange
+    - flange_b: flange
+    - support: flange (if useSupport = true)
+    - f_normalized: signal input
+    - heatPort: heat port (if useHeatPort = true)
 
     Variables
     ---------
-    mu [1]
-    fn [N]
-    f_normalized [1]
-    free
-    tau [N.m]
-    lossPower [W]
-    locked
-    sa [N.m]
-    tau0 [N.m]
-    tau0_max [N.m]
-    mode
-    startForward
-    startBackward
-    heatPort.T [K]
-    heatPort.Q_flow [W]
-    phi [rad]
-    w [rad/s]
-    a [rad/s2]
-    flange_a.phi [rad]
-    flange_a.tau [N.m]
-    flange_b.phi [rad]
-    flange_b.tau [N.m]
-    support.phi [rad]
-    support.tau [N.m]
+    - mu [1]
+    - fn [N]
+    - f_normalized [1]
+    - free
+    - tau [N.m]
+    - lossPower [W]
+    - locked
+    - sa [N.m]
+    - tau0 [N.m]
+    - tau0_max [N.m]
+    - mode
+    - startForward
+    - startBackward
+    - heatPort.T [K]
+    - heatPort.Q_flow [W]
+    - phi [rad]
+    - w [rad/s]
+    - a [rad/s2]
+    - flange_a.phi [rad]
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad]
+    - flange_b.tau [N.m]
+    - support.phi [rad]
+    - support.tau [N.m]
     """
 
     def __init__(
@@ -803,35 +803,35 @@ class Clutch(_Factory):
 
     Ports
     -----
-    flange_a: flange
-    flange_b: flange
-    f_normalized: signal input
-    heatPort: heat port (if useHeatPort = true)
+    - flange_a: flange
+    - flange_b: flange
+    - f_normalized: signal input
+    - heatPort: heat port (if useHeatPort = true)
 
     Variables
     ---------
-    mu [1]
-    fn [N]
-    f_normalized [1]
-    free
-    tau [N.m]
-    lossPower [W]
-    locked
-    sa [N.m]
-    tau0 [N.m]
-    tau0_max [N.m]
-    mode
-    startForward
-    startBackward
-    heatPort.T [K]
-    heatPort.Q_flow [W]
-    phi_rel [rad]
-    w_rel [rad/s]
-    a_rel [rad/s2]
-    flange_a.phi [rad]
-    flange_a.tau [N.m]
-    flange_b.phi [rad]
-    flange_b.tau [N.m]
+    - mu [1]
+    - fn [N]
+    - f_normalized [1]
+    - free
+    - tau [N.m]
+    - lossPower [W]
+    - locked
+    - sa [N.m]
+    - tau0 [N.m]
+    - tau0_max [N.m]
+    - mode
+    - startForward
+    - startBackward
+    - heatPort.T [K]
+    - heatPort.Q_flow [W]
+    - phi_rel [rad]
+    - w_rel [rad/s]
+    - a_rel [rad/s2]
+    - flange_a.phi [rad]
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad]
+    - flange_b.tau [N.m]
     """
 
     def __init__(
@@ -867,33 +867,33 @@ class BearingFriction(_Factory):
 
     Ports
     -----
-    flange_a: flange
-    flange_b: flange
-    support: flange (if useSupport = true)
-    heatPort: heat port (if useHeatPort = true)
+    - flange_a: flange
+    - flange_b: flange
+    - support: flange (if useSupport = true)
+    - heatPort: heat port (if useHeatPort = true)
 
     Variables
     ---------
-    tau [N.m]
-    lossPower [W]
-    locked
-    sa [N.m]
-    tau0 [N.m]
-    tau0_max [N.m]
-    mode
-    startForward
-    startBackward
-    heatPort.T [K]
-    heatPort.Q_flow [W]
-    phi [rad]
-    w [rad/s]
-    a [rad/s2]
-    flange_a.phi [rad]
-    flange_a.tau [N.m]
-    flange_b.phi [rad]
-    flange_b.tau [N.m]
-    support.phi [rad]
-    support.tau [N.m]
+    - tau [N.m]
+    - lossPower [W]
+    - locked
+    - sa [N.m]
+    - tau0 [N.m]
+    - tau0_max [N.m]
+    - mode
+    - startForward
+    - startBackward
+    - heatPort.T [K]
+    - heatPort.Q_flow [W]
+    - phi [rad]
+    - w [rad/s]
+    - a [rad/s2]
+    - flange_a.phi [rad]
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad]
+    - flange_b.tau [N.m]
+    - support.phi [rad]
+    - support.tau [N.m]
     """
 
     def __init__(
@@ -936,34 +936,34 @@ class OneWayClutch(_Factory):
 
     Ports
     -----
-    flange_a: flange
-    flange_b: flange
-    f_normalized: signal input
-    heatPort: heat port (if useHeatPort = true)
+    - flange_a: flange
+    - flange_b: flange
+    - f_normalized: signal input
+    - heatPort: heat port (if useHeatPort = true)
 
     Variables
     ---------
-    mu [1]
-    fn [N]
-    f_normalized [1]
-    u [1]
-    tau [N.m]
-    lossPower [W]
-    locked
-    sa [N.m]
-    tau0 [N.m]
-    tau0_max [N.m]
-    startForward
-    stuck
-    heatPort.T [K]
-    heatPort.Q_flow [W]
-    phi_rel [rad]
-    w_rel [rad/s]
-    a_rel [rad/s2]
-    flange_a.phi [rad]
-    flange_a.tau [N.m]
-    flange_b.phi [rad]
-    flange_b.tau [N.m]
+    - mu [1]
+    - fn [N]
+    - f_normalized [1]
+    - u [1]
+    - tau [N.m]
+    - lossPower [W]
+    - locked
+    - sa [N.m]
+    - tau0 [N.m]
+    - tau0_max [N.m]
+    - startForward
+    - stuck
+    - heatPort.T [K]
+    - heatPort.Q_flow [W]
+    - phi_rel [rad]
+    - w_rel [rad/s]
+    - a_rel [rad/s2]
+    - flange_a.phi [rad]
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad]
+    - flange_b.tau [N.m]
     """
 
     def __init__(
@@ -999,43 +999,43 @@ class LossyGear(_Factory):
 
     Ports
     -----
-    flange_a: flange
-    flange_b: flange
-    support: flange (if useSupport = true)
-    heatPort: heat port (if useHeatPort = true)
+    - flange_a: flange
+    - flange_b: flange
+    - support: flange (if useSupport = true)
+    - heatPort: heat port (if useHeatPort = true)
 
     Variables
     ---------
-    phi_a [rad]
-    phi_b [rad]
-    w_a [rad/s]
-    a_a [rad/s2]
-    sa [N.m]
-    tauLoss [N.m]
-    tau_eta [N.m]
-    eta_mf1 [1]
-    eta_mf2 [1]
-    tau_bf1 [N.m]
-    tau_bf2 [N.m]
-    tau_bf_a [N.m]
-    tauLossMax_p [N.m]
-    tauLossMin_m [N.m]
-    lossPower [W]
-    mode
-    locked
-    startForward
-    startBackward
-    tau_etaPos
-    tau_aPos
-    ideal
-    flange_a.phi [rad]
-    flange_a.tau [N.m]
-    flange_b.phi [rad]
-    flange_b.tau [N.m]
-    support.phi [rad]
-    support.tau [N.m]
-    heatPort.T [K]
-    heatPort.Q_flow [W]
+    - phi_a [rad]
+    - phi_b [rad]
+    - w_a [rad/s]
+    - a_a [rad/s2]
+    - sa [N.m]
+    - tauLoss [N.m]
+    - tau_eta [N.m]
+    - eta_mf1 [1]
+    - eta_mf2 [1]
+    - tau_bf1 [N.m]
+    - tau_bf2 [N.m]
+    - tau_bf_a [N.m]
+    - tauLossMax_p [N.m]
+    - tauLossMin_m [N.m]
+    - lossPower [W]
+    - mode
+    - locked
+    - startForward
+    - startBackward
+    - tau_etaPos
+    - tau_aPos
+    - ideal
+    - flange_a.phi [rad]
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad]
+    - flange_b.tau [N.m]
+    - support.phi [rad]
+    - support.tau [N.m]
+    - heatPort.T [K]
+    - heatPort.Q_flow [W]
     """
 
     def __init__(
@@ -1059,11 +1059,11 @@ class Constant(_Factory):
 
     Ports
     -----
-    y: signal output
+    - y: signal output
 
     Variables
     ---------
-    y [1]
+    - y [1]
     """
 
     def __init__(
@@ -1088,11 +1088,11 @@ class Step(_Factory):
 
     Ports
     -----
-    y: signal output
+    - y: signal output
 
     Variables
     ---------
-    y [1]
+    - y [1]
     """
 
     def __init__(
@@ -1121,11 +1121,11 @@ class Ramp(_Factory):
 
     Ports
     -----
-    y: signal output
+    - y: signal output
 
     Variables
     ---------
-    y [1]
+    - y [1]
     """
 
     def __init__(
@@ -1159,11 +1159,11 @@ class Sine(_Factory):
 
     Ports
     -----
-    y: signal output
+    - y: signal output
 
     Variables
     ---------
-    y [1]
+    - y [1]
     """
 
     def __init__(
@@ -1199,11 +1199,11 @@ class Pulse(_Factory):
 
     Ports
     -----
-    y: signal output
+    - y: signal output
 
     Variables
     ---------
-    y [1]
+    - y [1]
     """
 
     def __init__(
@@ -1224,15 +1224,15 @@ class Product(_Factory):
 
     Ports
     -----
-    u1: signal input
-    u2: signal input
-    y: signal output
+    - u1: signal input
+    - u2: signal input
+    - y: signal output
 
     Variables
     ---------
-    u1 [1]
-    u2 [1]
-    y [1]
+    - u1 [1]
+    - u2 [1]
+    - y [1]
     """
 
     def __init__(self) -> None: ...
@@ -1244,15 +1244,15 @@ class Feedback(_Factory):
 
     Ports
     -----
-    u1: signal input
-    u2: signal input
-    y: signal output
+    - u1: signal input
+    - u2: signal input
+    - y: signal output
 
     Variables
     ---------
-    u1 [1]
-    u2 [1]
-    y [1]
+    - u1 [1]
+    - u2 [1]
+    - y [1]
     """
 
     def __init__(self) -> None: ...
@@ -1271,15 +1271,15 @@ class Add(_Factory):
 
     Ports
     -----
-    u1: signal input
-    u2: signal input
-    y: signal output
+    - u1: signal input
+    - u2: signal input
+    - y: signal output
 
     Variables
     ---------
-    u1 [1]
-    u2 [1]
-    y [1]
+    - u1 [1]
+    - u2 [1]
+    - y [1]
     """
 
     def __init__(
@@ -1301,13 +1301,13 @@ class Gain(_Factory):
 
     Ports
     -----
-    u: signal input
-    y: signal output
+    - u: signal input
+    - y: signal output
 
     Variables
     ---------
-    u [1]
-    y [1]
+    - u [1]
+    - y [1]
     """
 
     def __init__(
@@ -1336,11 +1336,11 @@ class TimeTable(_Factory):
 
     Ports
     -----
-    y: signal output
+    - y: signal output
 
     Variables
     ---------
-    y [1]
+    - y [1]
     """
 
     def __init__(
@@ -1367,14 +1367,14 @@ class HeatCapacitor(_Factory):
 
     Ports
     -----
-    port: heat port
+    - port: heat port
 
     Variables
     ---------
-    T [K]
-    der_T [K/s]
-    port.T [K]
-    port.Q_flow [W]
+    - T [K]
+    - der_T [K/s]
+    - port.T [K]
+    - port.Q_flow [W]
     """
 
     def __init__(
@@ -1396,17 +1396,17 @@ class ThermalConductor(_Factory):
 
     Ports
     -----
-    port_a: heat port
-    port_b: heat port
+    - port_a: heat port
+    - port_b: heat port
 
     Variables
     ---------
-    Q_flow [W]
-    dT [K]
-    port_a.T [K]
-    port_a.Q_flow [W]
-    port_b.T [K]
-    port_b.Q_flow [W]
+    - Q_flow [W]
+    - dT [K]
+    - port_a.T [K]
+    - port_a.Q_flow [W]
+    - port_b.T [K]
+    - port_b.Q_flow [W]
     """
 
     def __init__(
@@ -1422,19 +1422,19 @@ class Convection(_Factory):
 
     Ports
     -----
-    Gc: signal input
-    solid: heat port
-    fluid: heat port
+    - Gc: signal input
+    - solid: heat port
+    - fluid: heat port
 
     Variables
     ---------
-    Gc [W/K]
-    Q_flow [W]
-    dT [K]
-    solid.T [K]
-    solid.Q_flow [W]
-    fluid.T [K]
-    fluid.Q_flow [W]
+    - Gc [W/K]
+    - Q_flow [W]
+    - dT [K]
+    - solid.T [K]
+    - solid.Q_flow [W]
+    - fluid.T [K]
+    - fluid.Q_flow [W]
     """
 
     def __init__(self) -> None: ...
@@ -1451,12 +1451,12 @@ class FixedTemperature(_Factory):
 
     Ports
     -----
-    port: heat port
+    - port: heat port
 
     Variables
     ---------
-    port.T [K]
-    port.Q_flow [W]
+    - port.T [K]
+    - port.Q_flow [W]
     """
 
     def __init__(

@@ -67,10 +67,12 @@ def python_types() -> list[ComponentInfo]:
 
 
 def indent(text: str, prefix: str) -> str:
+    """Every non-empty line of ``text`` prefixed."""
     return "\n".join(prefix + line if line else "" for line in text.splitlines())
 
 
 def stub_class(info: ComponentInfo) -> str:
+    """One class of the stub: its docstring and a typed keyword-only ``__init__``."""
     args = "".join(f"        {p.name}: {p.annotation} = ...,\n" for p in info.parameters)
     sig = f"\n        self,\n        *,\n{args}    " if args else "self"
     doc = indent(info.docstring(), "    ")
@@ -78,6 +80,7 @@ def stub_class(info: ComponentInfo) -> str:
 
 
 def stub() -> str:
+    """The whole ``components.pyi``: the module's own API, then one class per type."""
     names = sorted(i.name for i in python_types())
     fixed = ["FACTORIES", "Component", "ParamValue", "StartValue", "component_types", "factory"]
     body = (
@@ -98,6 +101,7 @@ def imported_names(code: str) -> list[str]:
 
 
 def replace_block(text: str, markers: tuple[str, str], body: str) -> str:
+    """``text`` with what lies between the two marker lines replaced by ``body``."""
     begin, end = markers
     start = text.index(begin)
     stop = text.index(end, start) + len(end)
@@ -115,10 +119,12 @@ def with_init_block(text: str) -> str:
 
 
 def cell(text: object) -> str:
+    """A Markdown table cell (``|`` escaped)."""
     return str(text).replace("|", "\\|")
 
 
 def docs() -> str:
+    """``docs/components.md``: a section per type with tables of parameters."""
     out = [
         "# Components",
         "",
@@ -169,6 +175,7 @@ def ruff_clean(code: str, path: Path) -> str:
 
 
 def targets() -> dict[Path, str]:
+    """Each generated file and the text it must have."""
     return {
         STUB: ruff_clean(stub(), STUB),
         INIT: ruff_clean(with_init_block(INIT.read_text()), INIT),
@@ -177,6 +184,7 @@ def targets() -> dict[Path, str]:
 
 
 def main() -> int:
+    """Write the stale files (or, with ``--check``, name them and return 1)."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--check", action="store_true", help="only check; exit 1 if a file is stale")
     args = parser.parse_args()

@@ -18,6 +18,7 @@ pub enum Status {
 }
 
 impl Status {
+    /// `"fixed"`, `"guessed"` or `"computed"`.
     pub fn label(self) -> &'static str {
         match self {
             Status::Fixed => "fixed",
@@ -128,5 +129,44 @@ fn entry(variable: &str, start: f64, fixed: bool, value: f64) -> StartValue {
         start,
         status,
         value,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::assembly::assemble;
+    use crate::model::ModelSpec;
+
+    /// J (w fixed at 10) and J2 (w guessed 3) joined by a clutch whose w_rel guess (1) the
+    /// others override: w_rel = 3 − 10.
+    const TWO_SHAFTS: &str = r#"
+        name = "two_shafts"
+        connect = [["J.flange_b", "c.flange_a"], ["c.flange_b", "J2.flange_a"], ["f.y", "c.f_normalized"]]
+        [components]
+        J = { type = "Inertia", J = 2.0, w = 10.0 }
+        J2 = { type = "Inertia", J = 1.0, w = { start = 3.0, fixed = false } }
+        c = { type = "Clutch", fn_max = 10.0, w_rel = { start = 1.0, fixed = false } }
+        f = { type = "Constant", k = 0.0 }
+    "#;
+
+    #[test]
+    fn start_values_are_fixed_guessed_or_computed() {
+        let mut sys = assemble(&ModelSpec::from_toml(TWO_SHAFTS, ".").unwrap()).unwrap();
+        let report = report(&mut sys).unwrap();
+        let find = |v: &str| report.iter().find(|s| s.variable == v).unwrap().clone();
+        assert_eq!(
+            (find("J.w").status, find("J.w").value),
+            (Status::Fixed, 10.0)
+        );
+        assert_eq!(
+            (find("J2.w").status, find("J2.w").value),
+            (Status::Guessed, 3.0)
+        );
+        let w_rel = find("c.w_rel");
+        assert_eq!((w_rel.status, w_rel.start), (Status::Computed, 1.0));
+        assert!((w_rel.value + 7.0).abs() < 1e-12);
+        // the system is left as it was: the same report again
+        assert_eq!(report, super::report(&mut sys).unwrap());
     }
 }

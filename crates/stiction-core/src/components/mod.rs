@@ -104,6 +104,7 @@ pub struct Entry {
 }
 
 impl Entry {
+    /// A registry line: `Entry::new("Brake", "Modelica.…Brake", "Brake based on …", brake)`.
     pub const fn new(
         name: &'static str,
         class: &'static str,

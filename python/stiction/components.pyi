@@ -1155,7 +1155,7 @@ class Sine(_Factory):
     startTime : Real [s], default 0.0
         Output y = offset for time < startTime
     continuous : Boolean, default False
-        true: y = offset + amplitude*sin(phase) before startTime (continuous output)
+        true: y = offset + amplitude*sin(phase) before startTime
 
     Ports
     -----

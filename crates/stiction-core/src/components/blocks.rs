@@ -1,5 +1,6 @@
 //! Modelica.Blocks.Sources (Constant, Step, Ramp, Sine) and Math (Product, Feedback, Add, Gain).
 
+use super::decl::{OFFSET, START_TIME};
 use std::f64::consts::PI;
 
 use super::{Component, Ports};
@@ -98,8 +99,8 @@ impl Block for Step {
 pub fn step(p: &Params) -> ModelResult<Box<dyn Component>> {
     let s = Step {
         height: p.real("height [1] Height of the step", 1.0)?,
-        offset: p.real("offset [1] Offset of the output signal y", 0.0)?,
-        start_time: p.real("startTime [s] Output y = offset for time < startTime", 0.0)?,
+        offset: p.real(OFFSET, 0.0)?,
+        start_time: p.real(START_TIME, 0.0)?,
     };
     let events = vec![s.start_time];
     boxed(&[], s, events)
@@ -134,8 +135,8 @@ pub fn ramp(p: &Params) -> ModelResult<Box<dyn Component>> {
             p.real("duration [s] Duration of the ramp (0 gives a step)", 2.0)?,
             0.0,
         )?,
-        offset: p.real("offset [1] Offset of the output signal y", 0.0)?,
-        start_time: p.real("startTime [s] Output y = offset for time < startTime", 0.0)?,
+        offset: p.real(OFFSET, 0.0)?,
+        start_time: p.real(START_TIME, 0.0)?,
     };
     let events = vec![r.start_time, r.start_time + r.duration];
     boxed(&[], r, events)
@@ -171,9 +172,12 @@ pub fn sine(p: &Params) -> ModelResult<Box<dyn Component>> {
         amplitude: p.real("amplitude [1] Amplitude of the sine wave", 1.0)?,
         f: p.real("f [Hz] Frequency of the sine wave", 1.0)?,
         phase: p.real("phase [rad] Phase of the sine wave", 0.0)?,
-        offset: p.real("offset [1] Offset of the output signal y", 0.0)?,
-        start_time: p.real("startTime [s] Output y = offset for time < startTime", 0.0)?,
-        continuous: p.boolean("continuous true: y = offset + amplitude*sin(phase) before startTime (continuous output)", false)?,
+        offset: p.real(OFFSET, 0.0)?,
+        start_time: p.real(START_TIME, 0.0)?,
+        continuous: p.boolean(
+            "continuous true: y = offset + amplitude*sin(phase) before startTime",
+            false,
+        )?,
     };
     let events = vec![s.start_time];
     boxed(&[], s, events)
@@ -313,8 +317,8 @@ pub fn pulse(p: &Params) -> ModelResult<Box<dyn Component>> {
         width: period * width_percent / 100.0,
         period,
         nperiod: nperiod as i64,
-        offset: p.real("offset [1] Offset of the output signal y", 0.0)?,
-        start_time: p.real("startTime [s] Output y = offset for time < startTime", 0.0)?,
+        offset: p.real(OFFSET, 0.0)?,
+        start_time: p.real(START_TIME, 0.0)?,
     };
     let edges = block.clone();
     Ok(Box::new(BlockComponent {

@@ -1,6 +1,7 @@
 //! `Spring`, `Damper`, `SpringDamper`, `ElastoBacklash`: torque laws between two flanges
 //! (spec §5.6, §5.10–5.12).
 
+use super::decl::{PHI_REL, USE_HEAT_PORT, W_REL};
 use super::{heat_port, Component, Entry, Ports};
 use crate::error::ModelResult;
 use crate::model::{InitValue, Params};
@@ -108,10 +109,7 @@ fn spring(p: &Params) -> ModelResult<Box<dyn Component>> {
         c: p.at_least("c", p.real("c [N.m/rad] Spring constant", 1e5)?, 0.0)?,
         d: 0.0,
         phi_rel0: p.real("phi_rel0 [rad] Unstretched spring angle", 0.0)?,
-        phi_rel: p.init(
-            "phi_rel [rad] Relative rotation angle flange_b.phi - flange_a.phi (start value)",
-            0.0,
-        )?,
+        phi_rel: p.init(PHI_REL, 0.0)?,
         w_rel: InitValue {
             start: 0.0,
             fixed: false,
@@ -128,20 +126,11 @@ fn damper(p: &Params) -> ModelResult<Box<dyn Component>> {
         c: 0.0,
         d: p.at_least("d", p.real("d [N.m.s/rad] Damping constant", 0.0)?, 0.0)?,
         phi_rel0: 0.0,
-        phi_rel: p.init(
-            "phi_rel [rad] Relative rotation angle flange_b.phi - flange_a.phi (start value)",
-            0.0,
-        )?,
-        w_rel: p.init(
-            "w_rel [rad/s] Relative angular velocity der(phi_rel) (start value)",
-            0.0,
-        )?,
+        phi_rel: p.init(PHI_REL, 0.0)?,
+        w_rel: p.init(W_REL, 0.0)?,
         has_damper: true,
         has_spring: false,
-        use_heat_port: p.boolean(
-            "useHeatPort true: enable the heatPort connector (else the loss power goes nowhere)",
-            false,
-        )?,
+        use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
         backlash: None,
     }))
 }
@@ -151,20 +140,11 @@ fn spring_damper(p: &Params) -> ModelResult<Box<dyn Component>> {
         c: p.at_least("c", p.real("c [N.m/rad] Spring constant", 1e5)?, 0.0)?,
         d: p.at_least("d", p.real("d [N.m.s/rad] Damping constant", 0.0)?, 0.0)?,
         phi_rel0: p.real("phi_rel0 [rad] Unstretched spring angle", 0.0)?,
-        phi_rel: p.init(
-            "phi_rel [rad] Relative rotation angle flange_b.phi - flange_a.phi (start value)",
-            0.0,
-        )?,
-        w_rel: p.init(
-            "w_rel [rad/s] Relative angular velocity der(phi_rel) (start value)",
-            0.0,
-        )?,
+        phi_rel: p.init(PHI_REL, 0.0)?,
+        w_rel: p.init(W_REL, 0.0)?,
         has_damper: true,
         has_spring: true,
-        use_heat_port: p.boolean(
-            "useHeatPort true: enable the heatPort connector (else the loss power goes nowhere)",
-            false,
-        )?,
+        use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
         backlash: None,
     }))
 }
@@ -179,20 +159,11 @@ fn elasto_backlash(p: &Params) -> ModelResult<Box<dyn Component>> {
         c: p.positive("c", p.real("c [N.m/rad] Spring constant", 1e5)?)?,
         d: p.at_least("d", p.real("d [N.m.s/rad] Damping constant", 0.0)?, 0.0)?,
         phi_rel0: p.real("phi_rel0 [rad] Unstretched spring angle", 0.0)?,
-        phi_rel: p.init(
-            "phi_rel [rad] Relative rotation angle flange_b.phi - flange_a.phi (start value)",
-            0.0,
-        )?,
-        w_rel: p.init(
-            "w_rel [rad/s] Relative angular velocity der(phi_rel) (start value)",
-            0.0,
-        )?,
+        phi_rel: p.init(PHI_REL, 0.0)?,
+        w_rel: p.init(W_REL, 0.0)?,
         has_damper: true,
         has_spring: true,
-        use_heat_port: p.boolean(
-            "useHeatPort true: enable the heatPort connector (else the loss power goes nowhere)",
-            false,
-        )?,
+        use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
         backlash: Some(b),
     }))
 }

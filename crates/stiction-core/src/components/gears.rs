@@ -1,6 +1,7 @@
 //! `IdealGear` (spec §5.7) and `IdealPlanetary` (§5.8): kinematic gears, permanent constraints
 //! whose multipliers are the gear torques.
 
+use super::decl::USE_SUPPORT;
 use super::{with_support, Component, Entry, Ports};
 use crate::error::ModelResult;
 use crate::model::Params;
@@ -46,10 +47,7 @@ fn ideal_gear(p: &Params) -> ModelResult<Box<dyn Component>> {
     let ratio = p.nonzero("ratio", ratio)?;
     Ok(Box::new(IdealGear {
         ratio,
-        use_support: p.boolean(
-            "useSupport true: enable the support connector (else the housing is fixed at angle 0)",
-            false,
-        )?,
+        use_support: p.boolean(USE_SUPPORT, false)?,
     }))
 }
 

@@ -75,6 +75,26 @@ pub fn heat_port(enabled: bool) -> Vec<&'static str> {
     }
 }
 
+/// Declarations of the parameters that MSL's partial base classes give many components
+/// (`PartialElementary…AndSupport2`, `PartialElementaryConditionalHeatPort…`,
+/// `PartialCompliantWithRelativeStates`, `PartialFriction`, `SignalSource`): written once, as
+/// MSL declares them once.
+pub mod decl {
+    pub const USE_SUPPORT: &str =
+        "useSupport true: enable the support connector (else the housing is fixed at angle 0)";
+    pub const USE_HEAT_PORT: &str =
+        "useHeatPort true: enable the heatPort connector (else the loss power goes nowhere)";
+    pub const PHI_REL: &str =
+        "phi_rel [rad] Relative rotation angle flange_b.phi - flange_a.phi (start value)";
+    pub const W_REL: &str = "w_rel [rad/s] Relative angular velocity der(phi_rel) (start value)";
+    pub const PEAK: &str =
+        "peak [1] Peak for maximum friction torque at w = 0: tau0_max = peak*tau0";
+    pub const W_SMALL: &str =
+        "w_small [rad/s] Relative speed above which a speed jump reverses sliding directly";
+    pub const OFFSET: &str = "offset [1] Offset of the output signal y";
+    pub const START_TIME: &str = "startTime [s] Output y = offset for time < startTime";
+}
+
 /// The most time events one component may schedule in a run.
 pub const MAX_TIME_EVENTS: usize = 1_000_000;
 

@@ -1,6 +1,7 @@
 //! Rotational sources (spec §6.1): a torque on `flange` with the reaction on `support`
 //! (implicitly grounded unless `useSupport`), and `ConstantSpeed`, a prescribed speed.
 
+use super::decl::USE_SUPPORT;
 use super::{with_support, Component, Entry, Ports};
 use crate::error::ModelResult;
 use crate::model::{InitValue, Params};
@@ -200,10 +201,7 @@ fn source(
 ) -> ModelResult<Box<dyn Component>> {
     Ok(Box::new(TorqueSource {
         kind,
-        use_support: p.boolean(
-            "useSupport true: enable the support connector (else the housing is fixed at angle 0)",
-            false,
-        )?,
+        use_support: p.boolean(USE_SUPPORT, false)?,
         input,
         events,
     }))
@@ -344,10 +342,7 @@ fn constant_speed(p: &Params) -> ModelResult<Box<dyn Component>> {
             "phi [rad] Angle of the flange relative to the support (start value)",
             0.0,
         )?,
-        use_support: p.boolean(
-            "useSupport true: enable the support connector (else the housing is fixed at angle 0)",
-            false,
-        )?,
+        use_support: p.boolean(USE_SUPPORT, false)?,
     }))
 }
 

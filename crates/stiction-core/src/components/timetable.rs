@@ -1,6 +1,7 @@
 //! A time table (MSL CombiTimeTable, one output column, linear interpolation): a measured
 //! normal-force or torque profile given inline or as a two-column CSV file.
 
+use super::decl::{OFFSET, START_TIME};
 use super::{Component, Ports};
 use crate::error::ModelResult;
 use crate::model::Params;
@@ -117,8 +118,8 @@ pub fn time_table(p: &Params) -> ModelResult<Box<dyn Component>> {
     Ok(Box::new(TimeTable {
         t: rows.iter().map(|r| r[0]).collect(),
         y: rows.iter().map(|r| r[1]).collect(),
-        offset: p.real("offset [1] Offset of the output signal y", 0.0)?,
-        start_time: p.real("startTime [s] Output y = offset for time < startTime", 0.0)?,
+        offset: p.real(OFFSET, 0.0)?,
+        start_time: p.real(START_TIME, 0.0)?,
         hold: extrapolation == "HoldLastPoint",
     }))
 }

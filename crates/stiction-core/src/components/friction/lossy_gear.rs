@@ -8,6 +8,7 @@
 //! the unknown `sa` of the extra row `a_a = 0`.
 
 use super::super::{heat_port, with_support, Component, Entry, Ports};
+use crate::components::decl::{USE_HEAT_PORT, USE_SUPPORT};
 use crate::error::ModelResult;
 use crate::model::Params;
 use crate::switching::lossy_gear::{tbf_a, LossyGearElem};
@@ -148,14 +149,8 @@ fn lossy_gear(p: &Params) -> ModelResult<Box<dyn Component>> {
         ratio,
         table,
         ideal,
-        use_support: p.boolean(
-            "useSupport true: enable the support connector (else the housing is fixed at angle 0)",
-            false,
-        )?,
-        use_heat_port: p.boolean(
-            "useHeatPort true: enable the heatPort connector (else the loss power goes nowhere)",
-            false,
-        )?,
+        use_support: p.boolean(USE_SUPPORT, false)?,
+        use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
     }))
 }
 

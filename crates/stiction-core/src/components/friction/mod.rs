@@ -5,6 +5,7 @@
 pub mod lossy_gear;
 
 use super::{heat_port, with_support, Component, Entry, Ports};
+use crate::components::decl::{PEAK, PHI_REL, USE_HEAT_PORT, USE_SUPPORT, W_REL, W_SMALL};
 use crate::error::ModelResult;
 use crate::model::{InitValue, Params};
 use crate::switching::friction::{FrictionElem, OneWay};
@@ -22,27 +23,24 @@ struct FrictionParams {
     use_heat_port: bool,
 }
 
+const CGEO: &str =
+    "cgeo [1] Geometry constant with the friction distribution, N*(ro + ri)/2 (a length)";
+const FN_MAX: &str = "fn_max [N] Maximum normal force (at f_normalized = 1)";
+
 fn read_params(p: &Params) -> ModelResult<FrictionParams> {
     let mu_pos = Table1D::from_param(
         p,
         "mu_pos [rad/s, 1] Positive sliding friction coefficient: rows [w, mu] for w >= 0",
         &[&[0.0, 0.5]],
     )?;
-    let peak = p.at_least(
-        "peak",
-        p.real(
-            "peak [1] Peak for maximum friction torque at w = 0: tau0_max = peak*tau0",
-            1.0,
-        )?,
-        1.0,
-    )?;
+    let peak = p.at_least("peak", p.real(PEAK, 1.0)?, 1.0)?;
     Ok(FrictionParams {
         mu_pos,
         peak,
-        cgeo: p.at_least("cgeo", p.real("cgeo [1] Geometry constant with the friction distribution, N*(ro + ri)/2 (a length)", 1.0)?, 0.0)?,
-        fn_max: p.at_least("fn_max", p.required("fn_max [N] Maximum normal force (at f_normalized = 1)")?, 0.0)?,
-        w_small: p.positive("w_small", p.real("w_small [rad/s] Relative speed above which a speed jump reverses sliding directly", 1.0e10)?)?,
-        use_heat_port: p.boolean("useHeatPort true: enable the heatPort connector (else the loss power goes nowhere)", false)?,
+        cgeo: p.at_least("cgeo", p.real(CGEO, 1.0)?, 0.0)?,
+        fn_max: p.at_least("fn_max", p.required(FN_MAX)?, 0.0)?,
+        w_small: p.positive("w_small", p.real(W_SMALL, 1.0e10)?)?,
+        use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
     })
 }
 
@@ -218,10 +216,7 @@ fn add_elem(b: &mut Builder, p: &FrictionParams, rel: Rel, kind: Kind) -> ModelR
 fn brake(p: &Params) -> ModelResult<Box<dyn Component>> {
     Ok(Box::new(Brake {
         p: read_params(p)?,
-        use_support: p.boolean(
-            "useSupport true: enable the support connector (else the housing is fixed at angle 0)",
-            false,
-        )?,
+        use_support: p.boolean(USE_SUPPORT, false)?,
         bearing: false,
     }))
 }
@@ -234,34 +229,15 @@ fn bearing_friction(p: &Params) -> ModelResult<Box<dyn Component>> {
             "tau_pos [rad/s, N.m] Positive sliding friction torque: rows [w, tau] for w >= 0",
             &[&[0.0, 1.0]],
         )?,
-        peak: p.at_least(
-            "peak",
-            p.real(
-                "peak [1] Peak for maximum friction torque at w = 0: tau0_max = peak*tau0",
-                1.0,
-            )?,
-            1.0,
-        )?,
+        peak: p.at_least("peak", p.real(PEAK, 1.0)?, 1.0)?,
         cgeo: 1.0,
         fn_max: 1.0,
-        w_small: p.positive(
-            "w_small",
-            p.real(
-                "w_small [rad/s] Relative speed above which a speed jump reverses sliding directly",
-                1.0e10,
-            )?,
-        )?,
-        use_heat_port: p.boolean(
-            "useHeatPort true: enable the heatPort connector (else the loss power goes nowhere)",
-            false,
-        )?,
+        w_small: p.positive("w_small", p.real(W_SMALL, 1.0e10)?)?,
+        use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
     };
     Ok(Box::new(Brake {
         p: params,
-        use_support: p.boolean(
-            "useSupport true: enable the support connector (else the housing is fixed at angle 0)",
-            false,
-        )?,
+        use_support: p.boolean(USE_SUPPORT, false)?,
         bearing: true,
     }))
 }
@@ -318,14 +294,8 @@ impl Component for Clutch {
 fn clutch(p: &Params) -> ModelResult<Box<dyn Component>> {
     Ok(Box::new(Clutch {
         p: read_params(p)?,
-        phi_rel: p.init(
-            "phi_rel [rad] Relative rotation angle flange_b.phi - flange_a.phi (start value)",
-            0.0,
-        )?,
-        w_rel: p.init(
-            "w_rel [rad/s] Relative angular velocity der(phi_rel) (start value)",
-            0.0,
-        )?,
+        phi_rel: p.init(PHI_REL, 0.0)?,
+        w_rel: p.init(W_REL, 0.0)?,
         one_way: None,
     }))
 }
@@ -363,14 +333,8 @@ const ONE_WAY_EPS: f64 = 1.0e-4;
 fn one_way_clutch(p: &Params) -> ModelResult<Box<dyn Component>> {
     Ok(Box::new(Clutch {
         p: read_params(p)?,
-        phi_rel: p.init(
-            "phi_rel [rad] Relative rotation angle flange_b.phi - flange_a.phi (start value)",
-            0.0,
-        )?,
-        w_rel: p.init(
-            "w_rel [rad/s] Relative angular velocity der(phi_rel) (start value)",
-            0.0,
-        )?,
+        phi_rel: p.init(PHI_REL, 0.0)?,
+        w_rel: p.init(W_REL, 0.0)?,
         one_way: Some((
             p.boolean_start(
                 "stuck Start value of stuck (w_rel = 0): its pre() value at initialization",

@@ -19,7 +19,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from stiction.catalogue import ComponentInfo, catalogue
+from stiction.catalogue import ComponentInfo, catalogue, show_value
 
 ROOT = Path(__file__).resolve().parents[1]
 STUB = ROOT / "python" / "stiction" / "components.pyi"
@@ -140,7 +140,9 @@ def docs() -> str:
         if info.parameters:
             out += ["| parameter | default | unit | range | description |", "|---|---|---|---|---|"]
             for p in info.parameters:
-                default = "required" if p.required else ("" if p.default is None else f"`{p.default!r}`")
+                default = (
+                    "required" if p.required else ("" if p.default is None else f"`{show_value(p.default)}`")
+                )
                 out.append(
                     f"| `{p.name}` | {cell(default)} | {cell(p.unit)} | {cell(p.range or '')} "
                     f"| {cell(p.description)} |"

@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 import stiction as st
-from stiction.catalogue import catalogue
+from stiction.catalogue import catalogue, show_value
 from stiction.cli import main
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -41,7 +41,8 @@ def test_docstring_and_describe_list_every_parameter_with_default_and_unit() -> 
                 line = next((ln for ln in where.splitlines() if ln.startswith(f"{p.name} : ")), None)
                 assert line is not None, f"{name}.{p.name} missing"
                 assert (f"[{p.unit}]" in line) == bool(p.unit), line
-                assert ("required" in line) if p.required else (repr(p.default) in line or p.default is None)
+                shown = show_value(p.default)
+                assert ("required" in line) if p.required else (shown in line or p.default is None)
 
 
 def test_brake_reference_is_msl() -> None:
@@ -50,6 +51,13 @@ def test_brake_reference_is_msl() -> None:
     fn_max, peak = brake.parameter("fn_max"), brake.parameter("peak")
     assert (fn_max.required, fn_max.unit, fn_max.range) == (True, "N", ">= 0")
     assert (peak.default, peak.range) == (1.0, ">= 1")
+    assert [show_value(v) for v in (True, 1e10, 0.5, 293.15, [[0.0, 0.5]])] == [
+        "true",
+        "1e+10",
+        "0.5",
+        "293.15",
+        "[[0, 0.5]]",
+    ]
     assert brake.parameter("mu_pos").default == [[0.0, 0.5]]
     ports = {p.name: p for p in brake.ports}
     assert ports["support"].enabled_by == "useSupport" and ports["flange_a"].enabled_by is None

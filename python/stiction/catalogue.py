@@ -18,7 +18,7 @@ from typing import Any
 
 from .errors import ModelError
 
-__all__ = ["ComponentInfo", "Parameter", "Port", "Variable", "catalogue", "describe", "unit_of"]
+__all__ = ["ComponentInfo", "Parameter", "Port", "Variable", "catalogue", "describe", "show_value", "unit_of"]
 
 # The Python type each parameter kind accepts, as annotations read.
 _ANNOTATIONS = {
@@ -28,6 +28,18 @@ _ANNOTATIONS = {
     "Boolean start value": "bool | StartValue",
     "String": "str | os.PathLike[str]",
 }
+
+
+def show_value(value: Any) -> str:
+    """A default as a model file writes it: ``true``, ``1e+10``, ``0.5``, ``[[0, 0.5]]``."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        short = f"{value:g}"
+        return short if float(short) == value else repr(value)
+    if isinstance(value, list):
+        return "[" + ", ".join(show_value(v) for v in value) + "]"
+    return repr(value) if isinstance(value, str) else str(value)
 
 
 @dataclass(frozen=True)
@@ -60,7 +72,7 @@ class Parameter:
         elif self.default is not None:
             what = {"start value": "start (a guess unless given)", "Boolean start value": "start"}
             what = what.get(self.kind, "default")
-            parts.append(f"{what} {self.default!r}")
+            parts.append(f"{what} {show_value(self.default)}")
         if self.range:
             parts.append(self.range)
         return ", ".join(parts)

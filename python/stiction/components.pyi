@@ -75,11 +75,11 @@ class Inertia(_Factory):
 
     Parameters
     ----------
-    J : Real [kg.m2], default 1.0, >= 0
+    J : Real [kg.m2], default 1, >= 0
         Moment of inertia
-    phi : start value [rad], start (a guess unless given) 0.0
+    phi : start value [rad], start (a guess unless given) 0
         Absolute rotation angle of the component (start value)
-    w : start value [rad/s], start (a guess unless given) 0.0
+    w : start value [rad/s], start (a guess unless given) 0
         Absolute angular velocity of the component (start value)
 
     Ports
@@ -113,7 +113,7 @@ class Fixed(_Factory):
 
     Parameters
     ----------
-    phi0 : Real [rad], default 0.0
+    phi0 : Real [rad], default 0
         Fixed offset angle of the housing
 
     Ports
@@ -139,11 +139,11 @@ class Spring(_Factory):
 
     Parameters
     ----------
-    c : Real [N.m/rad], default 100000.0, >= 0
+    c : Real [N.m/rad], default 100000, >= 0
         Spring constant
-    phi_rel0 : Real [rad], default 0.0
+    phi_rel0 : Real [rad], default 0
         Unstretched spring angle
-    phi_rel : start value [rad], start (a guess unless given) 0.0
+    phi_rel : start value [rad], start (a guess unless given) 0
         Relative rotation angle flange_b.phi - flange_a.phi (start value)
 
     Ports
@@ -176,13 +176,13 @@ class Damper(_Factory):
 
     Parameters
     ----------
-    d : Real [N.m.s/rad], default 0.0, >= 0
+    d : Real [N.m.s/rad], default 0, >= 0
         Damping constant
-    phi_rel : start value [rad], start (a guess unless given) 0.0
+    phi_rel : start value [rad], start (a guess unless given) 0
         Relative rotation angle flange_b.phi - flange_a.phi (start value)
-    w_rel : start value [rad/s], start (a guess unless given) 0.0
+    w_rel : start value [rad/s], start (a guess unless given) 0
         Relative angular velocity der(phi_rel) (start value)
-    useHeatPort : Boolean, default False
+    useHeatPort : Boolean, default false
         true: enable the heatPort connector (else the loss power goes nowhere)
 
     Ports
@@ -222,17 +222,17 @@ class SpringDamper(_Factory):
 
     Parameters
     ----------
-    c : Real [N.m/rad], default 100000.0, >= 0
+    c : Real [N.m/rad], default 100000, >= 0
         Spring constant
-    d : Real [N.m.s/rad], default 0.0, >= 0
+    d : Real [N.m.s/rad], default 0, >= 0
         Damping constant
-    phi_rel0 : Real [rad], default 0.0
+    phi_rel0 : Real [rad], default 0
         Unstretched spring angle
-    phi_rel : start value [rad], start (a guess unless given) 0.0
+    phi_rel : start value [rad], start (a guess unless given) 0
         Relative rotation angle flange_b.phi - flange_a.phi (start value)
-    w_rel : start value [rad/s], start (a guess unless given) 0.0
+    w_rel : start value [rad/s], start (a guess unless given) 0
         Relative angular velocity der(phi_rel) (start value)
-    useHeatPort : Boolean, default False
+    useHeatPort : Boolean, default false
         true: enable the heatPort connector (else the loss power goes nowhere)
 
     Ports
@@ -276,19 +276,19 @@ class ElastoBacklash(_Factory):
 
     Parameters
     ----------
-    b : Real [rad], default 0.0, >= 0
+    b : Real [rad], default 0, >= 0
         Total backlash
-    c : Real [N.m/rad], default 100000.0, > 0
+    c : Real [N.m/rad], default 100000, > 0
         Spring constant
-    d : Real [N.m.s/rad], default 0.0, >= 0
+    d : Real [N.m.s/rad], default 0, >= 0
         Damping constant
-    phi_rel0 : Real [rad], default 0.0
+    phi_rel0 : Real [rad], default 0
         Unstretched spring angle
-    phi_rel : start value [rad], start (a guess unless given) 0.0
+    phi_rel : start value [rad], start (a guess unless given) 0
         Relative rotation angle flange_b.phi - flange_a.phi (start value)
-    w_rel : start value [rad/s], start (a guess unless given) 0.0
+    w_rel : start value [rad/s], start (a guess unless given) 0
         Relative angular velocity der(phi_rel) (start value)
-    useHeatPort : Boolean, default False
+    useHeatPort : Boolean, default false
         true: enable the heatPort connector (else the loss power goes nowhere)
 
     Ports
@@ -331,9 +331,9 @@ class IdealGear(_Factory):
 
     Parameters
     ----------
-    ratio : Real [1], default 1.0, != 0
+    ratio : Real [1], default 1, != 0
         Transmission ratio flange_a.phi/flange_b.phi
-    useSupport : Boolean, default False
+    useSupport : Boolean, default false
         true: enable the support connector (else the housing is fixed at angle 0)
 
     Ports
@@ -368,7 +368,7 @@ class IdealPlanetary(_Factory):
 
     Parameters
     ----------
-    ratio : Real [1], default 2.0, > 0
+    ratio : Real [1], default 2, > 0
         Number of ring teeth / number of sun teeth
 
     Ports
@@ -400,7 +400,7 @@ class Torque(_Factory):
 
     Parameters
     ----------
-    useSupport : Boolean, default False
+    useSupport : Boolean, default false
         true: enable the support connector (else the housing is fixed at angle 0)
 
     Ports
@@ -435,7 +435,7 @@ class ConstantTorque(_Factory):
     ----------
     tau_constant : Real [N.m], required
         Constant torque (negative: acting as load)
-    useSupport : Boolean, default False
+    useSupport : Boolean, default false
         true: enable the support connector (else the housing is fixed at angle 0)
 
     Ports
@@ -468,13 +468,13 @@ class TorqueStep(_Factory):
 
     Parameters
     ----------
-    startTime : Real [s], default 0.0
+    startTime : Real [s], default 0
         Time of the torque step
-    stepTorque : Real [N.m], default 1.0
+    stepTorque : Real [N.m], default 1
         Height of the torque step (negative: acting as load)
-    offsetTorque : Real [N.m], default 0.0
+    offsetTorque : Real [N.m], default 0
         Offset of the torque
-    useSupport : Boolean, default False
+    useSupport : Boolean, default false
         true: enable the support connector (else the housing is fixed at angle 0)
 
     Ports
@@ -511,11 +511,11 @@ class LinearSpeedDependentTorque(_Factory):
     ----------
     tau_nominal : Real [N.m], required
         Nominal torque (negative: acting as load)
-    TorqueDirection : Boolean, default True
+    TorqueDirection : Boolean, default true
         true: same direction of torque in both directions of rotation
     w_nominal : Real [rad/s], required, > 0
         Nominal speed
-    useSupport : Boolean, default False
+    useSupport : Boolean, default false
         true: enable the support connector (else the housing is fixed at angle 0)
 
     Ports
@@ -552,11 +552,11 @@ class QuadraticSpeedDependentTorque(_Factory):
     ----------
     tau_nominal : Real [N.m], required
         Nominal torque (negative: acting as load)
-    TorqueDirection : Boolean, default True
+    TorqueDirection : Boolean, default true
         true: same direction of torque in both directions of rotation
     w_nominal : Real [rad/s], required, > 0
         Nominal speed
-    useSupport : Boolean, default False
+    useSupport : Boolean, default false
         true: enable the support connector (else the housing is fixed at angle 0)
 
     Ports
@@ -597,7 +597,7 @@ class SignTorque(_Factory):
         Nominal torque (negative: acting as load)
     w0 : Real [rad/s], default 0.1, > 0
         Regularization below w0
-    useSupport : Boolean, default False
+    useSupport : Boolean, default false
         true: enable the support connector (else the housing is fixed at angle 0)
 
     Ports
@@ -634,13 +634,13 @@ class InverseSpeedDependentTorque(_Factory):
     ----------
     tau_nominal : Real [N.m], required
         Nominal torque (negative: acting as load)
-    TorqueDirection : Boolean, default True
+    TorqueDirection : Boolean, default true
         true: same direction of torque in both directions of rotation
     w_nominal : Real [rad/s], required, > 0
         Nominal speed
     w0 : Real [rad/s], default 0.1, > 0
         Regularization below w0
-    useSupport : Boolean, default False
+    useSupport : Boolean, default false
         true: enable the support connector (else the housing is fixed at angle 0)
 
     Ports
@@ -678,9 +678,9 @@ class ConstantSpeed(_Factory):
     ----------
     w_fixed : Real [rad/s], required
         Fixed speed of the flange relative to the support
-    phi : start value [rad], start (a guess unless given) 0.0
+    phi : start value [rad], start (a guess unless given) 0
         Angle of the flange relative to the support (start value)
-    useSupport : Boolean, default False
+    useSupport : Boolean, default false
         true: enable the support connector (else the housing is fixed at angle 0)
 
     Ports
@@ -714,19 +714,19 @@ class Brake(_Factory):
 
     Parameters
     ----------
-    mu_pos : table [:, 2] [rad/s, 1], default [[0.0, 0.5]]
+    mu_pos : table [:, 2] [rad/s, 1], default [[0, 0.5]]
         Positive sliding friction coefficient: rows [w, mu] for w >= 0
-    peak : Real [1], default 1.0, >= 1
+    peak : Real [1], default 1, >= 1
         Peak for maximum friction torque at w = 0: tau0_max = peak*tau0
-    cgeo : Real [1], default 1.0, >= 0
+    cgeo : Real [1], default 1, >= 0
         Geometry constant with the friction distribution, N*(ro + ri)/2 (a length)
     fn_max : Real [N], required, >= 0
         Maximum normal force (at f_normalized = 1)
-    w_small : Real [rad/s], default 10000000000.0, > 0
+    w_small : Real [rad/s], default 1e+10, > 0
         Relative speed above which a speed jump reverses sliding directly
-    useHeatPort : Boolean, default False
+    useHeatPort : Boolean, default false
         true: enable the heatPort connector (else the loss power goes nowhere)
-    useSupport : Boolean, default False
+    useSupport : Boolean, default false
         true: enable the support connector (else the housing is fixed at angle 0)
 
     Ports
@@ -784,21 +784,21 @@ class Clutch(_Factory):
 
     Parameters
     ----------
-    mu_pos : table [:, 2] [rad/s, 1], default [[0.0, 0.5]]
+    mu_pos : table [:, 2] [rad/s, 1], default [[0, 0.5]]
         Positive sliding friction coefficient: rows [w, mu] for w >= 0
-    peak : Real [1], default 1.0, >= 1
+    peak : Real [1], default 1, >= 1
         Peak for maximum friction torque at w = 0: tau0_max = peak*tau0
-    cgeo : Real [1], default 1.0, >= 0
+    cgeo : Real [1], default 1, >= 0
         Geometry constant with the friction distribution, N*(ro + ri)/2 (a length)
     fn_max : Real [N], required, >= 0
         Maximum normal force (at f_normalized = 1)
-    w_small : Real [rad/s], default 10000000000.0, > 0
+    w_small : Real [rad/s], default 1e+10, > 0
         Relative speed above which a speed jump reverses sliding directly
-    useHeatPort : Boolean, default False
+    useHeatPort : Boolean, default false
         true: enable the heatPort connector (else the loss power goes nowhere)
-    phi_rel : start value [rad], start (a guess unless given) 0.0
+    phi_rel : start value [rad], start (a guess unless given) 0
         Relative rotation angle flange_b.phi - flange_a.phi (start value)
-    w_rel : start value [rad/s], start (a guess unless given) 0.0
+    w_rel : start value [rad/s], start (a guess unless given) 0
         Relative angular velocity der(phi_rel) (start value)
 
     Ports
@@ -854,15 +854,15 @@ class BearingFriction(_Factory):
 
     Parameters
     ----------
-    tau_pos : table [:, 2] [rad/s, N.m], default [[0.0, 1.0]]
+    tau_pos : table [:, 2] [rad/s, N.m], default [[0, 1]]
         Positive sliding friction torque: rows [w, tau] for w >= 0
-    peak : Real [1], default 1.0, >= 1
+    peak : Real [1], default 1, >= 1
         Peak for maximum friction torque at w = 0: tau0_max = peak*tau0
-    w_small : Real [rad/s], default 10000000000.0, > 0
+    w_small : Real [rad/s], default 1e+10, > 0
         Relative speed above which a speed jump reverses sliding directly
-    useHeatPort : Boolean, default False
+    useHeatPort : Boolean, default false
         true: enable the heatPort connector (else the loss power goes nowhere)
-    useSupport : Boolean, default False
+    useSupport : Boolean, default false
         true: enable the support connector (else the housing is fixed at angle 0)
 
     Ports
@@ -913,25 +913,25 @@ class OneWayClutch(_Factory):
 
     Parameters
     ----------
-    mu_pos : table [:, 2] [rad/s, 1], default [[0.0, 0.5]]
+    mu_pos : table [:, 2] [rad/s, 1], default [[0, 0.5]]
         Positive sliding friction coefficient: rows [w, mu] for w >= 0
-    peak : Real [1], default 1.0, >= 1
+    peak : Real [1], default 1, >= 1
         Peak for maximum friction torque at w = 0: tau0_max = peak*tau0
-    cgeo : Real [1], default 1.0, >= 0
+    cgeo : Real [1], default 1, >= 0
         Geometry constant with the friction distribution, N*(ro + ri)/2 (a length)
     fn_max : Real [N], required, >= 0
         Maximum normal force (at f_normalized = 1)
-    w_small : Real [rad/s], default 10000000000.0, > 0
+    w_small : Real [rad/s], default 1e+10, > 0
         Relative speed above which a speed jump reverses sliding directly
-    useHeatPort : Boolean, default False
+    useHeatPort : Boolean, default false
         true: enable the heatPort connector (else the loss power goes nowhere)
-    phi_rel : start value [rad], start (a guess unless given) 0.0
+    phi_rel : start value [rad], start (a guess unless given) 0
         Relative rotation angle flange_b.phi - flange_a.phi (start value)
-    w_rel : start value [rad/s], start (a guess unless given) 0.0
+    w_rel : start value [rad/s], start (a guess unless given) 0
         Relative angular velocity der(phi_rel) (start value)
-    stuck : Boolean start value, start False
+    stuck : Boolean start value, start false
         Start value of stuck (w_rel = 0): its pre() value at initialization
-    startForward : Boolean start value, start False
+    startForward : Boolean start value, start false
         Start value of startForward: its pre() value at initialization
 
     Ports
@@ -988,13 +988,13 @@ class LossyGear(_Factory):
 
     Parameters
     ----------
-    ratio : Real [1], default 1.0, != 0
+    ratio : Real [1], default 1, != 0
         Transmission ratio flange_a.phi/flange_b.phi
-    lossTable : table [:, 5] [rad/s, 1, 1, N.m, N.m], default [[0.0, 1.0, 1.0, 0.0, 0.0]], eta_mf1, eta_mf2 in (0, 1]
+    lossTable : table [:, 5] [rad/s, 1, 1, N.m, N.m], default [[0, 1, 1, 0, 0]], eta_mf1, eta_mf2 in (0, 1]
         Rows [abs(w_a), eta_mf1, eta_mf2, tau_bf1, tau_bf2]
-    useSupport : Boolean, default False
+    useSupport : Boolean, default false
         true: enable the support connector (else the housing is fixed at angle 0)
-    useHeatPort : Boolean, default False
+    useHeatPort : Boolean, default false
         true: enable the heatPort connector (else the loss power goes nowhere)
 
     Ports
@@ -1054,7 +1054,7 @@ class Constant(_Factory):
 
     Parameters
     ----------
-    k : Real [1], default 1.0
+    k : Real [1], default 1
         Constant output value
 
     Ports
@@ -1079,11 +1079,11 @@ class Step(_Factory):
 
     Parameters
     ----------
-    height : Real [1], default 1.0
+    height : Real [1], default 1
         Height of the step
-    offset : Real [1], default 0.0
+    offset : Real [1], default 0
         Offset of the output signal y
-    startTime : Real [s], default 0.0
+    startTime : Real [s], default 0
         Output y = offset for time < startTime
 
     Ports
@@ -1110,13 +1110,13 @@ class Ramp(_Factory):
 
     Parameters
     ----------
-    height : Real [1], default 1.0
+    height : Real [1], default 1
         Height of the ramp
-    duration : Real [s], default 2.0, >= 0
+    duration : Real [s], default 2, >= 0
         Duration of the ramp (0 gives a step)
-    offset : Real [1], default 0.0
+    offset : Real [1], default 0
         Offset of the output signal y
-    startTime : Real [s], default 0.0
+    startTime : Real [s], default 0
         Output y = offset for time < startTime
 
     Ports
@@ -1144,17 +1144,17 @@ class Sine(_Factory):
 
     Parameters
     ----------
-    amplitude : Real [1], default 1.0
+    amplitude : Real [1], default 1
         Amplitude of the sine wave
-    f : Real [Hz], default 1.0
+    f : Real [Hz], default 1
         Frequency of the sine wave
-    phase : Real [rad], default 0.0
+    phase : Real [rad], default 0
         Phase of the sine wave
-    offset : Real [1], default 0.0
+    offset : Real [1], default 0
         Offset of the output signal y
-    startTime : Real [s], default 0.0
+    startTime : Real [s], default 0
         Output y = offset for time < startTime
-    continuous : Boolean, default False
+    continuous : Boolean, default false
         true: y = offset + amplitude*sin(phase) before startTime
 
     Ports
@@ -1184,17 +1184,17 @@ class Pulse(_Factory):
 
     Parameters
     ----------
-    period : Real [s], default 1.0, > 0
+    period : Real [s], default 1, > 0
         Time for one period
-    width : Real [%], default 50.0, (0, 100]
+    width : Real [%], default 50, (0, 100]
         Width of the pulse in % of the period
-    nperiod : Real [1], default -1.0, a whole number
+    nperiod : Real [1], default -1, a whole number
         Number of periods (< 0: for ever)
-    amplitude : Real [1], default 1.0
+    amplitude : Real [1], default 1
         Amplitude of the pulse
-    offset : Real [1], default 0.0
+    offset : Real [1], default 0
         Offset of the output signal y
-    startTime : Real [s], default 0.0
+    startTime : Real [s], default 0
         Output y = offset for time < startTime
 
     Ports
@@ -1264,9 +1264,9 @@ class Add(_Factory):
 
     Parameters
     ----------
-    k1 : Real [1], default 1.0
+    k1 : Real [1], default 1
         Gain of input signal u1
-    k2 : Real [1], default 1.0
+    k2 : Real [1], default 1
         Gain of input signal u2
 
     Ports
@@ -1325,13 +1325,13 @@ class TimeTable(_Factory):
     ----------
     file : String, required
         CSV file of rows time, y (relative to the model file); instead of table
-    table : table [:, 2] [s, 1], default [[0.0, 0.0]]
+    table : table [:, 2] [s, 1], default [[0, 0]]
         Rows [time, y]; a time given twice is a jump
     extrapolation : choice, default 'LastTwoPoints'
         Beyond the last point: LastTwoPoints or HoldLastPoint
-    offset : Real [1], default 0.0
+    offset : Real [1], default 0
         Offset of the output signal y
-    startTime : Real [s], default 0.0
+    startTime : Real [s], default 0
         Output y = offset for time < startTime
 
     Ports

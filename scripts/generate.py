@@ -1,8 +1,11 @@
 #!/usr/bin/env python3
 """Regenerate the files made from the core's component catalogue, or check they are current.
 
-    python scripts/generate.py           # rewrite them
-    python scripts/generate.py --check   # exit 1 naming each stale file (make lint, CI)
+    .venv/bin/python scripts/generate.py           # rewrite them
+    .venv/bin/python scripts/generate.py --check   # exit 1 naming each stale file (make lint, CI)
+
+Run it with the project's environment (`make setup`): it imports the built package and formats
+the Python it writes with the environment's ruff, so the output is what `make lint` accepts.
 
 The catalogue (`stiction.catalogue`, read from the compiled engine) is the one source; this
 writes from it:

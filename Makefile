@@ -7,7 +7,7 @@ EXAMPLE ?= examples/msl/CoupledClutches.toml
 # what the demo plots: speeds on one axes, the clutch modes on another
 DEMO_SIGNALS ?= J1.w+J2.w+J3.w+J4.w,clutch1.mode+clutch2.mode+clutch3.mode
 
-.PHONY: setup demo test test-rust test-python lint bench bench-io clean
+.PHONY: setup demo test test-rust test-python lint docs bench bench-io clean
 
 setup:
 	@test -x $(PY) || python3 -m venv $(VENV)
@@ -29,16 +29,23 @@ test-python:
 
 lint: setup
 	$(PY) scripts/check_structure.py
+	$(PY) scripts/generate.py --check
 	cargo fmt --all --check
 	cargo clippy --release --all-targets -- -D warnings
-	$(VENV)/bin/ruff check python tests scripts
-	$(VENV)/bin/ruff format --check python tests scripts
+	$(VENV)/bin/ruff check python tests scripts docs examples
+	$(VENV)/bin/ruff format --check python tests scripts docs examples
+
+# The documentation site in docs/_build/html: runs every example into the gallery and the
+# tutorial's script; any warning (a broken example, a stale name, a bad docstring) fails it.
+docs: setup
+	@$(PY) -m pip install --quiet -r docs/requirements.txt
+	$(PY) -m sphinx -W --keep-going -q -b html docs docs/_build/html
 
 bench: setup
 	$(VENV)/bin/stiction bench
 
 clean:
-	rm -rf $(VENV) $(OUT) target
+	rm -rf $(VENV) $(OUT) target docs/_build docs/_generated
 
 # Modelica import and result-file speed (issue 11): prints numbers, asserts nothing
 bench-io: setup

@@ -82,9 +82,9 @@ def test_simulate_writes_a_png_plot(simulated: tuple[Path, Path]) -> None:
 
 
 def test_compare_against_the_msl_reference_exits_0(simulated: tuple[Path, Path]) -> None:
-    """`stiction compare x.csv CoupledClutches.csv --signals …` passes every signal."""
+    """`stiction compare x.csv CoupledClutches.csv --signals @… -v` passes every signal."""
     csv_file, _ = simulated
-    proc = _stiction("compare", csv_file, REFERENCE, "--signals", SIGNALS)
+    proc = _stiction("compare", csv_file, REFERENCE, "--signals", f"@{SIGNALS}", "-v")
     assert proc.returncode == 0, proc.stdout + proc.stderr
     signals = read_signal_list(SIGNALS)
     for name in signals:
@@ -101,7 +101,7 @@ def test_compare_against_a_perturbed_reference_exits_1(simulated: tuple[Path, Pa
     bad[:, col] += 0.01 * np.ptp(data[:, col])
     perturbed = tmp_path / "CoupledClutches.csv"
     write_csv(perturbed, names, bad)
-    proc = _stiction("compare", csv_file, perturbed, "--signals", SIGNALS)
+    proc = _stiction("compare", csv_file, perturbed, "--signals", f"@{SIGNALS}")
     assert proc.returncode == 1, proc.stdout + proc.stderr
     failed = [line for line in proc.stdout.splitlines() if line.startswith("FAIL")]
     assert len(failed) == 1 and failed[0].startswith("FAIL clutch1.w_rel"), proc.stdout

@@ -148,8 +148,11 @@ def test_cli_compare_pass_exits_0(tmp_path: Path, cli_runner: CliRunner) -> None
     ref = MSL_DIR / "Friction.csv"
     result = cli_runner.invoke(main, ["compare", str(ref), str(ref)])
     assert result.exit_code == 0, result.output
-    assert "PASS inertia3.w" in result.output
+    assert "PASS" not in result.output  # a summary by default: failures and the count
+    assert result.output.splitlines()[0].endswith("signals passed (tolerance 0.002)")
     assert "signals from" in result.output  # Friction.signals.txt found next to the reference
+    verbose = cli_runner.invoke(main, ["compare", str(ref), str(ref), "-v"])
+    assert "PASS inertia3.w" in verbose.output
     assert "brake.startForward" not in result.output
 
 
@@ -176,9 +179,31 @@ def test_cli_compare_with_signals_option(tmp_path: Path, cli_runner: CliRunner) 
     signals = tmp_path / "list.txt"
     signals.write_text("time\nJ1.w\n")
     ref = MSL_DIR / "CoupledClutches.csv"
-    result = cli_runner.invoke(main, ["compare", str(ref), str(ref), "--signals", str(signals)])
-    assert result.exit_code == 0
-    assert result.output.splitlines()[0] == "PASS J1.w"
+    result = cli_runner.invoke(main, ["compare", str(ref), str(ref), "--signals", f"@{signals}", "-v"])
+    assert result.exit_code == 0, result.output
+    assert result.output.splitlines()[:2] == ["PASS J1.w", "1/1 signals passed (tolerance 0.002)"]
+    listed = cli_runner.invoke(
+        main, ["compare", str(ref), str(ref), "--signals", "J1.w, clutch1.w_rel", "-v"]
+    )
+    assert listed.output.splitlines()[:2] == ["PASS J1.w", "PASS clutch1.w_rel"]
+    bare = cli_runner.invoke(main, ["compare", str(ref), str(ref), "--signals", str(signals)])
+    assert bare.exit_code == 2 and f"write @{signals}" in bare.stderr
+
+
+def test_exact_zero_reference_passes_round_off_with_the_floor(tmp_path: Path, cli_runner: CliRunner) -> None:
+    """A torque that is exactly 0 in the reference and 1.8e-12 in the result (round-off) passes
+    with the absolute floor; MSL's bare method (floor 0, Y = 2e-18) fails it."""
+    t = np.linspace(0.0, 1.0, 101)
+    ref, res = tmp_path / "ref.csv", tmp_path / "res.csv"
+    Result(["time", "J.flange_b.tau"], np.column_stack([t, np.zeros_like(t)])).to_csv(ref)
+    Result(["time", "J.flange_b.tau"], np.column_stack([t, np.full_like(t, 1.8e-12)])).to_csv(res)
+    assert compare(res, ref).passed
+    assert not compare(res, ref, floor=0.0).passed
+    assert cli_runner.invoke(main, ["compare", str(res), str(ref)]).exit_code == 0
+    strict = cli_runner.invoke(main, ["compare", str(res), str(ref), "--floor", "0"])
+    assert strict.exit_code == 1 and "FAIL J.flange_b.tau" in strict.output
+    off = Result(["time", "J.flange_b.tau"], np.column_stack([t, np.full_like(t, 1e-6)]))
+    assert not compare(off, ref).passed  # the floor is far below a real torque
 
 
 def test_cli_compare_missing_file_exits_2_without_traceback(tmp_path: Path, cli_runner: CliRunner) -> None:

@@ -1,6 +1,6 @@
 """Typed interface of the compiled engine (Rust, PyO3); stiction.model is its face."""
 
-from typing import TypedDict
+from typing import Any, TypedDict
 
 import numpy as np
 import numpy.typing as npt
@@ -11,9 +11,22 @@ class ModelError(ValueError):
 class SimulationError(RuntimeError):
     """A valid model could not be simulated (singular system, no consistent mode, ...)."""
 
-class ComponentType(TypedDict):
-    parameters: list[str]
-    ports: list[str]
+class ParameterInfo(TypedDict):
+    name: str
+    kind: str
+    default: Any
+    required: bool
+    unit: str
+    description: str
+    range: str | None
+
+class TypeInfo(TypedDict):
+    name: str
+    msl_class: str
+    description: str
+    parameters: list[ParameterInfo]
+    ports: list[tuple[str, str, str | None]]
+    variables: list[tuple[str, str]]
 
 class RawResult:
     """One run: states on the output grid and both sides of every event.
@@ -37,14 +50,32 @@ class RawResult:
     def table(self) -> npt.NDArray[np.float64]:
         """All variables, shape (rows, len(names)); event instants appear twice."""
 
-def simulate(model_toml: str, base_dir: str = ".", overrides: dict[str, float] | None = None) -> RawResult:
+def simulate(
+    model_toml: str, base_dir: str = ".", overrides: dict[str, float] | None = None, solver: str | None = None
+) -> RawResult:
     """Run a model given as model-file text.
 
-    ``overrides`` keys: StartTime, StopTime, Interval, Tolerance.
+    ``overrides`` keys: StartTime, StopTime, Interval, Tolerance; ``solver`` overrides Solver.
     """
+
+def check_parameters(model_toml: str, base_dir: str = ".") -> None:
+    """Check every component's parameters without assembling; raises ModelError."""
+
+def time_event_sources(
+    model_toml: str, base_dir: str, overrides: dict[str, float], times: list[float]
+) -> list[list[str]]:
+    """For each time, the components ("name (Type)") whose time event falls on it."""
+
+def experiment(
+    model_toml: str, base_dir: str = ".", overrides: dict[str, float] | None = None, solver: str | None = None
+) -> dict[str, Any]:
+    """The experiment settings a run uses, and under "defaults" those nobody gave."""
+
+def initialization(model_toml: str, base_dir: str = ".") -> list[tuple[str, float, str, float]]:
+    """(variable, start, "fixed" | "guessed" | "computed", initial value) per start value."""
 
 def check(model_toml: str, base_dir: str = ".") -> None:
     """Validate a model without running it; raises ModelError."""
 
-def component_types() -> dict[str, ComponentType]:
-    """Every component type the engine knows, with its parameter and port names."""
+def catalogue() -> list[TypeInfo]:
+    """Every component type: MSL class, parameters, ports (name, kind, enabling Boolean), variables."""

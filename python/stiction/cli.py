@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any, NoReturn, TypeVar
 import click
 
 from . import __version__
+from .compare import DEFAULT_FLOOR
 from .errors import ModelError
 
 if TYPE_CHECKING:
@@ -71,6 +72,13 @@ def main() -> None:
 
 
 def _experiment_options(func: F) -> F:
+    func = click.option(
+        "--Solver",
+        "Solver",
+        type=click.Choice(["tsit45", "bdf", "esdirk34"]),
+        default=None,
+        help="Override the experiment's Solver (tsit45 default; bdf, esdirk34 for stiff models).",
+    )(func)
     for key in reversed(("StartTime", "StopTime", "Interval", "Tolerance")):
         func = click.option(
             f"--{key}",
@@ -124,7 +132,7 @@ def _model_option(func: F) -> F:
 @click.option(
     "--signals",
     default=None,
-    help="Signals to plot: a,b,c (one axes each); join with + to share axes: a+b,c.",
+    help="Signals to plot: a,b,c or @FILE (one per line), one axes each; a+b shares axes.",
 )
 @_model_option
 @_experiment_options
@@ -136,7 +144,7 @@ def simulate(
     plot_file: Path | None,
     signals: str | None,
     model_name: str | None,
-    **experiment: float | None,
+    **experiment: Any,
 ) -> None:
     """Run MODEL_FILE (.toml or Modelica .mo) and print a summary."""
     from .resultio import result_format
@@ -152,8 +160,9 @@ def simulate(
         chosen = [n.strip() for n in outputs.split(",") if n.strip()] if outputs else None
         result.save(output, chosen)
     if plot_file is not None:
-        groups = [g.split("+") for g in signals.split(",") if g.strip()] if signals else []
-        groups = [[n.strip() for n in g if n.strip()] for g in groups]
+        from .compare import parse_signals
+
+        groups = [[n.strip() for n in g.split("+") if n.strip()] for g in parse_signals(signals or "")]
         result.plot(*groups, path=plot_file)
     click.echo(result.summary())
     if output is not None:
@@ -201,15 +210,43 @@ def export_cmd(model_file: Path, output: Path) -> None:
 
 @main.command()
 @click.argument("model_file", type=click.Path(dir_okay=False, path_type=Path))
+@click.option("-v", "--verbose", is_flag=True, help="Also show the experiment and every start value.")
 @_friendly_errors
-def check(model_file: Path) -> None:
+def check(model_file: Path, verbose: bool) -> None:
     """Validate MODEL_FILE (.toml or .mo) without running it."""
     model = _load(model_file)
     try:
         model.check()
+        info = model.run_info() if verbose else None
     except ModelError as exc:
         raise _in_file(model_file, exc) from None
     click.echo(f"ok: {model.name} ({len(model.components)} components, {len(model.connections)} connections)")
+    if info is not None:
+        click.echo(f"experiment: {info.experiment}")
+        click.echo(f"start values: {info.initialization.counts()}")
+        click.echo(str(info.initialization))
+
+
+@main.command(name="list")
+@_friendly_errors
+def list_cmd() -> None:
+    """List every component type with its MSL class and description."""
+    from .catalogue import catalogue
+
+    known = catalogue()
+    width = max(len(n) for n in known)
+    for info in known.values():
+        click.echo(f"{info.name:<{width}}  {info.description} ({info.msl_class})")
+
+
+@main.command()
+@click.argument("type_name")
+@_friendly_errors
+def describe(type_name: str) -> None:
+    """Show TYPE_NAME's parameters (default, unit, range), ports and variables."""
+    from .catalogue import describe as describe_type
+
+    click.echo(str(describe_type(type_name)))
 
 
 @main.command(name="compare")
@@ -223,29 +260,36 @@ def check(model_file: Path) -> None:
     help="Relative tube size, in y (of the signal range) and in t (of the time span).",
 )
 @click.option(
+    "--floor",
+    type=float,
+    default=DEFAULT_FLOOR,
+    show_default=True,
+    help="Smallest tube half-height, so exact zeros compare equal to round-off (0: MSL's method).",
+)
+@click.option(
     "--signals",
-    "signals_file",
-    type=click.Path(dir_okay=False, path_type=Path),
-    help="Signal list (one name per line, time first). Default: REFERENCE.signals.txt "
+    default=None,
+    help="Signals to compare: a,b,c or @FILE (one per line). Default: REFERENCE.signals.txt "
     "next to the reference if it exists, else every reference column.",
 )
+@click.option("-v", "--verbose", is_flag=True, help="Print every signal, not only the failures.")
 @_friendly_errors
-def compare_cmd(result_csv: Path, reference_csv: Path, tolerance: float, signals_file: Path | None) -> None:
+def compare_cmd(
+    result_csv: Path, reference_csv: Path, tolerance: float, floor: float, signals: str | None, verbose: bool
+) -> None:
     """Check RESULT_CSV against REFERENCE_CSV (MSL tube method); exit 1 on failure.
 
     Either file may be a CSV, a Dymola/OpenModelica .mat result or a Parquet table."""
-    from .compare import compare
+    from .compare import compare, parse_signals
 
-    if signals_file is None:
-        sibling = reference_csv.with_suffix(".signals.txt")
-        if sibling.is_file():
-            signals_file = sibling
-    report = compare(result_csv, reference_csv, tolerance=tolerance, signals=signals_file)
-    click.echo(str(report))
-    failed = len(report.failed)
-    source = f", signals from {signals_file}" if signals_file else ""
-    passed = len(report) - failed
-    click.echo(f"{passed}/{len(report)} signals passed (tolerance {tolerance:g}{source})")
+    sibling = reference_csv.with_suffix(".signals.txt")
+    if signals is None and sibling.is_file():
+        signals = f"@{sibling}"
+    names = parse_signals(signals) if signals else None
+    report = compare(result_csv, reference_csv, tolerance=tolerance, signals=names, floor=floor)
+    click.echo(report.summary(verbose))
+    if signals and signals.startswith("@"):
+        click.echo(f"signals from {signals[1:]}")
     if not report.passed:
         sys.exit(1)
 

@@ -12,6 +12,10 @@ Compare, tube method, relative tolerance 2e-3). For each reference signal:
 
 Every point of the test signal must lie inside. The time half-width is what lets an
 event that happens a little earlier or later than in the reference still pass.
+
+One addition to MSL's method: ``Y`` is at least an absolute ``floor`` (default 1e-9), so a
+signal that is exactly zero in the reference (a torque in an unconnected flange) is not failed
+by round-off of 1e-12 in the result, where MSL's ``Y`` would be 2e-18.
 """
 
 from __future__ import annotations
@@ -26,7 +30,15 @@ import numpy as np
 
 from . import csvio, resultio
 
-__all__ = ["CompareReport", "SignalReport", "compare", "read_signal_list", "tube"]
+__all__ = [
+    "DEFAULT_FLOOR",
+    "CompareReport",
+    "SignalReport",
+    "compare",
+    "parse_signals",
+    "read_signal_list",
+    "tube",
+]
 
 Trajectories = Union[str, "os.PathLike[str]", Any, tuple[Sequence[str], np.ndarray]]
 
@@ -91,6 +103,12 @@ class CompareReport:
     def __str__(self) -> str:
         return "\n".join(str(s) for s in self.signals)
 
+    def summary(self, verbose: bool = False) -> str:
+        """The failures (every signal if ``verbose``) and a count: ``12/13 signals passed``."""
+        shown = [str(s) for s in self.signals if verbose or not s.passed]
+        passed = len(self) - len(self.failed)
+        return "\n".join([*shown, f"{passed}/{len(self)} signals passed (tolerance {self.tolerance:g})"])
+
 
 # --- the tube -------------------------------------------------------------------------
 def _range_extrema(y: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -116,10 +134,18 @@ def _range_extrema(y: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> tuple[np.nd
     return np.where(empty, np.inf, wmin), np.where(empty, -np.inf, wmax)
 
 
+DEFAULT_FLOOR = 1e-9
+"""Smallest tube half-height: exact zeros compare equal to round-off."""
+
+
 def tube(
-    t_ref: np.ndarray, y_ref: np.ndarray, t: np.ndarray, tolerance: float = 2e-3
+    t_ref: np.ndarray,
+    y_ref: np.ndarray,
+    t: np.ndarray,
+    tolerance: float = 2e-3,
+    floor: float = DEFAULT_FLOOR,
 ) -> tuple[np.ndarray, np.ndarray, float, float]:
-    """Lower and upper tube edges at times ``t``, and the half-sizes (X, Y)."""
+    """Lower and upper tube edges at times ``t``, and the half-sizes (X, Y); Y >= ``floor``."""
     t_ref = np.asarray(t_ref, dtype=np.float64)
     y_ref = np.asarray(y_ref, dtype=np.float64)
     t = np.asarray(t, dtype=np.float64)
@@ -129,7 +155,7 @@ def tube(
     finite = y_ref[np.isfinite(y_ref)]
     y_lo, y_hi = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 0.0)
     nominal = 1e-15 * max(1.0, abs(y_lo), abs(y_hi))
-    y_half = tolerance * max(y_hi - y_lo, nominal)
+    y_half = max(tolerance * max(y_hi - y_lo, nominal), floor)
 
     start, stop = t - x_half, t + x_half
     lo = np.searchsorted(t_ref, start, side="left")  # first reference point in the window
@@ -150,8 +176,9 @@ def _check_signal(
     t: np.ndarray,
     y: np.ndarray,
     tol: float,
+    floor: float,
 ) -> SignalReport:
-    lower, upper, x_half, y_half = tube(t_ref, y_ref, t, tol)
+    lower, upper, x_half, y_half = tube(t_ref, y_ref, t, tol, floor)
     excess = np.maximum(lower - y, y - upper) / y_half
     excess = np.where(np.isnan(excess), np.inf, excess)  # NaN in the test is never inside
     outside = excess > 0.0
@@ -179,6 +206,19 @@ def read_signal_list(path: str | os.PathLike[str]) -> list[str]:
         if name and not name.startswith("#") and name != "time":
             names.append(name)
     return names
+
+
+def parse_signals(text: str) -> list[str]:
+    """The ``--signals`` argument of every command: ``a,b,c`` or ``@FILE`` (one per line).
+
+    A name may join others with ``+`` (``a+b``: one plot axes); the caller splits that.
+    """
+    text = text.strip()
+    if text.startswith("@"):
+        return read_signal_list(text[1:])
+    if Path(text).is_file():
+        raise ValueError(f"--signals {text}: to read names from that file, write @{text}")
+    return [n.strip() for n in text.split(",") if n.strip() and n.strip() != "time"]
 
 
 def _as_table(source: Trajectories, what: str) -> tuple[list[str], np.ndarray]:
@@ -212,15 +252,19 @@ def compare(
     reference: Trajectories,
     tolerance: float = 2e-3,
     signals: Sequence[str] | str | os.PathLike[str] | None = None,
+    floor: float = DEFAULT_FLOOR,
 ) -> CompareReport:
     """Check ``result`` against ``reference`` with the MSL tube method.
 
     ``result`` and ``reference`` are CSV paths, ``Result`` objects or ``(names, data)``
     pairs. ``signals`` is a list of names, a path to a ``.signals.txt`` list, or None
-    for every signal of the reference except time.
+    for every signal of the reference except time. ``floor`` is the smallest tube
+    half-height (0 gives MSL's method exactly).
     """
     if not tolerance > 0:
         raise ValueError(f"tolerance must be positive, got {tolerance}")
+    if not floor >= 0:
+        raise ValueError(f"floor must be >= 0, got {floor}")
     ref_names, ref_data = _as_table(reference, "reference")
     test_names, test_data = _as_table(result, "result")
     t_ref = _time_column(ref_names, ref_data, "reference")
@@ -244,5 +288,5 @@ def compare(
         else:
             y_ref = ref_data[:, ref_index[name]]
             y = test_data[:, test_index[name]]
-            reports.append(_check_signal(name, t_ref, y_ref, t_test, y, tolerance))
+            reports.append(_check_signal(name, t_ref, y_ref, t_test, y, tolerance, floor))
     return CompareReport(reports, tolerance)

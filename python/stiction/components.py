@@ -9,15 +9,18 @@ are indistinguishable.
 from __future__ import annotations
 
 import functools
-import importlib
 import numbers
 import os
 from collections.abc import Mapping, Sequence
 from typing import Any, ClassVar, Union
 
+from .catalogue import ComponentInfo, catalogue
 from .errors import ModelError
 
-__all__ = ["FACTORIES", "Component", "ParamValue", "component_types", "factory"]
+__all__ = ["FACTORIES", "Component", "ParamValue", "StartValue", "component_types", "factory"]
+
+StartValue = Mapping[str, float | bool]
+"""A start value with its flag, ``{"start": 10.0, "fixed": False}``; a bare number is fixed."""
 
 ParamValue = Union[bool, int, float, str, Sequence[Any], Mapping[str, Any], "os.PathLike[str]"]
 
@@ -102,268 +105,39 @@ class _Factory(Component):
 FACTORIES: dict[str, type[Component]] = {}
 
 
-# --- Modelica.Mechanics.Rotational.Components -----------------------------------------
-class Inertia(_Factory):
-    """Rigid rotating mass.
-
-    MSL counterpart: Modelica.Mechanics.Rotational.Components.Inertia
-    """
-
-
-class Fixed(_Factory):
-    """Flange fixed to the housing.
-
-    MSL counterpart: Modelica.Mechanics.Rotational.Components.Fixed
-    """
-
-
-class Spring(_Factory):
-    """Linear torsion spring.
-
-    MSL counterpart: Modelica.Mechanics.Rotational.Components.Spring
-    """
-
-
-class Damper(_Factory):
-    """Linear rotational damper.
-
-    MSL counterpart: Modelica.Mechanics.Rotational.Components.Damper
-    """
-
-
-class SpringDamper(_Factory):
-    """Spring and damper in parallel.
-
-    MSL counterpart: Modelica.Mechanics.Rotational.Components.SpringDamper
-    """
-
-
-class IdealGear(_Factory):
-    """Lossless gear box.
-
-    MSL counterpart: Modelica.Mechanics.Rotational.Components.IdealGear
-    """
-
-
-class Brake(_Factory):
-    """Coulomb friction between a shaft and its housing.
-
-    MSL counterpart: Modelica.Mechanics.Rotational.Components.Brake
-    """
-
-
-class Clutch(_Factory):
-    """Coulomb friction between two shafts.
-
-    MSL counterpart: Modelica.Mechanics.Rotational.Components.Clutch
-    """
-
-
-# --- Modelica.Mechanics.Rotational.Sources --------------------------------------------
-class Torque(_Factory):
-    """Torque from a signal input.
-
-    MSL counterpart: Modelica.Mechanics.Rotational.Sources.Torque
-    """
-
-
-class ConstantTorque(_Factory):
-    """Constant torque.
-
-    MSL counterpart: Modelica.Mechanics.Rotational.Sources.ConstantTorque
-    """
-
-
-class TorqueStep(_Factory):
-    """Torque step in time.
-
-    MSL counterpart: Modelica.Mechanics.Rotational.Sources.TorqueStep
-    """
-
-
-class LinearSpeedDependentTorque(_Factory):
-    """Torque linear in speed.
-
-    MSL counterpart: Modelica.Mechanics.Rotational.Sources.LinearSpeedDependentTorque
-    """
-
-
-class QuadraticSpeedDependentTorque(_Factory):
-    """Torque quadratic in speed.
-
-    MSL counterpart: Modelica.Mechanics.Rotational.Sources.QuadraticSpeedDependentTorque
-    """
-
-
-class SignTorque(_Factory):
-    """Regularised sign(w) torque.
-
-    MSL counterpart: Modelica.Mechanics.Rotational.Sources.SignTorque
-    """
-
-
-class InverseSpeedDependentTorque(_Factory):
-    """Torque inverse to speed.
-
-    MSL counterpart: Modelica.Mechanics.Rotational.Sources.InverseSpeedDependentTorque
-    """
-
-
-class ConstantSpeed(_Factory):
-    """Imposed constant speed.
-
-    MSL counterpart: Modelica.Mechanics.Rotational.Sources.ConstantSpeed
-    """
-
-
-# --- Modelica.Blocks ------------------------------------------------------------------
-class Constant(_Factory):
-    """Constant signal.
-
-    MSL counterpart: Modelica.Blocks.Sources.Constant
-    """
-
-
-class Step(_Factory):
-    """Step signal.
-
-    MSL counterpart: Modelica.Blocks.Sources.Step
-    """
-
-
-class Ramp(_Factory):
-    """Ramp signal.
-
-    MSL counterpart: Modelica.Blocks.Sources.Ramp
-    """
-
-
-class Sine(_Factory):
-    """Sine signal.
-
-    MSL counterpart: Modelica.Blocks.Sources.Sine
-    """
-
-
-class TimeTable(_Factory):
-    """Piecewise-linear signal from a table or CSV file.
-
-    MSL counterpart: Modelica.Blocks.Sources.TimeTable
-    """
-
-
-class Product(_Factory):
-    """Product of two signals.
-
-    MSL counterpart: Modelica.Blocks.Math.Product
-    """
-
-
-class Feedback(_Factory):
-    """Difference u1 - u2.
-
-    MSL counterpart: Modelica.Blocks.Math.Feedback
-    """
-
-
-class Add(_Factory):
-    """Weighted sum k1*u1 + k2*u2.
-
-    MSL counterpart: Modelica.Blocks.Math.Add
-    """
-
-
-class Gain(_Factory):
-    """Signal times a constant.
-
-    MSL counterpart: Modelica.Blocks.Math.Gain
-    """
-
-
-# --- Modelica.Thermal.HeatTransfer ----------------------------------------------------
-class HeatCapacitor(_Factory):
-    """Lumped thermal mass.
-
-    MSL counterpart: Modelica.Thermal.HeatTransfer.Components.HeatCapacitor
-    """
-
-
-class ThermalConductor(_Factory):
-    """Lumped thermal conduction.
-
-    MSL counterpart: Modelica.Thermal.HeatTransfer.Components.ThermalConductor
-    """
-
-
-class Convection(_Factory):
-    """Convective heat transfer from a signal Gc.
-
-    MSL counterpart: Modelica.Thermal.HeatTransfer.Components.Convection
-    """
-
-
-class FixedTemperature(_Factory):
-    """Fixed-temperature boundary.
-
-    MSL counterpart: Modelica.Thermal.HeatTransfer.Sources.FixedTemperature
-    """
-
-
-# --- the rest of the MSL Coulomb-friction family ---------------------------------------
-class OneWayClutch(_Factory):
-    """Freewheel in parallel with a clutch: slides forward, locks instead of sliding backward.
-
-    MSL counterpart: Modelica.Mechanics.Rotational.Components.OneWayClutch
-    """
-
-
-class BearingFriction(_Factory):
-    """Coulomb friction in bearings, the torque given by ``tau_pos``.
-
-    MSL counterpart: Modelica.Mechanics.Rotational.Components.BearingFriction
-    """
-
-
-class LossyGear(_Factory):
-    """Gear with mesh efficiency and bearing friction (``lossTable``); can stick.
-
-    MSL counterpart: Modelica.Mechanics.Rotational.Components.LossyGear
-    """
-
-
-class ElastoBacklash(_Factory):
-    """Backlash in series with a spring and damper, soft contact.
-
-    MSL counterpart: Modelica.Mechanics.Rotational.Components.ElastoBacklash
-    """
-
-
-class IdealPlanetary(_Factory):
-    """Planetary gear (sun, carrier, ring) without inertia.
-
-    MSL counterpart: Modelica.Mechanics.Rotational.Components.IdealPlanetary
-    """
-
-
-class Pulse(_Factory):
-    """Periodic pulse signal; every edge is a time event.
-
-    MSL counterpart: Modelica.Blocks.Sources.Pulse
-    """
+def _make_class(info: ComponentInfo) -> type[Component]:
+    """The class of one engine type: its docstring and signature come from the catalogue."""
+    cls = type(info.name, (_Factory,), {"__doc__": info.docstring(), "__module__": __name__})
+    cls.__signature__ = info.signature()  # type: ignore[attr-defined]  # help(), IDEs
+    return cls
+
+
+def _make_classes() -> dict[str, type[Component]]:
+    """One class per engine type whose name is a Python identifier (not Celsius.…)."""
+    try:
+        known = catalogue()
+    except ModuleNotFoundError as exc:  # a source tree without the compiled engine
+        if exc.name != f"{__package__}._core":
+            raise
+        return {}
+    return {name: _make_class(info) for name, info in known.items() if name.isidentifier()}
+
+
+globals().update(_make_classes())  # Inertia, Brake, …: listed in components.pyi
 
 
 @functools.cache
 def component_types() -> dict[str, dict[str, list[str]]] | None:
-    """Give the engine's types with their parameters and ports; None if not built."""
+    """Give the engine's types with their parameter and port names; None if not built."""
     try:
-        _core = importlib.import_module(f"{__package__}._core")
+        known = catalogue()
     except ModuleNotFoundError as exc:
         if exc.name != f"{__package__}._core":
             raise
         return None
     return {
-        name: {key: list(values) for key, values in info.items()}
-        for name, info in _core.component_types().items()
+        name: {"parameters": [p.name for p in info.parameters], "ports": [p.name for p in info.ports]}
+        for name, info in known.items()
     }
 
 

@@ -20,6 +20,7 @@ from . import modelfile
 from .components import FACTORIES, Component, component_types
 from .errors import ModelError
 from .result import Result
+from .runinfo import RunInfo
 
 if TYPE_CHECKING:
     from .compiled import CompiledModel
@@ -117,6 +118,36 @@ class Model:
         if (a, b) in self.connections or (b, a) in self.connections:
             raise ModelError(f"connection '{a}' - '{b}': already connected")
         self.connections.append((a, b))
+        return self
+
+    def set(self, name: str, value: Any) -> Model:
+        """Change one parameter, ``m.set("brake.fn_max", 1800.0)``; returns the model.
+
+        The name and the value get the checks a component gets when the model is read:
+        unknown names (with suggestions), types, ranges and table shapes — now, not at the
+        next run. On an error the model is left unchanged.
+        """
+        comp_name, _, param = name.partition(".")
+        if comp_name not in self.components or not param:
+            raise ModelError(
+                f"set '{name}': expected 'component.parameter' with a component of this model"
+                f"{_did_you_mean(comp_name, list(self.components))}"
+            )
+        old = self.components[comp_name]
+        params = {**old.params, param: value}
+        new = FACTORIES[old.type](**params) if old.type in FACTORIES else Component(old.type, params)
+        known = component_types()
+        allowed = known[old.type]["parameters"] if known and old.type in known else [param]
+        if param not in allowed:
+            raise ModelError(
+                f"component '{comp_name}' ({old.type}): parameter '{param}': "
+                f"unknown parameter{_did_you_mean(param, allowed)}"
+            )
+        from . import _core
+
+        text = modelfile.dumps(self.name, {}, [(comp_name, new.type, new.params)], [], {})
+        _core.check_parameters(text, str(self.base_dir))
+        self.components[comp_name] = new
         return self
 
     def input(self, port: str, start: float = 0.0) -> Model:
@@ -274,14 +305,18 @@ class Model:
             raise ModelError(message) from None
 
     # --- running ----------------------------------------------------------------------
-    def simulation(self, **experiment: float) -> Simulation:
+    def simulation(self, Solver: str | None = None, **experiment: float) -> Simulation:
         """A resumable run of the model (``advance_to``, ``set_input``, ``get`` …).
 
-        Keyword arguments (``StopTime=2.0`` …) override the experiment for this run.
+        Keyword arguments (``StopTime=2.0``, ``Solver="bdf"`` …) override the experiment.
         """
         from .simulation import Simulation
 
-        return Simulation(self, **experiment)
+        return Simulation(self, Solver, **experiment)
+
+    def run_info(self) -> RunInfo:
+        """The experiment and initialization a run of this model would use, without running."""
+        return RunInfo(self.engine_toml(), str(self.base_dir), {}, None, self.types())
 
     def check(self) -> None:
         """Let the engine validate the whole model without running it."""
@@ -312,21 +347,30 @@ class Model:
     ) -> Result:
         """Run the model; arguments override its experiment settings for this run.
 
-        ``params`` overrides parameters and start values by name for this run
-        (``{"clutch1.fn_max": 30, "J1.w": 5}``); the model itself is unchanged.
+        ``Solver`` is "tsit45" (the default), "bdf" or "esdirk34" (stiff models). ``params``
+        overrides parameters and start values by name for this run (``{"clutch1.fn_max": 30,
+        "J1.w": 5}``); the model itself is unchanged. The result reports the experiment used
+        (``r.experiment``, with the settings left at defaults) and the initialization
+        (``r.initialization``, of the model without ``params``).
         """
         from .compiled import merge_overrides
         from .parameters import evaluate_parameters
 
-        given = {"StartTime": StartTime, "StopTime": StopTime, "Interval": Interval}
+        given: dict[str, Any] = {"StartTime": StartTime, "StopTime": StopTime, "Interval": Interval}
         given |= {"Tolerance": Tolerance, "Solver": Solver}
         overrides = merge_overrides(params, given)
         core = self.compile()._core
         raw = (core.variant(overrides) if overrides else core).simulate()
+        experiment = {k: float(v) for k, v in given.items() if v is not None and k != "Solver"}
+        info = RunInfo(self.engine_toml(), str(self.base_dir), experiment, Solver, self.types())
         top = evaluate_parameters(self.parameters)
-        result = Result.from_core(raw, name=self.name, variables=self.variables, parameters=top)
+        result = Result.from_core(raw, name=self.name, variables=self.variables, parameters=top, info=info)
         result.parameters = self.parameter_values()
         return result
+
+    def types(self) -> dict[str, str]:
+        """Component name → type name (``{"brake": "Brake"}``)."""
+        return {name: c.type for name, c in self.components.items()}
 
     def parameter_values(self) -> dict[str, float]:
         """Scalar parameters as ``component.parameter -> value`` (Booleans as 0/1), top-level

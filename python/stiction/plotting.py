@@ -11,6 +11,7 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 from .csvio import is_integer_signal
+from .result import mode_name
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -19,6 +20,14 @@ if TYPE_CHECKING:
     from .result import Result
 
 __all__ = ["plot_result"]
+
+MODE_LEVELS = (-1, 0, 1, 2)
+
+
+def _label(result: Result, name: str) -> str:
+    """``brake.tau [N.m]``: the name with its unit, when it has one."""
+    unit = result.unit(name)
+    return f"{name} [{unit}]" if unit else name
 
 
 def plot_result(
@@ -46,12 +55,14 @@ def plot_result(
     for axis, group in zip(axes, groups, strict=False):
         for name in group:
             # Event rows repeat the time (left, then right value): jumps are vertical.
-            axis.plot(t, result[name], label=name, linewidth=1.2)
+            axis.plot(t, result[name], label=_label(result, name), linewidth=1.2)
         axis.grid(True, alpha=0.3)
-        if all(is_integer_signal(n) for n in group):  # modes and flags: whole-number ticks
+        if all(n.endswith(".mode") for n in group):  # friction modes: named levels
+            axis.set_yticks(list(MODE_LEVELS), [mode_name(m) for m in MODE_LEVELS])
+        elif all(is_integer_signal(n) for n in group):  # flags: whole-number ticks
             axis.yaxis.set_major_locator(MaxNLocator(integer=True))
         if len(group) == 1 and ax is None:
-            axis.set_ylabel(group[0])
+            axis.set_ylabel(_label(result, group[0]))
         else:
             axis.legend(loc="best", fontsize="small")
     axes[-1].set_xlabel("time [s]")

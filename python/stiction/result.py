@@ -10,7 +10,7 @@ import difflib
 import fnmatch
 import math
 import os
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NamedTuple
 
@@ -23,10 +23,22 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-__all__ = ["Event", "Result"]
+    from .runinfo import Experiment, Initialization, RunInfo
+
+__all__ = ["MODE_NAMES", "Event", "Result", "mode_name"]
 
 # Signal kinds worth showing first in a summary, most telling first.
 _MAIN_SUFFIXES = ("w", "w_rel", "mode", "tau", "phi", "phi_rel", "T", "y")
+
+
+MODE_NAMES = {-1: "sliding backward", 0: "stuck", 1: "sliding forward", 2: "free", 3: "unknown"}
+"""MSL's friction modes (``Backward``, ``Stuck``, ``Forward``, ``Free``, ``Unknown``); 3
+(Unknown) is only the value before initialization, the ``old_mode`` of the first events."""
+
+
+def mode_name(mode: int) -> str:
+    """``"sliding forward"`` for 1 and so on (see ``MODE_NAMES``)."""
+    return MODE_NAMES.get(int(mode), f"mode {mode}")
 
 
 class Event(NamedTuple):
@@ -37,6 +49,27 @@ class Event(NamedTuple):
     old_mode: int
     new_mode: int
     cause: str
+
+    @property
+    def old(self) -> str:
+        """The mode before, by name (``"sliding forward"``)."""
+        return mode_name(self.old_mode)
+
+    @property
+    def new(self) -> str:
+        """The mode after, by name (``"stuck"``)."""
+        return mode_name(self.new_mode)
+
+    def __str__(self) -> str:
+        return f"t = {self.time:.9g} s  {self.component}: {self.old} → {self.new}  ({self.cause})"
+
+
+def _with_source(event: Event, sources: list[str]) -> Event:
+    """``time event`` → ``time event of press (Step)``."""
+    if not sources:
+        return event
+    cause = event.cause.replace("time event", f"time event of {', '.join(sources)}", 1)
+    return event._replace(cause=cause)
 
 
 class Result:
@@ -50,9 +83,11 @@ class Result:
         stats: Mapping[str, float | int] | None = None,
         name: str = "",
         source: Any = None,
+        info: RunInfo | None = None,
     ) -> None:
         """``data`` is the full table, or None when a ``source`` (the engine's raw result,
-        with ``column(name)``, ``table()`` and ``rows``) computes variables on demand."""
+        with ``column(name)``, ``table()`` and ``rows``) computes variables on demand;
+        ``info`` reports the run's experiment and initialization."""
         self.names: list[str] = [str(n) for n in names]
         if not self.names or self.names[0] != "time":
             raise ValueError("the first signal must be 'time'")
@@ -65,11 +100,11 @@ class Result:
             if table.ndim != 2 or table.shape[1] != len(self.names):
                 raise ValueError(f"data shape {table.shape} does not match {len(self.names)} names")
             self._data = table
-        self.events: list[Event] = [
-            Event(float(t), str(c), int(a), int(b), str(why)) for t, c, a, b, why in events
-        ]
+        self._events = [Event(float(t), str(c), int(a), int(b), str(why)) for t, c, a, b, why in events]
+        self._events_named = False
         self.stats: dict[str, float | int] = dict(stats or {})
         self.name = name
+        self._info = info
         self._index = {n: i for i, n in enumerate(self.names)}
         # Parameter values (name -> value) of the run, written to data_1 of a .mat result.
         self.parameters: dict[str, float] = {}
@@ -81,13 +116,15 @@ class Result:
         name: str = "",
         variables: Mapping[str, str] | None = None,
         parameters: Mapping[str, Any] | None = None,
+        info: RunInfo | None = None,
     ) -> Result:
         """Wrap the engine's raw result; variables are computed when first read.
 
         ``variables`` (name -> Modelica expression over result variables and the top-level
-        ``parameters``) add derived columns after the engine's.
+        ``parameters``) add derived columns after the engine's; ``info`` answers
+        ``experiment`` and ``initialization``.
         """
-        result = cls(raw.names, None, raw.events, raw.stats, name=name, source=raw)
+        result = cls(raw.names, None, raw.events, raw.stats, name=name, source=raw, info=info)
         if variables:
             from .derived import derived_columns
 
@@ -104,6 +141,28 @@ class Result:
         if self._source is None:
             raise ValueError("metrics need a result of the engine (not one read from a file)")
         return float(self._source.metric(text))
+
+    @property
+    def events(self) -> list[Event]:
+        """Every mode change: time, component, old and new mode (``.old``/``.new`` by name),
+        cause; a time event's cause names the components whose time event it was."""
+        if not self._events_named and self._info is not None:
+            timed = [e for e in self._events if e.cause.startswith("time event")]
+            sources = self._info.time_event_sources([e.time for e in timed]) if timed else []
+            named = {id(e): s for e, s in zip(timed, sources, strict=True)}
+            self._events = [_with_source(e, named.get(id(e), [])) for e in self._events]
+        self._events_named = True
+        return self._events
+
+    @property
+    def experiment(self) -> Experiment | None:
+        """The experiment the run used, saying which settings were defaults (None if unknown)."""
+        return self._info.experiment if self._info else None
+
+    @property
+    def initialization(self) -> Initialization | None:
+        """Every start value: fixed, guessed (kept) or computed, with its initial value."""
+        return self._info.initialization if self._info else None
 
     @property
     def data(self) -> np.ndarray:
@@ -163,12 +222,62 @@ class Result:
         """The time column (event instants appear twice: left then right value)."""
         return self["time"]
 
+    def unit(self, name: str) -> str:
+        """The unit of a variable (``"N.m"`` for ``brake.tau``; "" if unknown or none)."""
+        if name == "time":
+            return "s"
+        return self._info.unit(name) if self._info else ""
+
+    # --- analysis ---------------------------------------------------------------------
+    def energy(self, component: str, cumulative: bool = False) -> Any:
+        """Energy dissipated by one component [J]: the integral of its ``lossPower``.
+
+        The total (a float), or with ``cumulative=True`` its course over ``time``. Exact for
+        a loss power linear between rows; event rows (a repeated time) add nothing.
+        """
+        name = f"{component}.lossPower"
+        if name not in self:
+            lossy = sorted({n.split(".")[0] for n in self.names if n.endswith(".lossPower")})
+            raise KeyError(f"{component!r} has no lossPower; components that dissipate: {', '.join(lossy)}")
+        t, p = self.time, self[name]
+        steps = np.concatenate(([0.0], 0.5 * (p[1:] + p[:-1]) * np.diff(t)))
+        course = np.cumsum(steps)
+        return course if cumulative else float(course[-1])
+
+    def first(self, name: str, condition: Callable[[np.ndarray], np.ndarray] | None = None) -> float | None:
+        """The first time a signal is true (nonzero), or meets ``condition``; None if never.
+
+        ``r.first("clutch2.locked")``; ``r.first("J.w", lambda w: w < 1.0)``.
+        """
+        hit = np.asarray(condition(self[name]) if condition else self[name] != 0.0, dtype=bool)
+        rows = np.flatnonzero(hit)
+        return float(self.time[rows[0]]) if rows.size else None
+
+    def lock_times(self, component: str) -> list[float]:
+        """The instants a friction element becomes locked (its ``locked`` rises; t0 counts)."""
+        locked = self[f"{component}.locked"] != 0.0
+        rises = np.flatnonzero(locked[1:] & ~locked[:-1]) + 1
+        times = [float(self.time[i]) for i in rises]
+        return ([float(self.time[0])] if locked.size and locked[0] else []) + times
+
     # --- export -----------------------------------------------------------------------
-    def to_pandas(self) -> pandas.DataFrame:
-        """The trajectories as a DataFrame with ``time`` as an ordinary column."""
+    def to_pandas(self, events: str = "all") -> pandas.DataFrame:
+        """The trajectories as a DataFrame; ``df.attrs["units"]`` gives each column's unit.
+
+        ``events="all"``: every row, ``time`` an ordinary column (an event instant has two
+        rows, left and right value). ``"last"`` or ``"first"``: one row per instant (the value
+        after, or before, each event), indexed by ``time`` — unique and increasing, so
+        ``resample``, ``interpolate`` and ``np.gradient`` work.
+        """
         import pandas as pd
 
-        return pd.DataFrame(self.data, columns=self.names)
+        if events not in ("all", "first", "last"):
+            raise ValueError(f'events must be "all", "first" or "last", got {events!r}')
+        df = pd.DataFrame(self.data, columns=self.names)
+        if events != "all":
+            df = df.drop_duplicates(subset="time", keep=events).set_index("time")
+        df.attrs["units"] = {n: self.unit(n) for n in self.names}
+        return df
 
     def select(self, outputs: Iterable[str] | None = None) -> list[str]:
         """The names ``outputs`` choose (exact names or globs such as ``J*.w``), ``time``
@@ -254,6 +363,9 @@ class Result:
         span = f"t = {t[0]:g} … {t[-1]:g} s" if len(t) else "no rows"
         title = f"{self.name}: " if self.name else ""
         lines = [f"{title}{span}, {len(self)} rows, {len(self.events)} events"]
+        if self._info is not None:
+            lines.append(f"experiment: {self._info.experiment}")
+            lines.append(f"start values: {self._info.initialization.counts()} (r.initialization)")
         main = self.main_signals()
         if main and len(t):
             lines.append("final values:")

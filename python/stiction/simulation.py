@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 from .errors import UsageError
 from .parameters import evaluate_parameters
 from .result import Result
+from .runinfo import RunInfo
 
 if TYPE_CHECKING:
     from .model import Model
@@ -27,14 +28,16 @@ class Simulation:
     initialization) at its StartTime. Keyword arguments override the experiment.
     """
 
-    def __init__(self, model: Model, **experiment: float) -> None:
+    def __init__(self, model: Model, Solver: str | None = None, **experiment: float) -> None:
         from . import _core
 
         overrides = {k: float(v) for k, v in experiment.items()}
         self._name = model.name
         self._variables = dict(model.variables)
         self._parameters = evaluate_parameters(model.parameters)
-        self._core = _core.Simulation(model.engine_toml(), str(model.base_dir), overrides)
+        text, base = model.engine_toml(), str(model.base_dir)
+        self._core = _core.Simulation(text, base, overrides, Solver)
+        self._info = RunInfo(text, base, overrides, Solver, model.types())
 
     @property
     def time(self) -> float:
@@ -95,7 +98,11 @@ class Simulation:
     def result(self) -> Result:
         """The rows recorded so far, as a ``Result``; the simulation is closed."""
         return Result.from_core(
-            self._core.result(), name=self._name, variables=self._variables, parameters=self._parameters
+            self._core.result(),
+            name=self._name,
+            variables=self._variables,
+            parameters=self._parameters,
+            info=self._info,
         )
 
     def __repr__(self) -> str:

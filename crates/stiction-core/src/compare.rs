@@ -6,6 +6,8 @@
 //!
 //! * `X = tol · (t_max − t_min)` of the reference is the tube half-width in time,
 //! * `Y = tol · max(y_max − y_min, 1e-15 · max(1, |y|max))` (finite values) its half-height,
+//!   but at least `FLOOR` (1e-9, as Python's default `floor`): a signal exactly 0 in the
+//!   reference passes round-off of 1e-12 in the result (MSL's Y would be 2e-18),
 //! * the reference is a piecewise-linear curve (a repeated time is a vertical jump) and the tube
 //!   at time `t` is `[min − Y, max + Y]` of that curve over the window `[t − X, t + X]`.
 //!
@@ -130,6 +132,9 @@ pub struct SignalReport {
     pub y_half: f64,
 }
 
+/// The smallest tube half-height (`compare.py`'s default `floor`).
+pub const FLOOR: f64 = 1e-9;
+
 /// Checks `result` against `reference` on `signals` (`time` is skipped) with the tube method:
 /// one verdict per signal, in order; the check passes if every one does. A signal missing on
 /// either side fails; unusable input is an error.
@@ -184,7 +189,7 @@ fn check_signal(
     let x_half = tol * (t_ref[t_ref.len() - 1] - t_ref[0]);
     let (lo, hi) = y_ref.iter().filter(|v| v.is_finite()).fold(EMPTY, extend);
     let (lo, hi) = if lo <= hi { (lo, hi) } else { (0.0, 0.0) };
-    let y_half = tol * (hi - lo).max(1e-15 * lo.abs().max(hi.abs()).max(1.0));
+    let y_half = (tol * (hi - lo).max(1e-15 * lo.abs().max(hi.abs()).max(1.0))).max(FLOOR);
     let mut report = SignalReport {
         name: name.into(),
         passed: true,

@@ -2,10 +2,12 @@
 //! Library defines it (state events, no smoothing). Pure Rust; the Python bindings are elsewhere.
 
 pub mod assembly;
+pub mod catalogue;
 pub mod compare;
 pub mod components;
 pub mod engine;
 pub mod error;
+pub mod initialization;
 pub mod linalg;
 pub mod model;
 pub mod rel;

@@ -3,7 +3,7 @@
 //! Written by hand because it is ten lines and must reproduce MSL's extrapolation exactly.
 
 use crate::error::ModelResult;
-use crate::model::Params;
+use crate::model::{parse_decl, Params};
 
 #[derive(Debug, Clone)]
 pub struct Table1D {
@@ -12,10 +12,11 @@ pub struct Table1D {
 }
 
 impl Table1D {
-    /// Reads a `[:, 2]` table parameter and checks that its abscissa strictly increases.
-    pub fn from_param(p: &Params, name: &str, default: &[&[f64]]) -> ModelResult<Self> {
-        let rows = p.matrix(name, 2, default)?;
-        Self::from_rows(p, name, &rows, 1)
+    /// Reads a `[:, 2]` table parameter (its declaration `"name [unit] description"`) and
+    /// checks that its abscissa strictly increases.
+    pub fn from_param(p: &Params, decl: &'static str, default: &[&[f64]]) -> ModelResult<Self> {
+        let rows = p.matrix(decl, 2, default)?;
+        Self::from_rows(p, parse_decl(decl).0, &rows, 1)
     }
 
     /// Builds a table from `rows[:, 0]` against `rows[:, column]`.

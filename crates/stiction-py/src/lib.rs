@@ -2,6 +2,7 @@
 //! while simulating, and turns every error — and any panic — into a Python exception.
 
 mod compiled;
+mod info;
 
 use std::collections::HashMap;
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -41,10 +42,14 @@ fn parse(
     model_toml: &str,
     base_dir: &str,
     overrides: &HashMap<String, f64>,
+    solver: Option<&str>,
 ) -> PyResult<ModelSpec> {
     let mut spec = ModelSpec::from_toml(model_toml, base_dir).map_err(model_err)?;
     for (key, value) in overrides {
         spec.experiment.set(key, *value).map_err(model_err)?;
+    }
+    if let Some(solver) = solver {
+        spec.experiment.set_solver(solver);
     }
     spec.experiment.validate().map_err(model_err)?;
     Ok(spec)
@@ -208,14 +213,15 @@ fn write_mat(
 
 /// Simulates a model given as TOML text; `overrides` replace `[experiment]` settings.
 #[pyfunction]
-#[pyo3(signature = (model_toml, base_dir = ".", overrides = None))]
+#[pyo3(signature = (model_toml, base_dir = ".", overrides = None, solver = None))]
 fn simulate(
     py: Python<'_>,
     model_toml: &str,
     base_dir: &str,
     overrides: Option<HashMap<String, f64>>,
+    solver: Option<&str>,
 ) -> PyResult<RawResult> {
-    let spec = parse(model_toml, base_dir, &overrides.unwrap_or_default())?;
+    let spec = parse(model_toml, base_dir, &overrides.unwrap_or_default(), solver)?;
     let mut sim = guarded(|| Simulation::from_spec(&spec))?;
     let stop = sim.system().experiment.stop_time;
     advance_interruptibly(py, &mut sim, stop)?;
@@ -226,25 +232,12 @@ fn simulate(
 #[pyfunction]
 #[pyo3(signature = (model_toml, base_dir = "."))]
 fn check(model_toml: &str, base_dir: &str) -> PyResult<()> {
-    let spec = parse(model_toml, base_dir, &HashMap::new())?;
+    let spec = parse(model_toml, base_dir, &HashMap::new(), None)?;
     guarded(|| {
         let sys = stiction_core::assembly::assemble(&spec)?;
         stiction_core::simulation::initial_state(&sys)?;
         Ok(())
     })
-}
-
-/// `{type: {"parameters": [...], "ports": [...]}}` for every component type.
-#[pyfunction]
-fn component_types(py: Python<'_>) -> PyResult<Py<PyDict>> {
-    let out = PyDict::new(py);
-    for (name, params, ports) in stiction_core::components::schema() {
-        let entry = PyDict::new(py);
-        entry.set_item("parameters", params)?;
-        entry.set_item("ports", ports)?;
-        out.set_item(name, entry)?;
-    }
-    Ok(out.unbind())
 }
 
 /// Advances `sim` to `t` with the GIL released, in slices of about 50 ms of wall-clock time,
@@ -289,13 +282,14 @@ impl PySimulation {
 #[pymethods]
 impl PySimulation {
     #[new]
-    #[pyo3(signature = (model_toml, base_dir = ".", overrides = None))]
+    #[pyo3(signature = (model_toml, base_dir = ".", overrides = None, solver = None))]
     fn new(
         model_toml: &str,
         base_dir: &str,
         overrides: Option<HashMap<String, f64>>,
+        solver: Option<&str>,
     ) -> PyResult<Self> {
-        let spec = parse(model_toml, base_dir, &overrides.unwrap_or_default())?;
+        let spec = parse(model_toml, base_dir, &overrides.unwrap_or_default(), solver)?;
         let sim = guarded(|| Simulation::from_spec(&spec))?;
         Ok(Self(Some(sim)))
     }
@@ -399,9 +393,9 @@ impl PyState {
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
-    m.add_function(wrap_pyfunction!(component_types, m)?)?;
     m.add_function(wrap_pyfunction!(write_csv, m)?)?;
     m.add_function(wrap_pyfunction!(write_mat, m)?)?;
+    info::register(m)?;
     m.add_class::<RawResult>()?;
     m.add_class::<PySimulation>()?;
     m.add_class::<PyCancelHandle>()?;

@@ -70,11 +70,12 @@ impl CompiledModel {
     /// Every parameter a variant may set: `component.parameter` for the parameters each
     /// component accepts (its defaults included), then the experiment settings.
     pub fn parameter_names(&self) -> Vec<String> {
-        let schema = components::schema();
+        let registry = components::registry();
         let mut names = Vec::new();
         for c in &self.spec.components {
-            if let Some((_, params, _)) = schema.iter().find(|(t, _, _)| *t == c.type_name) {
-                names.extend(params.iter().map(|p| format!("{}.{p}", c.name)));
+            if let Some(entry) = registry.iter().find(|e| e.name == c.type_name) {
+                let (params, _) = components::declared(entry, false);
+                names.extend(params.iter().map(|p| format!("{}.{}", c.name, p.name)));
             }
         }
         names.extend(EXPERIMENT.iter().map(|s| s.to_string()));
@@ -214,7 +215,7 @@ fn set_experiment(experiment: &mut Experiment, name: &str, value: &toml::Value) 
         let solver = value
             .as_str()
             .ok_or_else(|| error("Solver must be a string".into()))?;
-        experiment.solver = solver.to_string();
+        experiment.set_solver(solver);
         return Ok(());
     }
     if !EXPERIMENT.contains(&name) {

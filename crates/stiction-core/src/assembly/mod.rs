@@ -237,7 +237,11 @@ fn merge_time_events(mut events: Vec<f64>, start: f64, stop: f64) -> Vec<f64> {
 /// Orders blocks so that every block comes after the blocks it reads; a loop is an error.
 fn order_signals(graph: &mut SignalGraph) -> ModelResult<()> {
     let mut pending: Vec<BlockElem> = std::mem::take(&mut graph.blocks);
-    let mut ready = vec![false; graph.slots];
+    // A slot no block writes (a model input) is ready from the start.
+    let mut ready = vec![true; graph.slots];
+    for block in &pending {
+        ready[block.output] = false;
+    }
     let mut ordered = Vec::with_capacity(pending.len());
     while !pending.is_empty() {
         let before = pending.len();

@@ -1,5 +1,6 @@
 //! Modelica.Blocks.Sources (Constant, Step, Ramp, Sine) and Math (Product, Feedback, Add, Gain).
 
+use super::decl::{OFFSET, START_TIME};
 use std::f64::consts::PI;
 
 use super::{Component, Ports};
@@ -74,7 +75,7 @@ impl Block for Constant {
 }
 
 pub fn constant(p: &Params) -> ModelResult<Box<dyn Component>> {
-    let k = p.real("k", 1.0)?;
+    let k = p.real("k [1] Constant output value", 1.0)?;
     boxed(&[], Constant(k), vec![])
 }
 
@@ -97,9 +98,9 @@ impl Block for Step {
 
 pub fn step(p: &Params) -> ModelResult<Box<dyn Component>> {
     let s = Step {
-        height: p.real("height", 1.0)?,
-        offset: p.real("offset", 0.0)?,
-        start_time: p.real("startTime", 0.0)?,
+        height: p.real("height [1] Height of the step", 1.0)?,
+        offset: p.real(OFFSET, 0.0)?,
+        start_time: p.real(START_TIME, 0.0)?,
     };
     let events = vec![s.start_time];
     boxed(&[], s, events)
@@ -128,10 +129,14 @@ impl Block for Ramp {
 
 pub fn ramp(p: &Params) -> ModelResult<Box<dyn Component>> {
     let r = Ramp {
-        height: p.real("height", 1.0)?,
-        duration: p.at_least("duration", p.real("duration", 2.0)?, 0.0)?,
-        offset: p.real("offset", 0.0)?,
-        start_time: p.real("startTime", 0.0)?,
+        height: p.real("height [1] Height of the ramp", 1.0)?,
+        duration: p.at_least(
+            "duration",
+            p.real("duration [s] Duration of the ramp (0 gives a step)", 2.0)?,
+            0.0,
+        )?,
+        offset: p.real(OFFSET, 0.0)?,
+        start_time: p.real(START_TIME, 0.0)?,
     };
     let events = vec![r.start_time, r.start_time + r.duration];
     boxed(&[], r, events)
@@ -164,12 +169,15 @@ impl Block for Sine {
 
 pub fn sine(p: &Params) -> ModelResult<Box<dyn Component>> {
     let s = Sine {
-        amplitude: p.real("amplitude", 1.0)?,
-        f: p.real("f", 1.0)?,
-        phase: p.real("phase", 0.0)?,
-        offset: p.real("offset", 0.0)?,
-        start_time: p.real("startTime", 0.0)?,
-        continuous: p.boolean("continuous", false)?,
+        amplitude: p.real("amplitude [1] Amplitude of the sine wave", 1.0)?,
+        f: p.real("f [Hz] Frequency of the sine wave", 1.0)?,
+        phase: p.real("phase [rad] Phase of the sine wave", 0.0)?,
+        offset: p.real(OFFSET, 0.0)?,
+        start_time: p.real(START_TIME, 0.0)?,
+        continuous: p.boolean(
+            "continuous true: y = offset + amplitude*sin(phase) before startTime",
+            false,
+        )?,
     };
     let events = vec![s.start_time];
     boxed(&[], s, events)
@@ -212,8 +220,8 @@ impl Block for Add {
 
 pub fn add(p: &Params) -> ModelResult<Box<dyn Component>> {
     let a = Add {
-        k1: p.real("k1", 1.0)?,
-        k2: p.real("k2", 1.0)?,
+        k1: p.real("k1 [1] Gain of input signal u1", 1.0)?,
+        k2: p.real("k2 [1] Gain of input signal u2", 1.0)?,
     };
     boxed(&["u1", "u2"], a, vec![])
 }
@@ -227,7 +235,7 @@ impl Block for Gain {
 }
 
 pub fn gain(p: &Params) -> ModelResult<Box<dyn Component>> {
-    let k = p.required("k")?;
+    let k = p.required("k [1] Gain multiplied with the input signal")?;
     boxed(&["u"], Gain(k), vec![])
 }
 
@@ -287,15 +295,17 @@ impl Block for Pulse {
 }
 
 pub fn pulse(p: &Params) -> ModelResult<Box<dyn Component>> {
-    let period = p.positive("period", p.real("period", 1.0)?)?;
-    let width_percent = p.real("width", 50.0)?;
+    let period = p.positive("period", p.real("period [s] Time for one period", 1.0)?)?;
+    let width_percent = p.real("width [%] Width of the pulse in % of the period", 50.0)?;
+    p.range("width", "(0, 100]");
     if !(width_percent > 0.0 && width_percent <= 100.0) {
         return Err(p.error(
             "width",
             format!("must be in (0, 100] %, got {width_percent}"),
         ));
     }
-    let nperiod = p.real("nperiod", -1.0)?;
+    let nperiod = p.real("nperiod [1] Number of periods (< 0: for ever)", -1.0)?;
+    p.range("nperiod", "a whole number");
     if nperiod.fract() != 0.0 {
         return Err(p.error(
             "nperiod",
@@ -303,12 +313,12 @@ pub fn pulse(p: &Params) -> ModelResult<Box<dyn Component>> {
         ));
     }
     let block = Pulse {
-        amplitude: p.real("amplitude", 1.0)?,
+        amplitude: p.real("amplitude [1] Amplitude of the pulse", 1.0)?,
         width: period * width_percent / 100.0,
         period,
         nperiod: nperiod as i64,
-        offset: p.real("offset", 0.0)?,
-        start_time: p.real("startTime", 0.0)?,
+        offset: p.real(OFFSET, 0.0)?,
+        start_time: p.real(START_TIME, 0.0)?,
     };
     let edges = block.clone();
     Ok(Box::new(BlockComponent {

@@ -1,7 +1,8 @@
 //! `Spring`, `Damper`, `SpringDamper`, `ElastoBacklash`: torque laws between two flanges
 //! (spec §5.6, §5.10–5.12).
 
-use super::{heat_port, Component, Constructor, Ports};
+use super::decl::{PHI_REL, USE_HEAT_PORT, W_REL};
+use super::{heat_port, Component, Entry, Ports};
 use crate::error::ModelResult;
 use crate::model::{InitValue, Params};
 use crate::system::{Builder, EnergyRole, ForceLaw, LawCtx, Out, Rel};
@@ -105,10 +106,10 @@ impl Component for Compliant {
 
 fn spring(p: &Params) -> ModelResult<Box<dyn Component>> {
     Ok(Box::new(Compliant {
-        c: p.at_least("c", p.real("c", 1e5)?, 0.0)?,
+        c: p.at_least("c", p.real("c [N.m/rad] Spring constant", 1e5)?, 0.0)?,
         d: 0.0,
-        phi_rel0: p.real("phi_rel0", 0.0)?,
-        phi_rel: p.init("phi_rel", 0.0)?,
+        phi_rel0: p.real("phi_rel0 [rad] Unstretched spring angle", 0.0)?,
+        phi_rel: p.init(PHI_REL, 0.0)?,
         w_rel: InitValue {
             start: 0.0,
             fixed: false,
@@ -123,54 +124,75 @@ fn spring(p: &Params) -> ModelResult<Box<dyn Component>> {
 fn damper(p: &Params) -> ModelResult<Box<dyn Component>> {
     Ok(Box::new(Compliant {
         c: 0.0,
-        d: p.at_least("d", p.real("d", 0.0)?, 0.0)?,
+        d: p.at_least("d", p.real("d [N.m.s/rad] Damping constant", 0.0)?, 0.0)?,
         phi_rel0: 0.0,
-        phi_rel: p.init("phi_rel", 0.0)?,
-        w_rel: p.init("w_rel", 0.0)?,
+        phi_rel: p.init(PHI_REL, 0.0)?,
+        w_rel: p.init(W_REL, 0.0)?,
         has_damper: true,
         has_spring: false,
-        use_heat_port: p.boolean("useHeatPort", false)?,
+        use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
         backlash: None,
     }))
 }
 
 fn spring_damper(p: &Params) -> ModelResult<Box<dyn Component>> {
     Ok(Box::new(Compliant {
-        c: p.at_least("c", p.real("c", 1e5)?, 0.0)?,
-        d: p.at_least("d", p.real("d", 0.0)?, 0.0)?,
-        phi_rel0: p.real("phi_rel0", 0.0)?,
-        phi_rel: p.init("phi_rel", 0.0)?,
-        w_rel: p.init("w_rel", 0.0)?,
+        c: p.at_least("c", p.real("c [N.m/rad] Spring constant", 1e5)?, 0.0)?,
+        d: p.at_least("d", p.real("d [N.m.s/rad] Damping constant", 0.0)?, 0.0)?,
+        phi_rel0: p.real("phi_rel0 [rad] Unstretched spring angle", 0.0)?,
+        phi_rel: p.init(PHI_REL, 0.0)?,
+        w_rel: p.init(W_REL, 0.0)?,
         has_damper: true,
         has_spring: true,
-        use_heat_port: p.boolean("useHeatPort", false)?,
+        use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
         backlash: None,
     }))
 }
 
 fn elasto_backlash(p: &Params) -> ModelResult<Box<dyn Component>> {
-    let b = p.real("b", 0.0)?;
+    let b = p.real("b [rad] Total backlash", 0.0)?;
+    p.range("b", ">= 0");
     if b < 0.0 {
         return Err(p.error("b", format!("the backlash must be >= 0, got {b}")));
     }
     Ok(Box::new(Compliant {
-        c: p.positive("c", p.real("c", 1e5)?)?,
-        d: p.at_least("d", p.real("d", 0.0)?, 0.0)?,
-        phi_rel0: p.real("phi_rel0", 0.0)?,
-        phi_rel: p.init("phi_rel", 0.0)?,
-        w_rel: p.init("w_rel", 0.0)?,
+        c: p.positive("c", p.real("c [N.m/rad] Spring constant", 1e5)?)?,
+        d: p.at_least("d", p.real("d [N.m.s/rad] Damping constant", 0.0)?, 0.0)?,
+        phi_rel0: p.real("phi_rel0 [rad] Unstretched spring angle", 0.0)?,
+        phi_rel: p.init(PHI_REL, 0.0)?,
+        w_rel: p.init(W_REL, 0.0)?,
         has_damper: true,
         has_spring: true,
-        use_heat_port: p.boolean("useHeatPort", false)?,
+        use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
         backlash: Some(b),
     }))
 }
 
-pub const REGISTRY: &[(&str, Constructor)] = &[
-    ("Spring", spring),
-    ("Damper", damper),
-    ("SpringDamper", spring_damper),
-    ("ElastoBacklash", elasto_backlash),
+pub const REGISTRY: &[Entry] = &[
+    Entry::new(
+        "Spring",
+        "Modelica.Mechanics.Rotational.Components.Spring",
+        "Linear 1D rotational spring",
+        spring,
+    ),
+    Entry::new(
+        "Damper",
+        "Modelica.Mechanics.Rotational.Components.Damper",
+        "Linear 1D rotational damper",
+        damper,
+    ),
+    Entry::new(
+        "SpringDamper",
+        "Modelica.Mechanics.Rotational.Components.SpringDamper",
+        "Linear 1D rotational spring and damper in parallel",
+        spring_damper,
+    ),
+    Entry::new(
+        "ElastoBacklash",
+        "Modelica.Mechanics.Rotational.Components.ElastoBacklash",
+        "Backlash connected in series to linear spring and damper (soft contact)",
+        elasto_backlash,
+    ),
 ];
 
 /// MSL ElastoBacklash (spec §5.6): a spring/damper behind a backlash of total width `b`, with

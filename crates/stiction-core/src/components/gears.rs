@@ -1,7 +1,8 @@
 //! `IdealGear` (spec §5.7) and `IdealPlanetary` (§5.8): kinematic gears, permanent constraints
 //! whose multipliers are the gear torques.
 
-use super::{with_support, Component, Constructor, Ports};
+use super::decl::USE_SUPPORT;
+use super::{with_support, Component, Entry, Ports};
 use crate::error::ModelResult;
 use crate::model::Params;
 use crate::system::{Builder, Out, Rel};
@@ -39,13 +40,14 @@ impl Component for IdealGear {
 }
 
 fn ideal_gear(p: &Params) -> ModelResult<Box<dyn Component>> {
-    let ratio = p.real("ratio", 1.0)?;
-    if ratio == 0.0 {
-        return Err(p.error("ratio", "must not be 0"));
-    }
+    let ratio = p.real(
+        "ratio [1] Transmission ratio flange_a.phi/flange_b.phi",
+        1.0,
+    )?;
+    let ratio = p.nonzero("ratio", ratio)?;
     Ok(Box::new(IdealGear {
         ratio,
-        use_support: p.boolean("useSupport", false)?,
+        use_support: p.boolean(USE_SUPPORT, false)?,
     }))
 }
 
@@ -78,11 +80,27 @@ impl Component for IdealPlanetary {
 }
 
 fn ideal_planetary(p: &Params) -> ModelResult<Box<dyn Component>> {
-    let ratio = p.positive("ratio", p.real("ratio", 100.0 / 50.0)?)?;
+    let ratio = p.positive(
+        "ratio",
+        p.real(
+            "ratio [1] Number of ring teeth / number of sun teeth",
+            100.0 / 50.0,
+        )?,
+    )?;
     Ok(Box::new(IdealPlanetary { ratio }))
 }
 
-pub const REGISTRY: &[(&str, Constructor)] = &[
-    ("IdealGear", ideal_gear),
-    ("IdealPlanetary", ideal_planetary),
+pub const REGISTRY: &[Entry] = &[
+    Entry::new(
+        "IdealGear",
+        "Modelica.Mechanics.Rotational.Components.IdealGear",
+        "Ideal gear without inertia",
+        ideal_gear,
+    ),
+    Entry::new(
+        "IdealPlanetary",
+        "Modelica.Mechanics.Rotational.Components.IdealPlanetary",
+        "Planetary gear (sun, carrier, ring) without inertia",
+        ideal_planetary,
+    ),
 ];

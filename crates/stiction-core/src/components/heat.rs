@@ -1,7 +1,7 @@
 //! Modelica.Thermal.HeatTransfer components: HeatCapacitor, ThermalConductor, Convection,
 //! FixedTemperature (kelvin and Celsius).
 
-use super::{Component, Constructor, Ports};
+use super::{Component, Entry, Ports};
 use crate::error::ModelResult;
 use crate::model::{InitValue, Params};
 use crate::system::{Builder, Out};
@@ -91,14 +91,21 @@ impl Component for FixedTemperature {
 }
 
 fn heat_capacitor(p: &Params) -> ModelResult<Box<dyn Component>> {
-    let c = p.positive("C", p.required("C")?)?;
+    let c = p.positive(
+        "C",
+        p.required("C [J/K] Heat capacity of the element (cp*m)")?,
+    )?;
     // MSL HeatCapacitor: T(start = 293.15); the start value is the initial temperature.
-    let t = p.init("T", 293.15)?;
+    let t = p.init("T [K] Temperature of the element (start value)", 293.15)?;
     Ok(Box::new(HeatCapacitor { c, t }))
 }
 
 fn thermal_conductor(p: &Params) -> ModelResult<Box<dyn Component>> {
-    let g = p.at_least("G", p.required("G")?, 0.0)?;
+    let g = p.at_least(
+        "G",
+        p.required("G [W/K] Constant thermal conductance of the material")?,
+        0.0,
+    )?;
     Ok(Box::new(Conductor {
         g: Some(g),
         ports: ("port_a", "port_b"),
@@ -113,20 +120,49 @@ fn convection(_p: &Params) -> ModelResult<Box<dyn Component>> {
 }
 
 fn fixed_temperature(p: &Params) -> ModelResult<Box<dyn Component>> {
-    let t = p.positive("T", p.required("T")?)?;
+    let t = p.positive("T", p.required("T [K] Fixed temperature at the port")?)?;
     Ok(Box::new(FixedTemperature { t }))
 }
 
 /// Thermal.HeatTransfer.Celsius.FixedTemperature: `T` in degrees Celsius.
 fn fixed_temperature_celsius(p: &Params) -> ModelResult<Box<dyn Component>> {
-    let t = p.at_least("T", p.required("T")?, -273.15)? + 273.15;
+    let t = p.at_least(
+        "T",
+        p.required("T [degC] Fixed temperature at the port")?,
+        -273.15,
+    )? + 273.15;
     Ok(Box::new(FixedTemperature { t }))
 }
 
-pub const REGISTRY: &[(&str, Constructor)] = &[
-    ("HeatCapacitor", heat_capacitor),
-    ("ThermalConductor", thermal_conductor),
-    ("Convection", convection),
-    ("FixedTemperature", fixed_temperature),
-    ("Celsius.FixedTemperature", fixed_temperature_celsius),
+pub const REGISTRY: &[Entry] = &[
+    Entry::new(
+        "HeatCapacitor",
+        "Modelica.Thermal.HeatTransfer.Components.HeatCapacitor",
+        "Lumped thermal element storing heat",
+        heat_capacitor,
+    ),
+    Entry::new(
+        "ThermalConductor",
+        "Modelica.Thermal.HeatTransfer.Components.ThermalConductor",
+        "Lumped thermal element transporting heat without storing it",
+        thermal_conductor,
+    ),
+    Entry::new(
+        "Convection",
+        "Modelica.Thermal.HeatTransfer.Components.Convection",
+        "Lumped thermal element for heat convection (conductance from the input Gc)",
+        convection,
+    ),
+    Entry::new(
+        "FixedTemperature",
+        "Modelica.Thermal.HeatTransfer.Sources.FixedTemperature",
+        "Fixed temperature boundary condition in kelvin",
+        fixed_temperature,
+    ),
+    Entry::new(
+        "Celsius.FixedTemperature",
+        "Modelica.Thermal.HeatTransfer.Celsius.FixedTemperature",
+        "Fixed temperature boundary condition in degrees Celsius",
+        fixed_temperature_celsius,
+    ),
 ];

@@ -1,6 +1,6 @@
 //! `Inertia` (gives its node mass, holds the absolute start values) and `Fixed` (grounds a node).
 
-use super::{Component, Constructor, Ports};
+use super::{Component, Entry, Ports};
 use crate::error::ModelResult;
 use crate::model::{InitValue, Params};
 use crate::system::{Builder, Out, Rel};
@@ -41,9 +41,15 @@ impl Component for Inertia {
 
 fn inertia(p: &Params) -> ModelResult<Box<dyn Component>> {
     Ok(Box::new(Inertia {
-        j: p.at_least("J", p.real("J", 1.0)?, 0.0)?,
-        phi: p.init("phi", 0.0)?,
-        w: p.init("w", 0.0)?,
+        j: p.at_least("J", p.real("J [kg.m2] Moment of inertia", 1.0)?, 0.0)?,
+        phi: p.init(
+            "phi [rad] Absolute rotation angle of the component (start value)",
+            0.0,
+        )?,
+        w: p.init(
+            "w [rad/s] Absolute angular velocity of the component (start value)",
+            0.0,
+        )?,
     }))
 }
 
@@ -69,8 +75,21 @@ impl Component for Fixed {
 
 fn fixed(p: &Params) -> ModelResult<Box<dyn Component>> {
     Ok(Box::new(Fixed {
-        phi0: p.real("phi0", 0.0)?,
+        phi0: p.real("phi0 [rad] Fixed offset angle of the housing", 0.0)?,
     }))
 }
 
-pub const REGISTRY: &[(&str, Constructor)] = &[("Inertia", inertia), ("Fixed", fixed)];
+pub const REGISTRY: &[Entry] = &[
+    Entry::new(
+        "Inertia",
+        "Modelica.Mechanics.Rotational.Components.Inertia",
+        "1D-rotational component with inertia",
+        inertia,
+    ),
+    Entry::new(
+        "Fixed",
+        "Modelica.Mechanics.Rotational.Components.Fixed",
+        "Flange fixed in the housing at a given angle",
+        fixed,
+    ),
+];

@@ -18,7 +18,7 @@ mod toy_stop;
 use std::path::Path;
 
 use crate::error::{ModelError, ModelResult};
-use crate::model::{ComponentSpec, Params};
+use crate::model::{ComponentSpec, ParamInfo, Params};
 use crate::system::Builder;
 pub use crate::system::PortKind;
 
@@ -77,6 +77,26 @@ pub fn heat_port(enabled: bool) -> Vec<&'static str> {
     }
 }
 
+/// Declarations of the parameters that MSL's partial base classes give many components
+/// (`PartialElementary…AndSupport2`, `PartialElementaryConditionalHeatPort…`,
+/// `PartialCompliantWithRelativeStates`, `PartialFriction`, `SignalSource`): written once, as
+/// MSL declares them once.
+pub mod decl {
+    pub const USE_SUPPORT: &str =
+        "useSupport true: enable the support connector (else the housing is fixed at angle 0)";
+    pub const USE_HEAT_PORT: &str =
+        "useHeatPort true: enable the heatPort connector (else the loss power goes nowhere)";
+    pub const PHI_REL: &str =
+        "phi_rel [rad] Relative rotation angle flange_b.phi - flange_a.phi (start value)";
+    pub const W_REL: &str = "w_rel [rad/s] Relative angular velocity der(phi_rel) (start value)";
+    pub const PEAK: &str =
+        "peak [1] Peak for maximum friction torque at w = 0: tau0_max = peak*tau0";
+    pub const W_SMALL: &str =
+        "w_small [rad/s] Relative speed above which a speed jump reverses sliding directly";
+    pub const OFFSET: &str = "offset [1] Offset of the output signal y";
+    pub const START_TIME: &str = "startTime [s] Output y = offset for time < startTime";
+}
+
 /// The most time events one component may schedule in a run.
 pub const MAX_TIME_EVENTS: usize = 1_000_000;
 
@@ -95,9 +115,36 @@ pub trait Component: Send + Sync {
 /// Builds a component from its parameters.
 pub type Constructor = fn(&Params) -> ModelResult<Box<dyn Component>>;
 
-/// Type name → constructor and the parameter names it accepts (for the Python front end).
-pub fn registry() -> Vec<(&'static str, Constructor)> {
-    let mut r: Vec<(&'static str, Constructor)> = Vec::new();
+/// One registered component type: its name in model files, its MSL class, a one-line
+/// description and its constructor (which declares the parameters as it reads them).
+#[derive(Clone, Copy)]
+pub struct Entry {
+    pub name: &'static str,
+    pub class: &'static str,
+    pub description: &'static str,
+    pub make: Constructor,
+}
+
+impl Entry {
+    /// A registry line: `Entry::new("Brake", "Modelica.…Brake", "Brake based on …", brake)`.
+    pub const fn new(
+        name: &'static str,
+        class: &'static str,
+        description: &'static str,
+        make: Constructor,
+    ) -> Self {
+        Self {
+            name,
+            class,
+            description,
+            make,
+        }
+    }
+}
+
+/// Every component type, family by family.
+pub fn registry() -> Vec<Entry> {
+    let mut r: Vec<Entry> = Vec::new();
     r.extend(inertia::REGISTRY);
     r.extend(compliant::REGISTRY);
     r.extend(gears::REGISTRY);
@@ -114,8 +161,8 @@ pub fn registry() -> Vec<(&'static str, Constructor)> {
 /// Builds one component from its specification, validating every parameter.
 pub fn create(spec: &ComponentSpec, base_dir: &Path) -> ModelResult<Box<dyn Component>> {
     let registry = registry();
-    let Some((_, make)) = registry.iter().find(|(name, _)| *name == spec.type_name) else {
-        let mut names: Vec<&str> = registry.iter().map(|(n, _)| *n).collect();
+    let Some(entry) = registry.iter().find(|e| e.name == spec.type_name) else {
+        let mut names: Vec<&str> = registry.iter().map(|e| e.name).collect();
         names.sort();
         return Err(ModelError::Component {
             component: spec.name.clone(),
@@ -127,24 +174,20 @@ pub fn create(spec: &ComponentSpec, base_dir: &Path) -> ModelResult<Box<dyn Comp
         });
     };
     let params = Params::new(spec, base_dir);
-    let component = make(&params)?;
+    let component = (entry.make)(&params)?;
     params.finish(&[])?;
     Ok(component)
 }
 
-/// For each component type: its parameter names and all its ports (conditional ones included).
-pub fn schema() -> Vec<(&'static str, Vec<String>, Vec<&'static str>)> {
-    registry()
-        .into_iter()
-        .filter_map(|(name, make)| {
-            let spec = ComponentSpec {
-                name: "x".into(),
-                type_name: name.into(),
-                params: toml::Table::new(),
-            };
-            let params = Params::schema(&spec);
-            let component = make(&params).ok()?;
-            Some((name, params.names(), component.ports().all()))
-        })
-        .collect()
+/// A type's parameters (as its constructor declares them) and its ports; `booleans` is the
+/// value of every Boolean parameter, so `true` shows the conditional ports as well.
+pub fn declared(entry: &Entry, booleans: bool) -> (Vec<ParamInfo>, Ports) {
+    let spec = ComponentSpec {
+        name: "x".into(),
+        type_name: entry.name.into(),
+        params: toml::Table::new(),
+    };
+    let params = Params::catalogue(&spec, booleans);
+    let component = (entry.make)(&params).expect("catalogue mode accepts the defaults");
+    (params.infos(), component.ports())
 }

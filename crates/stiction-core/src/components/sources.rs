@@ -1,7 +1,8 @@
 //! Rotational sources (spec §6.1): a torque on `flange` with the reaction on `support`
 //! (implicitly grounded unless `useSupport`), and `ConstantSpeed`, a prescribed speed.
 
-use super::{with_support, Component, Constructor, Ports};
+use super::decl::USE_SUPPORT;
+use super::{with_support, Component, Entry, Ports};
 use crate::error::ModelResult;
 use crate::model::{InitValue, Params};
 use crate::signals::reached;
@@ -200,7 +201,7 @@ fn source(
 ) -> ModelResult<Box<dyn Component>> {
     Ok(Box::new(TorqueSource {
         kind,
-        use_support: p.boolean("useSupport", false)?,
+        use_support: p.boolean(USE_SUPPORT, false)?,
         input,
         events,
     }))
@@ -213,30 +214,38 @@ fn torque(p: &Params) -> ModelResult<Box<dyn Component>> {
 fn constant_torque(p: &Params) -> ModelResult<Box<dyn Component>> {
     source(
         p,
-        Kind::Constant(p.required("tau_constant")?),
+        Kind::Constant(
+            p.required("tau_constant [N.m] Constant torque (negative: acting as load)")?,
+        ),
         false,
         vec![],
     )
 }
 
 fn torque_step(p: &Params) -> ModelResult<Box<dyn Component>> {
-    let start = p.real("startTime", 0.0)?;
+    let start = p.real("startTime [s] Time of the torque step", 0.0)?;
     let kind = Kind::Step {
-        step: p.real("stepTorque", 1.0)?,
-        offset: p.real("offsetTorque", 0.0)?,
+        step: p.real(
+            "stepTorque [N.m] Height of the torque step (negative: acting as load)",
+            1.0,
+        )?,
+        offset: p.real("offsetTorque [N.m] Offset of the torque", 0.0)?,
         start,
     };
     source(p, kind, false, vec![start])
 }
 
 fn w_nominal(p: &Params) -> ModelResult<f64> {
-    p.positive("w_nominal", p.required("w_nominal")?)
+    p.positive("w_nominal", p.required("w_nominal [rad/s] Nominal speed")?)
 }
 
 fn linear(p: &Params) -> ModelResult<Box<dyn Component>> {
     let kind = Kind::Linear {
-        tau_nominal: p.required("tau_nominal")?,
-        direction: p.boolean("TorqueDirection", true)?,
+        tau_nominal: p.required("tau_nominal [N.m] Nominal torque (negative: acting as load)")?,
+        direction: p.boolean(
+            "TorqueDirection true: same direction of torque in both directions of rotation",
+            true,
+        )?,
         w_nominal: w_nominal(p)?,
     };
     source(p, kind, false, vec![])
@@ -244,8 +253,11 @@ fn linear(p: &Params) -> ModelResult<Box<dyn Component>> {
 
 fn quadratic(p: &Params) -> ModelResult<Box<dyn Component>> {
     let kind = Kind::Quadratic {
-        tau_nominal: p.required("tau_nominal")?,
-        direction: p.boolean("TorqueDirection", true)?,
+        tau_nominal: p.required("tau_nominal [N.m] Nominal torque (negative: acting as load)")?,
+        direction: p.boolean(
+            "TorqueDirection true: same direction of torque in both directions of rotation",
+            true,
+        )?,
         w_nominal: w_nominal(p)?,
     };
     source(p, kind, false, vec![])
@@ -253,7 +265,11 @@ fn quadratic(p: &Params) -> ModelResult<Box<dyn Component>> {
 
 fn sign(p: &Params) -> ModelResult<Box<dyn Component>> {
     let reg = match p
-        .choice("reg", &["Exp", "Sine", "Linear", "CoSine"], "Exp")?
+        .choice(
+            "reg Type of regularization: Exp, Sine, Linear or CoSine",
+            &["Exp", "Sine", "Linear", "CoSine"],
+            "Exp",
+        )?
         .as_str()
     {
         "Sine" => Reg::Sine,
@@ -262,19 +278,22 @@ fn sign(p: &Params) -> ModelResult<Box<dyn Component>> {
         _ => Reg::Exp,
     };
     let kind = Kind::Sign {
-        tau_nominal: p.required("tau_nominal")?,
+        tau_nominal: p.required("tau_nominal [N.m] Nominal torque (negative: acting as load)")?,
         reg,
-        w0: p.positive("w0", p.real("w0", 0.1)?)?,
+        w0: p.positive("w0", p.real("w0 [rad/s] Regularization below w0", 0.1)?)?,
     };
     source(p, kind, false, vec![])
 }
 
 fn inverse(p: &Params) -> ModelResult<Box<dyn Component>> {
     let kind = Kind::Inverse {
-        tau_nominal: p.required("tau_nominal")?,
-        direction: p.boolean("TorqueDirection", true)?,
+        tau_nominal: p.required("tau_nominal [N.m] Nominal torque (negative: acting as load)")?,
+        direction: p.boolean(
+            "TorqueDirection true: same direction of torque in both directions of rotation",
+            true,
+        )?,
         w_nominal: w_nominal(p)?,
-        w0: p.positive("w0", p.real("w0", 0.1)?)?,
+        w0: p.positive("w0", p.real("w0 [rad/s] Regularization below w0", 0.1)?)?,
     };
     source(p, kind, false, vec![])
 }
@@ -318,19 +337,62 @@ impl Component for ConstantSpeed {
 
 fn constant_speed(p: &Params) -> ModelResult<Box<dyn Component>> {
     Ok(Box::new(ConstantSpeed {
-        w_fixed: p.required("w_fixed")?,
-        phi: p.init("phi", 0.0)?,
-        use_support: p.boolean("useSupport", false)?,
+        w_fixed: p.required("w_fixed [rad/s] Fixed speed of the flange relative to the support")?,
+        phi: p.init(
+            "phi [rad] Angle of the flange relative to the support (start value)",
+            0.0,
+        )?,
+        use_support: p.boolean(USE_SUPPORT, false)?,
     }))
 }
 
-pub const REGISTRY: &[(&str, Constructor)] = &[
-    ("Torque", torque),
-    ("ConstantTorque", constant_torque),
-    ("TorqueStep", torque_step),
-    ("LinearSpeedDependentTorque", linear),
-    ("QuadraticSpeedDependentTorque", quadratic),
-    ("SignTorque", sign),
-    ("InverseSpeedDependentTorque", inverse),
-    ("ConstantSpeed", constant_speed),
+pub const REGISTRY: &[Entry] = &[
+    Entry::new(
+        "Torque",
+        "Modelica.Mechanics.Rotational.Sources.Torque",
+        "Input signal acting as external torque on a flange",
+        torque,
+    ),
+    Entry::new(
+        "ConstantTorque",
+        "Modelica.Mechanics.Rotational.Sources.ConstantTorque",
+        "Constant torque, not dependent on speed",
+        constant_torque,
+    ),
+    Entry::new(
+        "TorqueStep",
+        "Modelica.Mechanics.Rotational.Sources.TorqueStep",
+        "Constant torque, not dependent on speed, starting at a given time",
+        torque_step,
+    ),
+    Entry::new(
+        "LinearSpeedDependentTorque",
+        "Modelica.Mechanics.Rotational.Sources.LinearSpeedDependentTorque",
+        "Linear dependency of torque versus speed",
+        linear,
+    ),
+    Entry::new(
+        "QuadraticSpeedDependentTorque",
+        "Modelica.Mechanics.Rotational.Sources.QuadraticSpeedDependentTorque",
+        "Quadratic dependency of torque versus speed",
+        quadratic,
+    ),
+    Entry::new(
+        "SignTorque",
+        "Modelica.Mechanics.Rotational.Sources.SignTorque",
+        "Constant torque changing direction with speed (regularized)",
+        sign,
+    ),
+    Entry::new(
+        "InverseSpeedDependentTorque",
+        "Modelica.Mechanics.Rotational.Sources.InverseSpeedDependentTorque",
+        "Torque inversely proportional to speed (constant power)",
+        inverse,
+    ),
+    Entry::new(
+        "ConstantSpeed",
+        "Modelica.Mechanics.Rotational.Sources.ConstantSpeed",
+        "Constant speed, not dependent on torque",
+        constant_speed,
+    ),
 ];

@@ -1,6 +1,7 @@
 //! A time table (MSL CombiTimeTable, one output column, linear interpolation): a measured
 //! normal-force or torque profile given inline or as a two-column CSV file.
 
+use super::decl::{OFFSET, START_TIME};
 use super::{Component, Ports};
 use crate::error::ModelResult;
 use crate::model::Params;
@@ -77,7 +78,8 @@ pub fn time_table(p: &Params) -> ModelResult<Box<dyn Component>> {
     if p.has("file") && p.has("table") {
         return Err(p.error("table", "give either 'table' or 'file', not both"));
     }
-    let file = p.string("file")?;
+    let file =
+        p.string("file CSV file of rows time, y (relative to the model file); instead of table")?;
     let rows = match file {
         Some(name) => {
             let path = p.base_dir.join(&name);
@@ -85,7 +87,11 @@ pub fn time_table(p: &Params) -> ModelResult<Box<dyn Component>> {
                 .map_err(|e| p.error("file", format!("cannot read '{}': {e}", path.display())))?;
             parse_csv(&text).map_err(|m| p.error("file", format!("'{}': {m}", path.display())))?
         }
-        None => p.matrix("table", 2, &[&[0.0, 0.0]])?,
+        None => p.matrix(
+            "table [s, 1] Rows [time, y]; a time given twice is a jump",
+            2,
+            &[&[0.0, 0.0]],
+        )?,
     };
     // Time must increase; one repeated time is a jump (as in MSL's CombiTimeTable).
     let which = if p.has("file") { "file" } else { "table" };
@@ -105,15 +111,15 @@ pub fn time_table(p: &Params) -> ModelResult<Box<dyn Component>> {
         }
     }
     let extrapolation = p.choice(
-        "extrapolation",
+        "extrapolation Beyond the last point: LastTwoPoints or HoldLastPoint",
         &["LastTwoPoints", "HoldLastPoint"],
         "LastTwoPoints",
     )?;
     Ok(Box::new(TimeTable {
         t: rows.iter().map(|r| r[0]).collect(),
         y: rows.iter().map(|r| r[1]).collect(),
-        offset: p.real("offset", 0.0)?,
-        start_time: p.real("startTime", 0.0)?,
+        offset: p.real(OFFSET, 0.0)?,
+        start_time: p.real(START_TIME, 0.0)?,
         hold: extrapolation == "HoldLastPoint",
     }))
 }

@@ -4,7 +4,7 @@
 //! the housing: the shaft turns freely forward; the first time its speed reaches 0 the pawl
 //! drops and holds it for ever, whatever the torque.
 
-use super::{with_support, Component, Constructor, Ports};
+use super::{with_support, Component, Entry, Ports};
 use crate::error::ModelResult;
 use crate::model::Params;
 use crate::rel::Rel;
@@ -121,7 +121,12 @@ fn toy_stop(_: &Params) -> ModelResult<Box<dyn Component>> {
     Ok(Box::new(ToyStop))
 }
 
-pub const REGISTRY: &[(&str, Constructor)] = &[("ToyStop", toy_stop)];
+pub const REGISTRY: &[Entry] = &[Entry::new(
+    "ToyStop",
+    "stiction.Tests.ToyStop",
+    "A frictionless pawl that holds its shaft once it stops (tests only)",
+    toy_stop,
+)];
 
 #[cfg(test)]
 mod tests {

@@ -1,8 +1,10 @@
 //! What the user describes: the model file (TOML), its components, their parameters and the
 //! connections, read and validated into plain data before anything is assembled.
 
+mod decl;
 mod params;
 mod spec;
 
+pub use decl::{parse_decl, ParamInfo, ParamKind};
 pub use params::{InitValue, Params};
 pub use spec::{ComponentSpec, Experiment, InputSpec, ModelSpec, PortRef, FORMAT_VERSION};

@@ -1,10 +1,17 @@
 //! Reading one component's parameters: typed getters with defaults and range checks, and a final
 //! check that no unknown parameter was given. Every error names the component and the parameter.
+//!
+//! Each getter takes the parameter's declaration, `"name [unit] description"`, so what the
+//! reference says about a parameter sits on the line that reads it. Run in catalogue mode
+//! (`Params::catalogue`), a constructor records every declaration with its default and range:
+//! that record is the component catalogue (`crate::catalogue`), the one source of the Python
+//! classes, their docstrings and stubs, `stiction describe` and docs/components.md.
 
 use std::cell::RefCell;
 use std::collections::BTreeSet;
 use std::path::Path;
 
+use super::decl::{parse_decl, ParamInfo, ParamKind};
 use crate::error::{ModelError, ModelResult};
 use crate::model::ComponentSpec;
 
@@ -20,9 +27,10 @@ pub struct Params<'a> {
     /// Folder that relative file names are resolved against.
     pub base_dir: &'a Path,
     used: RefCell<BTreeSet<String>>,
-    /// Schema mode lists a type's parameters and ports: required values default to 1,
-    /// Booleans to true (so conditional ports show), and nothing is range-checked.
-    schema: bool,
+    /// Catalogue mode records each declaration; required values default to 1 and nothing is
+    /// range-checked. `Some(on)`: Booleans not given default to `on` (to show conditional ports).
+    catalogue: Option<bool>,
+    infos: RefCell<Vec<ParamInfo>>,
 }
 
 impl<'a> Params<'a> {
@@ -31,14 +39,56 @@ impl<'a> Params<'a> {
             spec,
             base_dir,
             used: RefCell::new(BTreeSet::new()),
-            schema: false,
+            catalogue: None,
+            infos: RefCell::new(Vec::new()),
         }
     }
 
-    pub fn schema(spec: &'a ComponentSpec) -> Self {
+    /// Catalogue mode: records every parameter the constructor reads; Booleans the spec does
+    /// not set read as `booleans` (true: every conditional port shows).
+    pub fn catalogue(spec: &'a ComponentSpec, booleans: bool) -> Self {
         Self {
-            schema: true,
+            catalogue: Some(booleans),
             ..Self::new(spec, Path::new("."))
+        }
+    }
+
+    /// The parameters recorded in catalogue mode, in the order the constructor read them.
+    pub fn infos(&self) -> Vec<ParamInfo> {
+        self.infos.borrow().clone()
+    }
+
+    fn schema(&self) -> bool {
+        self.catalogue.is_some()
+    }
+
+    /// Records a declaration (in catalogue mode) and marks the parameter used; gives its name.
+    fn declare(
+        &self,
+        decl: &'static str,
+        kind: ParamKind,
+        default: Option<toml::Value>,
+    ) -> &'static str {
+        let (name, unit, description) = parse_decl(decl);
+        if self.schema() && !self.infos.borrow().iter().any(|i| i.name == name) {
+            self.infos.borrow_mut().push(ParamInfo {
+                name: name.to_string(),
+                kind,
+                required: default.is_none(),
+                default,
+                unit: unit.to_string(),
+                description: description.to_string(),
+                range: None,
+            });
+        }
+        self.used.borrow_mut().insert(name.to_string());
+        name
+    }
+
+    /// Records the valid range of a parameter (catalogue mode) for a check done by hand.
+    pub fn range(&self, name: &str, range: &str) {
+        if let Some(info) = self.infos.borrow_mut().iter_mut().find(|i| i.name == name) {
+            info.range = Some(range.to_string());
         }
     }
 
@@ -66,7 +116,6 @@ impl<'a> Params<'a> {
     }
 
     fn get(&self, name: &str) -> Option<&'a toml::Value> {
-        self.used.borrow_mut().insert(name.to_string());
         self.spec.params.get(name)
     }
 
@@ -82,7 +131,8 @@ impl<'a> Params<'a> {
     }
 
     /// A real parameter with a default (MSL's default where it has one).
-    pub fn real(&self, name: &str, default: f64) -> ModelResult<f64> {
+    pub fn real(&self, decl: &'static str, default: f64) -> ModelResult<f64> {
+        let name = self.declare(decl, ParamKind::Real, Some(default.into()));
         match self.get(name) {
             Some(v) => self.number(name, v),
             None => Ok(default),
@@ -90,38 +140,57 @@ impl<'a> Params<'a> {
     }
 
     /// A real parameter MSL declares without a default value: the user must give it.
-    pub fn required(&self, name: &str) -> ModelResult<f64> {
+    pub fn required(&self, decl: &'static str) -> ModelResult<f64> {
+        let name = self.declare(decl, ParamKind::Real, None);
         match self.get(name) {
             Some(v) => self.number(name, v),
-            None if self.schema => Ok(1.0),
+            None if self.schema() => Ok(1.0),
             None => Err(self.error(name, "required parameter missing (MSL gives it no default)")),
         }
     }
 
     pub fn at_least(&self, name: &str, value: f64, min: f64) -> ModelResult<f64> {
-        if value < min && !self.schema {
+        self.range(name, &format!(">= {min}"));
+        if value < min && !self.schema() {
             return Err(self.error(name, format!("must be >= {min}, got {value}")));
         }
         Ok(value)
     }
 
     pub fn positive(&self, name: &str, value: f64) -> ModelResult<f64> {
-        if value <= 0.0 && !self.schema {
+        self.range(name, "> 0");
+        if value <= 0.0 && !self.schema() {
             return Err(self.error(name, format!("must be > 0, got {value}")));
         }
         Ok(value)
     }
 
-    pub fn boolean(&self, name: &str, default: bool) -> ModelResult<bool> {
+    /// A ratio that must not be 0 (a gear's).
+    pub fn nonzero(&self, name: &str, value: f64) -> ModelResult<f64> {
+        self.range(name, "!= 0");
+        if value == 0.0 && !self.schema() {
+            return Err(self.error(name, "must not be 0"));
+        }
+        Ok(value)
+    }
+
+    pub fn boolean(&self, decl: &'static str, default: bool) -> ModelResult<bool> {
+        let name = self.declare(decl, ParamKind::Boolean, Some(default.into()));
         match self.get(name) {
             Some(v) => v
                 .as_bool()
                 .ok_or_else(|| self.error(name, format!("expected true or false, got {v}"))),
-            None => Ok(default || self.schema),
+            None => Ok(self.catalogue.unwrap_or(default)),
         }
     }
 
-    pub fn string(&self, name: &str) -> ModelResult<Option<String>> {
+    /// A string without a default (TimeTable's `file`).
+    pub fn string(&self, decl: &'static str) -> ModelResult<Option<String>> {
+        let name = self.declare(decl, ParamKind::String, None);
+        self.optional_string(name)
+    }
+
+    fn optional_string(&self, name: &str) -> ModelResult<Option<String>> {
         match self.get(name) {
             Some(v) => v
                 .as_str()
@@ -132,39 +201,53 @@ impl<'a> Params<'a> {
     }
 
     /// A choice among named options (e.g. SignTorque's `reg`).
-    pub fn choice(&self, name: &str, options: &[&str], default: &str) -> ModelResult<String> {
-        let value = self.string(name)?.unwrap_or_else(|| default.to_string());
+    pub fn choice(
+        &self,
+        decl: &'static str,
+        options: &[&str],
+        default: &str,
+    ) -> ModelResult<String> {
+        let kind = ParamKind::Choice(options.iter().map(|o| o.to_string()).collect());
+        let name = self.declare(decl, kind, Some(default.into()));
+        let value = self
+            .optional_string(name)?
+            .unwrap_or_else(|| default.to_string());
         if !options.contains(&value.as_str()) {
             return Err(self.error(name, format!("must be one of {options:?}, got \"{value}\"")));
         }
         Ok(value)
     }
 
-    /// A matrix with a fixed number of columns, e.g. `mu_pos = [[0, 0.5], [10, 0.4]]`.
-    /// A flat list `[0, 0.5]` is one row, as Modelica writes `[0, 0.5]`.
+    /// A matrix with a fixed number of columns, e.g. `mu_pos = [[0, 0.5], [10, 0.4]]`. A flat
+    /// list `[0.5, 0.4]` is refused (was it one row or one column?) with the matrix it may mean;
+    /// so is a ragged one.
     pub fn matrix(
         &self,
-        name: &str,
+        decl: &'static str,
         columns: usize,
         default: &[&[f64]],
     ) -> ModelResult<Vec<Vec<f64>>> {
+        let value = toml::Value::Array(
+            default
+                .iter()
+                .map(|r| toml::Value::Array(r.iter().map(|&x| x.into()).collect()))
+                .collect(),
+        );
+        let name = self.declare(decl, ParamKind::Table(columns), Some(value));
         let Some(v) = self.get(name) else {
             return Ok(default.iter().map(|r| r.to_vec()).collect());
         };
+        let example = matrix_example(columns);
         let shape_err = || {
             self.error(
                 name,
-                format!(
-                    "expected a table of rows with {columns} columns, like [[0, 0.5], [10, 0.4]]"
-                ),
+                format!("expected a matrix of rows with {columns} columns, like {example}"),
             )
         };
         let rows = v.as_array().ok_or_else(shape_err)?;
-        let rows: Vec<&toml::Value> = if rows.iter().all(|r| !r.is_array()) {
-            vec![v]
-        } else {
-            rows.iter().collect()
-        };
+        if rows.iter().any(|r| !r.is_array()) {
+            return Err(self.error(name, flat_message(v, rows, columns, &example)));
+        }
         let mut out = Vec::with_capacity(rows.len());
         for row in rows {
             let cells = row.as_array().ok_or_else(shape_err)?;
@@ -172,7 +255,8 @@ impl<'a> Params<'a> {
                 return Err(self.error(
                     name,
                     format!(
-                        "every row must have {columns} columns, found a row with {}",
+                        "every row must have {columns} columns, found {row} with {}; \
+                         expected the form {example}",
                         cells.len()
                     ),
                 ));
@@ -191,7 +275,8 @@ impl<'a> Params<'a> {
     }
 
     /// A start value: a bare number is a fixed start value, `{ start = …, fixed = … }` says both.
-    pub fn init(&self, name: &str, default_start: f64) -> ModelResult<InitValue> {
+    pub fn init(&self, decl: &'static str, default_start: f64) -> ModelResult<InitValue> {
+        let name = self.declare(decl, ParamKind::Start, Some(default_start.into()));
         match self.get(name) {
             None => Ok(InitValue {
                 start: default_start,
@@ -224,7 +309,8 @@ impl<'a> Params<'a> {
 
     /// The start value of a Boolean (`stuck = { start = false, fixed = true }` or `stuck = false`):
     /// it becomes the `pre()` value at initialization.
-    pub fn boolean_start(&self, name: &str, default: bool) -> ModelResult<bool> {
+    pub fn boolean_start(&self, decl: &'static str, default: bool) -> ModelResult<bool> {
+        let name = self.declare(decl, ParamKind::BooleanStart, Some(default.into()));
         match self.get(name) {
             None => Ok(default),
             Some(toml::Value::Boolean(b)) => Ok(*b),
@@ -266,4 +352,47 @@ impl<'a> Params<'a> {
         }
         Ok(())
     }
+}
+
+/// `[[x1, y1], [x2, y2]]` with as many entries per row as the table has columns.
+fn matrix_example(columns: usize) -> String {
+    let row = |k: usize| {
+        let cells: Vec<String> = (1..=columns)
+            .map(|c| {
+                format!(
+                    "{}{k}",
+                    ["x", "y", "z", "u", "v"].get(c - 1).unwrap_or(&"c")
+                )
+            })
+            .collect();
+        format!("[{}]", cells.join(", "))
+    };
+    format!("[{}, {}, …]", row(1), row(2))
+}
+
+/// The message for a flat list: what the matrix form looks like, with the user's numbers when
+/// they fill whole rows.
+fn flat_message(v: &toml::Value, items: &[toml::Value], columns: usize, example: &str) -> String {
+    let what = if items.iter().any(|x| x.is_array()) {
+        "mixes rows and single numbers"
+    } else {
+        "is a flat list"
+    };
+    let mut text = format!(
+        "{v} {what}, but a table is a matrix (a list of rows with {columns} columns): {example}"
+    );
+    if !items.is_empty()
+        && items.len().is_multiple_of(columns)
+        && items.iter().all(|x| !x.is_array())
+    {
+        let rows: Vec<String> = items
+            .chunks(columns)
+            .map(|r| {
+                let cells: Vec<String> = r.iter().map(|x| x.to_string()).collect();
+                format!("[{}]", cells.join(", "))
+            })
+            .collect();
+        text += &format!("; as rows, {v} reads [{}]", rows.join(", "));
+    }
+    text
 }

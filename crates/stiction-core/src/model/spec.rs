@@ -48,6 +48,8 @@ pub struct Experiment {
     pub interval: f64,
     pub tolerance: f64,
     pub solver: String,
+    /// The settings the model file or an override gave; the others are the defaults.
+    pub given: Vec<&'static str>,
     /// Limits the user may set: a run that reaches one stops with an error saying so.
     pub limits: Limits,
 }
@@ -69,21 +71,35 @@ impl Default for Experiment {
             tolerance: 1e-6,
             solver: "tsit45".into(),
             limits: Limits::default(),
+            given: Vec::new(),
         }
     }
 }
 
 impl Experiment {
+    /// The settings in the order they are reported.
+    pub const KEYS: [&'static str; 5] =
+        ["StartTime", "StopTime", "Interval", "Tolerance", "Solver"];
+
     /// Applies one `StartTime`/`StopTime`/`Interval`/`Tolerance` override.
     pub fn set(&mut self, key: &str, value: f64) -> ModelResult<()> {
-        match key {
-            "StartTime" => self.start_time = value,
-            "StopTime" => self.stop_time = value,
-            "Interval" => self.interval = value,
-            "Tolerance" => self.tolerance = value,
-            "max_events" => self.limits.max_events = Some(count(key, value)?),
-            "max_steps" => self.limits.max_steps = Some(count(key, value)?),
-            "timeout" if value > 0.0 => self.limits.timeout = Some(value),
+        let (name, slot) = match key {
+            "StartTime" => ("StartTime", &mut self.start_time),
+            "StopTime" => ("StopTime", &mut self.stop_time),
+            "Interval" => ("Interval", &mut self.interval),
+            "Tolerance" => ("Tolerance", &mut self.tolerance),
+            "max_events" => {
+                self.limits.max_events = Some(count(key, value)?);
+                return Ok(());
+            }
+            "max_steps" => {
+                self.limits.max_steps = Some(count(key, value)?);
+                return Ok(());
+            }
+            "timeout" if value > 0.0 => {
+                self.limits.timeout = Some(value);
+                return Ok(());
+            }
             "timeout" => {
                 return Err(ModelError::File(
                     "experiment: timeout must be a positive number of seconds".into(),
@@ -94,7 +110,9 @@ impl Experiment {
                     "experiment: unknown setting '{key}' (StartTime, StopTime, Interval, Tolerance, Solver, max_events, max_steps, timeout)"
                 )))
             }
-        }
+        };
+        *slot = value;
+        self.mark_given(name);
         Ok(())
     }
 
@@ -106,6 +124,26 @@ impl Experiment {
     /// The index of the last grid point (StopTime).
     pub fn grid_len(&self) -> usize {
         ((self.stop_time - self.start_time) / self.interval - 1e-9).ceil() as usize
+    }
+
+    /// Chooses the integrator (checked by `validate`).
+    pub fn set_solver(&mut self, solver: &str) {
+        self.solver = solver.to_string();
+        self.mark_given("Solver");
+    }
+
+    fn mark_given(&mut self, name: &'static str) {
+        if !self.given.contains(&name) {
+            self.given.push(name);
+        }
+    }
+
+    /// The settings left at their defaults (none given in the file or as an override).
+    pub fn defaults(&self) -> Vec<&'static str> {
+        Self::KEYS
+            .into_iter()
+            .filter(|k| !self.given.contains(k))
+            .collect()
     }
 
     pub fn validate(&self) -> ModelResult<()> {
@@ -304,10 +342,10 @@ fn read_experiment(value: &toml::Value) -> ModelResult<Experiment> {
     let mut exp = Experiment::default();
     for (key, v) in table {
         if key == "Solver" {
-            exp.solver = v
+            let solver = v
                 .as_str()
-                .ok_or_else(|| ModelError::File("experiment: Solver must be a string".into()))?
-                .to_string();
+                .ok_or_else(|| ModelError::File("experiment: Solver must be a string".into()))?;
+            exp.set_solver(solver);
             continue;
         }
         let number = v

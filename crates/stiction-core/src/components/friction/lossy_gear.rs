@@ -7,7 +7,8 @@
 //! `c1·τa + c0` (the quadrant's line), so `τa`'s column becomes `row + c1·ℓ`; while stuck it is
 //! the unknown `sa` of the extra row `a_a = 0`.
 
-use super::super::{heat_port, with_support, Component, Constructor, Ports};
+use super::super::{heat_port, with_support, Component, Entry, Ports};
+use crate::components::decl::{USE_HEAT_PORT, USE_SUPPORT};
 use crate::error::ModelResult;
 use crate::model::Params;
 use crate::switching::lossy_gear::{tbf_a, LossyGearElem};
@@ -114,11 +115,17 @@ impl Component for LossyGear {
 }
 
 fn lossy_gear(p: &Params) -> ModelResult<Box<dyn Component>> {
-    let ratio = p.real("ratio", 1.0)?;
-    if ratio == 0.0 {
-        return Err(p.error("ratio", "must not be 0"));
-    }
-    let table = p.matrix("lossTable", 5, &[&[0.0, 1.0, 1.0, 0.0, 0.0]])?;
+    let ratio = p.real(
+        "ratio [1] Transmission ratio flange_a.phi/flange_b.phi",
+        1.0,
+    )?;
+    let ratio = p.nonzero("ratio", ratio)?;
+    let table = p.matrix(
+        "lossTable [rad/s, 1, 1, N.m, N.m] Rows [abs(w_a), eta_mf1, eta_mf2, tau_bf1, tau_bf2]",
+        5,
+        &[&[0.0, 1.0, 1.0, 0.0, 0.0]],
+    )?;
+    p.range("lossTable", "eta_mf1, eta_mf2 in (0, 1]");
     Table1D::check_increasing(p, "lossTable", &table)?;
     for row in &table {
         for (col, name) in [(1, "eta_mf1"), (2, "eta_mf2")] {
@@ -142,9 +149,14 @@ fn lossy_gear(p: &Params) -> ModelResult<Box<dyn Component>> {
         ratio,
         table,
         ideal,
-        use_support: p.boolean("useSupport", false)?,
-        use_heat_port: p.boolean("useHeatPort", false)?,
+        use_support: p.boolean(USE_SUPPORT, false)?,
+        use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
     }))
 }
 
-pub const REGISTRY: &[(&str, Constructor)] = &[("LossyGear", lossy_gear)];
+pub const REGISTRY: &[Entry] = &[Entry::new(
+    "LossyGear",
+    "Modelica.Mechanics.Rotational.Components.LossyGear",
+    "Gear with mesh efficiency and bearing friction (stuck/rolling possible)",
+    lossy_gear,
+)];

@@ -4,7 +4,8 @@
 
 pub mod lossy_gear;
 
-use super::{heat_port, with_support, Component, Constructor, Ports};
+use super::{heat_port, with_support, Component, Entry, Ports};
+use crate::components::decl::{PEAK, PHI_REL, USE_HEAT_PORT, USE_SUPPORT, W_REL, W_SMALL};
 use crate::error::ModelResult;
 use crate::model::{InitValue, Params};
 use crate::switching::friction::{FrictionElem, OneWay};
@@ -22,16 +23,24 @@ struct FrictionParams {
     use_heat_port: bool,
 }
 
+const CGEO: &str =
+    "cgeo [1] Geometry constant with the friction distribution, N*(ro + ri)/2 (a length)";
+const FN_MAX: &str = "fn_max [N] Maximum normal force (at f_normalized = 1)";
+
 fn read_params(p: &Params) -> ModelResult<FrictionParams> {
-    let mu_pos = Table1D::from_param(p, "mu_pos", &[&[0.0, 0.5]])?;
-    let peak = p.at_least("peak", p.real("peak", 1.0)?, 1.0)?;
+    let mu_pos = Table1D::from_param(
+        p,
+        "mu_pos [rad/s, 1] Positive sliding friction coefficient: rows [w, mu] for w >= 0",
+        &[&[0.0, 0.5]],
+    )?;
+    let peak = p.at_least("peak", p.real(PEAK, 1.0)?, 1.0)?;
     Ok(FrictionParams {
         mu_pos,
         peak,
-        cgeo: p.at_least("cgeo", p.real("cgeo", 1.0)?, 0.0)?,
-        fn_max: p.at_least("fn_max", p.required("fn_max")?, 0.0)?,
-        w_small: p.positive("w_small", p.real("w_small", 1.0e10)?)?,
-        use_heat_port: p.boolean("useHeatPort", false)?,
+        cgeo: p.at_least("cgeo", p.real(CGEO, 1.0)?, 0.0)?,
+        fn_max: p.at_least("fn_max", p.required(FN_MAX)?, 0.0)?,
+        w_small: p.positive("w_small", p.real(W_SMALL, 1.0e10)?)?,
+        use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
     })
 }
 
@@ -207,7 +216,7 @@ fn add_elem(b: &mut Builder, p: &FrictionParams, rel: Rel, kind: Kind) -> ModelR
 fn brake(p: &Params) -> ModelResult<Box<dyn Component>> {
     Ok(Box::new(Brake {
         p: read_params(p)?,
-        use_support: p.boolean("useSupport", false)?,
+        use_support: p.boolean(USE_SUPPORT, false)?,
         bearing: false,
     }))
 }
@@ -215,16 +224,20 @@ fn brake(p: &Params) -> ModelResult<Box<dyn Component>> {
 /// BearingFriction (spec §5.4): `tau_pos` is the sliding torque itself; never free.
 fn bearing_friction(p: &Params) -> ModelResult<Box<dyn Component>> {
     let params = FrictionParams {
-        mu_pos: Table1D::from_param(p, "tau_pos", &[&[0.0, 1.0]])?,
-        peak: p.at_least("peak", p.real("peak", 1.0)?, 1.0)?,
+        mu_pos: Table1D::from_param(
+            p,
+            "tau_pos [rad/s, N.m] Positive sliding friction torque: rows [w, tau] for w >= 0",
+            &[&[0.0, 1.0]],
+        )?,
+        peak: p.at_least("peak", p.real(PEAK, 1.0)?, 1.0)?,
         cgeo: 1.0,
         fn_max: 1.0,
-        w_small: p.positive("w_small", p.real("w_small", 1.0e10)?)?,
-        use_heat_port: p.boolean("useHeatPort", false)?,
+        w_small: p.positive("w_small", p.real(W_SMALL, 1.0e10)?)?,
+        use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
     };
     Ok(Box::new(Brake {
         p: params,
-        use_support: p.boolean("useSupport", false)?,
+        use_support: p.boolean(USE_SUPPORT, false)?,
         bearing: true,
     }))
 }
@@ -281,17 +294,37 @@ impl Component for Clutch {
 fn clutch(p: &Params) -> ModelResult<Box<dyn Component>> {
     Ok(Box::new(Clutch {
         p: read_params(p)?,
-        phi_rel: p.init("phi_rel", 0.0)?,
-        w_rel: p.init("w_rel", 0.0)?,
+        phi_rel: p.init(PHI_REL, 0.0)?,
+        w_rel: p.init(W_REL, 0.0)?,
         one_way: None,
     }))
 }
 
-pub const REGISTRY: &[(&str, Constructor)] = &[
-    ("Brake", brake),
-    ("Clutch", clutch),
-    ("BearingFriction", bearing_friction),
-    ("OneWayClutch", one_way_clutch),
+pub const REGISTRY: &[Entry] = &[
+    Entry::new(
+        "Brake",
+        "Modelica.Mechanics.Rotational.Components.Brake",
+        "Brake based on Coulomb friction",
+        brake,
+    ),
+    Entry::new(
+        "Clutch",
+        "Modelica.Mechanics.Rotational.Components.Clutch",
+        "Clutch based on Coulomb friction",
+        clutch,
+    ),
+    Entry::new(
+        "BearingFriction",
+        "Modelica.Mechanics.Rotational.Components.BearingFriction",
+        "Coulomb friction in bearings",
+        bearing_friction,
+    ),
+    Entry::new(
+        "OneWayClutch",
+        "Modelica.Mechanics.Rotational.Components.OneWayClutch",
+        "Series connection of freewheel and clutch",
+        one_way_clutch,
+    ),
 ];
 
 /// MSL's `eps0`: the relative hysteresis of the OneWayClutch.
@@ -300,11 +333,17 @@ const ONE_WAY_EPS: f64 = 1.0e-4;
 fn one_way_clutch(p: &Params) -> ModelResult<Box<dyn Component>> {
     Ok(Box::new(Clutch {
         p: read_params(p)?,
-        phi_rel: p.init("phi_rel", 0.0)?,
-        w_rel: p.init("w_rel", 0.0)?,
+        phi_rel: p.init(PHI_REL, 0.0)?,
+        w_rel: p.init(W_REL, 0.0)?,
         one_way: Some((
-            p.boolean_start("stuck", false)?,
-            p.boolean_start("startForward", false)?,
+            p.boolean_start(
+                "stuck Start value of stuck (w_rel = 0): its pre() value at initialization",
+                false,
+            )?,
+            p.boolean_start(
+                "startForward Start value of startForward: its pre() value at initialization",
+                false,
+            )?,
         )),
     }))
 }

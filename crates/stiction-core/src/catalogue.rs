@@ -1,0 +1,250 @@
+//! The component catalogue: for every registered type its MSL class, description, parameters
+//! (default, unit, range, description), ports with their kind and the condition that enables
+//! them, and the result variables with units. Built from the registry and from the parameter
+//! declarations each constructor reads (`model::Params` in catalogue mode), so nothing here is
+//! written twice; the Python classes, stubs, `stiction describe` and docs/components.md are
+//! generated from it.
+
+use std::path::PathBuf;
+
+use crate::assembly::assemble;
+use crate::components::{self, Entry, PortKind, Ports};
+use crate::model::{
+    ComponentSpec, Experiment, InputSpec, ModelSpec, ParamInfo, ParamKind, PortRef,
+};
+
+/// A port of a component type.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PortInfo {
+    pub name: String,
+    pub kind: PortKind,
+    /// The Boolean parameter that enables a conditional port (`useSupport`, `useHeatPort`).
+    pub enabled_by: Option<String>,
+}
+
+/// A result variable of a component type, relative to the instance (`w`, `flange_a.tau`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct VariableInfo {
+    pub name: String,
+    /// Modelica unit; `""` for Integers and Booleans (`mode`, `locked`).
+    pub unit: &'static str,
+}
+
+/// Everything the reference says about one component type.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TypeInfo {
+    pub name: &'static str,
+    pub class: &'static str,
+    pub description: &'static str,
+    pub params: Vec<ParamInfo>,
+    pub ports: Vec<PortInfo>,
+    pub variables: Vec<VariableInfo>,
+}
+
+/// The catalogue of every registered component type, in registry order.
+pub fn catalogue() -> Vec<TypeInfo> {
+    components::registry().iter().map(describe_entry).collect()
+}
+
+/// The catalogue entry of one type, if it is registered.
+pub fn describe(type_name: &str) -> Option<TypeInfo> {
+    components::registry()
+        .iter()
+        .find(|e| e.name == type_name)
+        .map(describe_entry)
+}
+
+fn describe_entry(entry: &Entry) -> TypeInfo {
+    let (params, plain) = components::declared(entry, false);
+    let (_, full) = components::declared(entry, true);
+    let booleans: Vec<&ParamInfo> = params
+        .iter()
+        .filter(|p| p.kind == ParamKind::Boolean)
+        .collect();
+    let ports = port_list(&full)
+        .into_iter()
+        .map(|(name, kind)| {
+            let conditional = !plain.all().contains(&name);
+            let enabled_by = booleans
+                .iter()
+                .find(|b| conditional && enables(entry, &b.name, name))
+                .map(|b| b.name.clone());
+            PortInfo {
+                name: name.to_string(),
+                kind,
+                enabled_by,
+            }
+        })
+        .collect();
+    TypeInfo {
+        name: entry.name,
+        class: entry.class,
+        description: entry.description,
+        variables: variables(entry, &params, &full),
+        params,
+        ports,
+    }
+}
+
+fn port_list(ports: &Ports) -> Vec<(&'static str, PortKind)> {
+    ports
+        .all()
+        .into_iter()
+        .map(|p| (p, ports.kind_of(p).expect("declared port")))
+        .collect()
+}
+
+/// Whether setting only `boolean` to true makes `port` appear.
+fn enables(entry: &Entry, boolean: &str, port: &str) -> bool {
+    let mut spec = instance(entry, &[]);
+    spec.params.insert(boolean.into(), true.into());
+    let params = crate::model::Params::catalogue(&spec, false);
+    (entry.make)(&params)
+        .map(|c| c.ports().all().contains(&port))
+        .unwrap_or(false)
+}
+
+fn instance(entry: &Entry, params: &[ParamInfo]) -> ComponentSpec {
+    let mut table = toml::Table::new();
+    for p in params {
+        match p.kind {
+            ParamKind::Boolean => {
+                table.insert(p.name.clone(), true.into());
+            }
+            ParamKind::Real if p.required => {
+                table.insert(p.name.clone(), 1.0.into());
+            }
+            _ => {}
+        }
+    }
+    ComponentSpec {
+        name: "x".into(),
+        type_name: entry.name.into(),
+        params: table,
+    }
+}
+
+/// The result variables of one instance with every conditional port enabled: a model of that
+/// component alone (its signal inputs declared model inputs, a heat port that needs somewhere
+/// to send its heat given a fixed temperature) is assembled and its outputs read.
+fn variables(entry: &Entry, params: &[ParamInfo], ports: &Ports) -> Vec<VariableInfo> {
+    let system = assemble(&alone(entry, params, ports, false))
+        .or_else(|_| assemble(&alone(entry, params, ports, true)))
+        .unwrap_or_else(|e| panic!("{} alone does not assemble: {e}", entry.name));
+    system
+        .outputs
+        .iter()
+        .filter_map(|(name, _)| name.strip_prefix("x."))
+        .map(|name| VariableInfo {
+            name: name.to_string(),
+            unit: variable_unit(name),
+        })
+        .collect()
+}
+
+fn alone(entry: &Entry, params: &[ParamInfo], ports: &Ports, heat_boundary: bool) -> ModelSpec {
+    let port = |component: &str, port: &str| PortRef {
+        component: component.into(),
+        port: port.into(),
+    };
+    let mut components = vec![instance(entry, params)];
+    let mut connections = Vec::new();
+    if heat_boundary {
+        for (k, heat) in ports.heat.iter().enumerate() {
+            let name = format!("boundary{k}");
+            let mut t = toml::Table::new();
+            t.insert("T".into(), 293.15.into());
+            components.push(ComponentSpec {
+                name: name.clone(),
+                type_name: "FixedTemperature".into(),
+                params: t,
+            });
+            connections.push((port("x", heat), port(&name, "port")));
+        }
+    }
+    ModelSpec {
+        name: "catalogue".into(),
+        experiment: Experiment::default(),
+        components,
+        connections,
+        inputs: ports
+            .signal_in
+            .iter()
+            .map(|p| InputSpec {
+                port: port("x", p),
+                start: 0.0,
+            })
+            .collect(),
+        base_dir: PathBuf::from("."),
+        written: Vec::new(),
+    }
+}
+
+/// The unit of a result variable from its MSL name (the last part: `flange_a.tau` → `tau`).
+pub fn variable_unit(name: &str) -> &'static str {
+    let last = name.rsplit('.').next().unwrap_or(name);
+    match last {
+        "phi" | "phi_rel" | "phi_a" | "phi_b" => "rad",
+        "w" | "w_rel" | "w_a" | "w_b" => "rad/s",
+        "a" | "a_rel" | "a_a" | "a_b" => "rad/s2",
+        "tau" | "tau_c" | "tau_d" | "sa" | "tau0" | "tau0_max" | "tauLoss" | "tau_eta"
+        | "tau_bf1" | "tau_bf2" | "tau_bf_a" | "tauLossMax_p" | "tauLossMin_m" => "N.m",
+        "lossPower" | "Q_flow" => "W",
+        "T" => "K",
+        "dT" => "K",
+        "der_T" => "K/s",
+        "fn" => "N",
+        "mu" | "eta_mf1" | "eta_mf2" | "f_normalized" | "u" | "y" | "u1" | "u2" => "1",
+        "Gc" => "W/K",
+        _ => "",
+    }
+}
+
+/// Variables that are Integers or Booleans and rightly have no unit.
+pub const UNITLESS: &[&str] = &[
+    "mode",
+    "locked",
+    "free",
+    "stuck",
+    "startForward",
+    "startBackward",
+    "tau_etaPos",
+    "tau_aPos",
+    "ideal",
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_parameter_and_variable_is_documented() {
+        // (the toy element of the engine's tests is no MSL class)
+        for t in catalogue()
+            .into_iter()
+            .filter(|t| !t.class.starts_with("stiction.Tests"))
+        {
+            assert!(t.class.starts_with("Modelica."), "{}", t.name);
+            for p in &t.params {
+                let what = format!("{}.{}", t.name, p.name);
+                assert!(!p.description.is_empty(), "{what}: no description");
+                assert!(
+                    p.default.is_some() || p.required || p.kind == ParamKind::String,
+                    "{what}"
+                );
+                if p.kind.is_numeric() {
+                    assert!(!p.unit.is_empty(), "{what}: no unit");
+                }
+            }
+            for v in &t.variables {
+                let last = v.name.rsplit('.').next().unwrap();
+                assert!(
+                    !v.unit.is_empty() || UNITLESS.contains(&last),
+                    "{}.{}: no unit",
+                    t.name,
+                    v.name
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,91 @@
+//! What a component says about each parameter where it reads it: the declaration string
+//! `"name [unit] description"` (as Modelica writes `parameter SI.Torque tau "description"`),
+//! and the catalogue entry recorded from it when a constructor runs in catalogue mode.
+
+/// The kind of value a parameter holds.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ParamKind {
+    Real,
+    Boolean,
+    /// A start value: a number (fixed) or `{ start = …, fixed = … }`.
+    Start,
+    /// The start value of a Boolean discrete state.
+    BooleanStart,
+    /// A table with this many columns, rows `[x, y…]`.
+    Table(usize),
+    String,
+    /// One of these names.
+    Choice(Vec<String>),
+}
+
+impl ParamKind {
+    /// Short name of the kind, as the reference and Python show it.
+    pub fn label(&self) -> String {
+        match self {
+            ParamKind::Real => "Real".into(),
+            ParamKind::Boolean => "Boolean".into(),
+            ParamKind::Start => "start value".into(),
+            ParamKind::BooleanStart => "Boolean start value".into(),
+            ParamKind::Table(n) => format!("table [:, {n}]"),
+            ParamKind::String => "String".into(),
+            ParamKind::Choice(_) => "choice".into(),
+        }
+    }
+
+    /// Whether the value is a number (and so must state a unit).
+    pub fn is_numeric(&self) -> bool {
+        matches!(
+            self,
+            ParamKind::Real | ParamKind::Start | ParamKind::Table(_)
+        )
+    }
+}
+
+/// One parameter as the catalogue lists it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParamInfo {
+    pub name: String,
+    pub kind: ParamKind,
+    /// MSL's default; `None` when MSL gives none (the user must set it) or none applies
+    /// (TimeTable's `file`).
+    pub default: Option<toml::Value>,
+    pub required: bool,
+    /// Modelica unit string (`"N.m"`, `"rad/s"`, `"1"`); for tables one per column.
+    pub unit: String,
+    pub description: String,
+    /// The valid range as a condition on the value (`">= 0"`, `"> 0"`, `"(0, 100]"`).
+    pub range: Option<String>,
+}
+
+/// Splits `"name [unit] description"` into its three parts (unit and description may be empty).
+pub fn parse_decl(decl: &str) -> (&str, &str, &str) {
+    let decl = decl.trim();
+    let (name, rest) = decl.split_once(char::is_whitespace).unwrap_or((decl, ""));
+    let rest = rest.trim_start();
+    match rest.strip_prefix('[').and_then(|r| r.split_once(']')) {
+        Some((unit, doc)) => (name, unit.trim(), doc.trim()),
+        None => (name, "", rest.trim()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_decl;
+
+    #[test]
+    fn declarations_split_into_name_unit_and_description() {
+        assert_eq!(
+            parse_decl("J [kg.m2] Moment of inertia"),
+            ("J", "kg.m2", "Moment of inertia")
+        );
+        assert_eq!(
+            parse_decl("useSupport Enable the support"),
+            ("useSupport", "", "Enable the support")
+        );
+        assert_eq!(parse_decl("peak"), ("peak", "", ""));
+        assert_eq!(
+            parse_decl("mu_pos [rad/s, 1] mu at w, mu_pos[1,2]"),
+            ("mu_pos", "rad/s, 1", "mu at w, mu_pos[1,2]")
+        );
+    }
+}

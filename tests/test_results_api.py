@@ -1,0 +1,95 @@
+"""Results easy to use: energy per component, first/lock times, named modes, a unique time
+index for pandas, units in plots and DataFrames; Model.set with construction's checks."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import stiction as st
+
+# A flywheel (J = 2, w0 = 10) braked from t = 0 by mu·cgeo·fn = 0.5·1·100 = 50 N·m: it stops
+# at t = J·w0/50 = 0.4 s, having dissipated its kinetic energy J·w0²/2 = 100 J.
+T_LOCK, E_LOSS = 0.4, 100.0
+
+
+@pytest.fixture(scope="module")
+def braked() -> st.Result:
+    m = st.Model("braked")
+    m.add("J", st.Inertia(J=2.0, phi=0.0, w=10.0))
+    m.add("brake", st.Brake(fn_max=100.0, mu_pos=[[0.0, 0.5]]))
+    m.add("press", st.Constant(k=1.0))
+    m.connect("J.flange_b", "brake.flange_a")
+    m.connect("press.y", "brake.f_normalized")
+    return m.simulate(StopTime=1.0, Interval=1e-3)
+
+
+def test_energy_of_one_component_is_its_dissipated_work(braked: st.Result) -> None:
+    assert braked.energy("brake") == pytest.approx(E_LOSS, rel=1e-9)
+    course = braked.energy("brake", cumulative=True)
+    assert course.shape == braked.time.shape and np.all(np.diff(course) >= 0.0)
+    assert course[-1] == pytest.approx(braked["system.dissipatedEnergy"][-1], rel=1e-9)
+    with pytest.raises(KeyError, match="dissipate: brake"):
+        braked.energy("J")
+
+
+def test_first_and_lock_times(braked: st.Result) -> None:
+    assert braked.first("brake.locked") == pytest.approx(T_LOCK, abs=1e-9)
+    assert braked.lock_times("brake") == [braked.first("brake.locked")]
+    assert braked.first("J.w", lambda w: w < 5.0) == pytest.approx(0.2, abs=1.01e-3)
+    assert braked.first("J.w", lambda w: w < -1.0) is None
+
+
+def test_events_carry_mode_names(braked: st.Result) -> None:
+    stop = next(e for e in braked.events if e.component == "brake" and e.time > 0)
+    assert (stop.old, stop.new) == ("sliding forward", "stuck")
+    assert "brake: sliding forward → stuck" in str(stop)
+    assert braked.events[0].old == "unknown"
+
+
+def test_to_pandas_with_a_unique_index_round_trips_through_resample(braked: st.Result) -> None:
+    every = braked.to_pandas()
+    assert not every["time"].is_unique  # event instants have a left and a right row
+    df = braked.to_pandas(events="last")
+    assert df.index.is_unique and df.index.is_monotonic_increasing
+    assert len(df) == every["time"].nunique()
+    t_lock = next(e.time for e in braked.events if e.new == "stuck")
+    assert df.loc[t_lock, "brake.locked"] == 1.0  # the value after the event
+    assert braked.to_pandas(events="first").loc[t_lock, "brake.locked"] == 0.0  # before
+    assert df.attrs["units"]["J.w"] == "rad/s" and df.attrs["units"]["brake.tau"] == "N.m"
+    grid = df.set_axis(pd.to_timedelta(df.index, unit="s")).resample("50ms").first()
+    assert len(grid) == 21
+    back = np.interp(grid.index.total_seconds(), df.index, df["J.w"])
+    np.testing.assert_allclose(grid["J.w"].to_numpy(), back, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(grid["J.w"].iloc[:8], 10.0 - 25.0 * np.arange(8) * 0.05, atol=1e-9)
+    assert np.all(np.isfinite(np.gradient(df["J.w"].to_numpy(), df.index.to_numpy())))
+    with pytest.raises(ValueError, match="events"):
+        braked.to_pandas(events="middle")
+
+
+def test_plots_show_units_and_named_modes(braked: st.Result) -> None:
+    fig = braked.plot("J.w", "brake.mode")
+    speed, mode = fig.axes
+    assert speed.get_ylabel() == "J.w [rad/s]"
+    assert [t.get_text() for t in mode.get_yticklabels()] == [
+        "sliding backward",
+        "stuck",
+        "sliding forward",
+        "free",
+    ]
+
+
+def test_model_set_checks_like_construction() -> None:
+    m = st.Model("m").add("brake", st.Brake(fn_max=100.0))
+    m.set("brake.fn_max", 1800)
+    assert m["brake"].params["fn_max"] == 1800
+    for name, value, message in [
+        ("brake.fn_mx", 1.0, "did you mean 'fn_max'"),
+        ("brake.peak", 0.5, r"parameter 'peak': must be >= 1"),
+        ("brake.mu_pos", [0.5, 0.4], "flat list"),
+        ("brak.fn_max", 1.0, "did you mean 'brake'"),
+    ]:
+        with pytest.raises(st.ModelError, match=message):
+            m.set(name, value)
+    assert m["brake"].params == {"fn_max": 1800}

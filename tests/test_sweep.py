@@ -192,3 +192,19 @@ def test_the_sweep_examples_run(script, args, tmp_path, monkeypatch):
     monkeypatch.setattr(sys, "argv", [script, *args, "--out", str(tmp_path)])
     runpy.run_path(str(EXAMPLES / "sweeps" / script), run_name="__main__")
     assert list(tmp_path.glob("*.parquet")) and list(tmp_path.glob("*.png"))
+
+
+def test_a_top_level_parameter_varies_everything_that_depends_on_it():
+    model = st.Model.loads(COUPLED.to_toml())
+    model.parameters["T2"] = 0.4
+    model.parameters["T3"] = "T2 + 0.5"
+    model.components["step1"].params["startTime"] = st.expr("T2")
+    model.components["step2"].params["startTime"] = st.expr("T3")
+    result = sweep(model, grid({"T2": [0.3, 0.6]}), ["time_of(clutch3.locked)", "max(J3.w)"], progress=False)
+    for k, t2 in enumerate([0.3, 0.6]):
+        edited = st.Model.loads(COUPLED.to_toml())
+        edited.components["step1"].params["startTime"] = t2
+        edited.components["step2"].params["startTime"] = t2 + 0.5
+        single = edited.simulate()
+        for metric in ("time_of(clutch3.locked)", "max(J3.w)"):
+            assert result.table.loc[k, metric] == single.metric(metric), (t2, metric)

@@ -7,7 +7,7 @@ EXAMPLE ?= examples/msl/CoupledClutches.toml
 # what the demo plots: speeds on one axes, the clutch modes on another
 DEMO_SIGNALS ?= J1.w+J2.w+J3.w+J4.w,clutch1.mode+clutch2.mode+clutch3.mode
 
-.PHONY: setup demo test test-rust test-python lint docs bench bench-io clean
+.PHONY: setup demo test test-rust test-python lint docs bench bench-io soak clean
 
 setup:
 	@test -x $(PY) || python3 -m venv $(VENV)
@@ -40,6 +40,10 @@ lint: setup
 docs: setup
 	@$(PY) -m pip install --quiet -r docs/requirements.txt
 	$(PY) -m sphinx -W --keep-going -q -b html docs docs/_build/html
+
+# The property tests over 10⁴ random drivetrains (CI runs a fixed budget of 60).
+soak: setup
+	STICTION_SOAK=10000 $(PY) -m pytest -q tests/test_properties.py --hypothesis-show-statistics
 
 bench: setup
 	$(VENV)/bin/stiction bench

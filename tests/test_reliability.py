@@ -63,3 +63,24 @@ def test_ctrl_c_interrupts_a_long_run_promptly():
     latency = time.perf_counter() - started - 0.3
     timer.cancel()
     assert latency < 1.0, f"stopped {latency:.3f} s after the signal"
+
+
+def test_ctrl_c_stops_the_command_line_with_status_130_and_no_result_file(tmp_path):
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    out = tmp_path / "long.csv"
+    cmd = [sys.executable, "-m", "stiction", "simulate", str(MSL / "CoupledClutches.toml")]
+    cmd += ["--StopTime", "20000", "--Interval", "1", "-o", str(out)]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=os.environ.copy())
+    time.sleep(2.0)  # the interpreter starts, the run is under way (about 6 s in all)
+    sent = time.perf_counter()
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=30)
+    latency = time.perf_counter() - sent
+    assert proc.returncode == 130, err.decode()
+    assert latency < 2.0, latency
+    assert not out.exists() and not list(tmp_path.iterdir())

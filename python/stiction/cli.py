@@ -61,6 +61,9 @@ def _friendly_errors(func: F) -> F:
             _fail(f"simulation failed: {exc}")
         except ImportError as exc:
             _fail(f"the compiled engine is not available ({exc}); build it with maturin")
+        except KeyboardInterrupt:
+            click.echo("interrupted", err=True)
+            sys.exit(130)
 
     return wrapper  # type: ignore[return-value]
 

@@ -107,10 +107,12 @@ def sweep_cmd(
         )
     except ModelError as exc:
         raise _in_file(model_file, exc) from None
+    partial = out_file.with_name(f".{out_file.name}.partial{suffix}")  # never a half-written table
     if suffix == ".parquet":
-        result.to_parquet(out_file)
+        result.to_parquet(partial)
     else:
-        result.table.to_csv(out_file, index=False)
+        result.table.to_csv(partial, index=False)
+    partial.replace(out_file)
     failed = int((result.table["status"] != "ok").sum())
     click.echo(
         f"{len(result.table)} variants in {time.perf_counter() - started:.2f} s "

@@ -38,9 +38,19 @@ def write(
     data: np.ndarray,
     parameters: Mapping[str, float] | None = None,
 ) -> None:
-    """Write ``data`` (rows × names, ``time`` first) in the format of ``path``'s extension."""
-    writer = {".csv": write_csv, ".mat": write_mat, ".parquet": write_parquet}[result_format(path)]
-    writer(path, names, data, parameters)
+    """Write ``data`` (rows × names, ``time`` first) in the format of ``path``'s extension.
+
+    The file is written under a temporary name and renamed at the end, so an interrupted
+    write (Ctrl-C, a full disk) never leaves a half-written result under ``path``."""
+    suffix = result_format(path)
+    writer = {".csv": write_csv, ".mat": write_mat, ".parquet": write_parquet}[suffix]
+    target = Path(path)
+    partial = target.with_name(f".{target.name}.partial{suffix}")
+    try:
+        writer(partial, names, data, parameters)
+        partial.replace(target)
+    finally:
+        partial.unlink(missing_ok=True)
 
 
 def _core_module() -> Any:

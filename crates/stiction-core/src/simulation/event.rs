@@ -21,6 +21,7 @@ impl Stepper {
         kind: EventKind,
         cause: &str,
     ) -> Result<(), SimError> {
+        self.hump_back = None; // the indicators change meaning with the mode
         self.skip_grid_at(t);
         if !(matches!(kind, EventKind::Input(..)) && self.last_row == t) {
             self.record_here(t);

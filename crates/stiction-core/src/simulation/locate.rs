@@ -12,6 +12,10 @@ use super::stepper::Stepper;
 use crate::engine::speed_rates;
 use crate::error::SimError;
 
+/// A hump that reaches above zero: bracket start, (indicator, value there, value at the top),
+/// and the top's time.
+type Hump = (f64, (usize, f64, f64), f64);
+
 impl Stepper {
     /// The indicator `i` at time t on the dense output of the last step.
     pub(super) fn indicator_at<'a, S>(
@@ -46,6 +50,8 @@ impl Stepper {
         // the rates at the step's start: those of the last sample (NaN right after an event)
         self.dz_scan.copy_from_slice(&self.dz);
         let mut a = t_prev;
+        // the sample before `a` (the last interior one of the previous step, if no event since)
+        let mut back = self.hump_back.take();
         for k in 1..=SAMPLES {
             let t = if k == SAMPLES {
                 self.x.copy_from_slice(solver.state().y.inner().as_slice());
@@ -86,11 +92,115 @@ impl Stepper {
                 }
                 self.evaluate_here(t, true);
             }
+            if let Some((t_back, z_back)) = &back {
+                if let Some(found) = self.hump(solver, (*t_back, z_back.clone()), t)? {
+                    candidates.clear();
+                    candidates.push(found.1);
+                    return self.locate(solver, found.0, found.2, candidates).map(Some);
+                }
+            }
+            back = Some((a, self.z_scan.clone()));
             self.z_scan.copy_from_slice(&self.z);
             self.dz_scan.copy_from_slice(&self.dz);
             a = t;
         }
+        self.hump_back = back;
         Ok(None)
+    }
+
+    /// An indicator that rises and falls back between samples (`back`, the last, `b`) without showing a
+    /// sign change at any of them — a locked clutch's torque passing its falling static limit
+    /// for a few milliseconds inside one long step. Where three samples make a hump whose top
+    /// may reach zero (a parabola through them says so), its maximum is found on the dense
+    /// output (golden section); if it is above zero, the crossing lies before it:
+    /// `(bracket start, (i, z there, z at the top), top)`. Leaves the sample at `b` loaded.
+    fn hump<'a, S>(
+        &mut self,
+        solver: &S,
+        back: (f64, Vec<f64>),
+        b: f64,
+    ) -> Result<Option<Hump>, SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let (t0, z0) = back;
+        let may_cross = |zl: f64, zm: f64, zr: f64| {
+            let curvature = 2.0 * zm - zl - zr;
+            zl < zm && zm > zr && zm <= 0.0 && curvature > 0.0 && {
+                // the top of the parabola through the three samples, with a margin for its error
+                let top = zm + (zr - zl) * (zr - zl) / (8.0 * curvature);
+                top > -0.5 * (zm - zl.min(zr))
+            }
+        };
+        let humps: Vec<usize> = (0..self.z.len())
+            .filter(|&i| may_cross(z0[i], self.z_scan[i], self.z[i]))
+            .collect();
+        if humps.is_empty() {
+            return Ok(None);
+        }
+        let mut found: Option<Hump> = None;
+        for i in humps {
+            let Some((t_top, z_top)) = self.top_of(solver, i, t0, b)? else {
+                continue;
+            };
+            let z_start = self.indicator_at(solver, t0, i)?;
+            if z_start <= 0.0 && found.as_ref().is_none_or(|f| t_top < f.2) {
+                found = Some((t0, (i, z_start, z_top), t_top));
+            }
+        }
+        self.reload_sample(solver, b)?;
+        Ok(found)
+    }
+
+    /// Where indicator `i` first shows above zero while its maximum between `lo` and `hi` is
+    /// searched (golden section on the dense output): `(t, z)`, or None if it stays ≤ 0.
+    fn top_of<'a, S>(
+        &mut self,
+        solver: &S,
+        i: usize,
+        lo: f64,
+        hi: f64,
+    ) -> Result<Option<(f64, f64)>, SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let (mut lo, mut hi, width) = (lo, hi, hi - lo);
+        let golden = 0.5 * (5f64.sqrt() - 1.0);
+        let (mut c, mut d) = (hi - golden * (hi - lo), lo + golden * (hi - lo));
+        let mut zc = self.indicator_at(solver, c, i)?;
+        let mut zd = self.indicator_at(solver, d, i)?;
+        for _ in 0..60 {
+            if zc.max(zd) > 0.0 || hi - lo <= 1e-9 * width {
+                break;
+            }
+            if zc > zd {
+                (hi, d, zd) = (d, c, zc);
+                c = hi - golden * (hi - lo);
+                zc = self.indicator_at(solver, c, i)?;
+            } else {
+                (lo, c, zc) = (c, d, zd);
+                d = lo + golden * (hi - lo);
+                zd = self.indicator_at(solver, d, i)?;
+            }
+        }
+        let top = if zc >= zd { (c, zc) } else { (d, zd) };
+        Ok((top.1 > 0.0).then_some(top))
+    }
+
+    /// The sample at `t` again (after probing elsewhere on the step).
+    fn reload_sample<'a, S>(&mut self, solver: &S, t: f64) -> Result<(), SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        if t == solver.state().t {
+            self.x.copy_from_slice(solver.state().y.inner().as_slice());
+        } else {
+            self.load(solver, t)?;
+        }
+        self.evaluate_here(t, true);
+        let guard = self.phase.borrow();
+        speed_rates(&self.sys, &guard.disc, &guard.ws, &mut self.dz);
+        Ok(())
     }
 
     /// The highest point between samples `a` and `b` of a speed indicator whose rate goes from

@@ -69,6 +69,9 @@ pub(super) struct Stepper {
     /// Rates of the speed indicators at the current and the previous sample.
     pub(super) dz: Vec<f64>,
     pub(super) dz_scan: Vec<f64>,
+    /// The last interior sample of the previous step (time, indicators), for humps across the
+    /// step boundary; cleared at events.
+    pub(super) hump_back: Option<(f64, Vec<f64>)>,
     pub(super) dz_probe: Vec<f64>,
     /// State buffer (interpolated or current).
     pub(super) x: Vec<f64>,
@@ -129,6 +132,7 @@ impl Stepper {
             z_scan: vec![0.0; nz],
             dz: vec![f64::NAN; nz],
             dz_scan: vec![f64::NAN; nz],
+            hump_back: None,
             dz_probe: vec![f64::NAN; nz],
             x: x0,
             dense: None,

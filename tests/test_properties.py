@@ -91,7 +91,13 @@ def _coupling(draw: Any, kind: str) -> st.Component:
     return st.LossyGear(ratio=ratio, lossTable=[[0.0, eta, eta, 0.0, 0.0]])
 
 
-@settings(max_examples=EXAMPLES, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+# CI's budget replays a fixed sequence of examples (no flakiness); a soak explores at random.
+@settings(
+    max_examples=EXAMPLES,
+    deadline=None,
+    derandomize=EXAMPLES <= 200,
+    suppress_health_check=[HealthCheck.too_slow],
+)
 @given(drivetrains())
 def test_random_drivetrains_keep_their_invariants(model: st.Model) -> None:
     note(model.to_toml())
@@ -110,3 +116,20 @@ def test_random_drivetrains_keep_their_invariants(model: st.Model) -> None:
         locked = r[f"{name}.locked"] == 1.0
         excess = np.abs(r[f"{name}.tau"][locked]) - r[f"{name}.tau0_max"][locked]
         assert excess.size == 0 or excess.max() <= 1e-6 * scale, f"{name} holds beyond its static limit"
+
+
+def test_known_gap_a_static_limit_crossed_and_recovered_between_samples_at_the_stop_time():
+    """Found by `make soak` (1 in about 1500 drivetrains): a locked brake whose static limit
+    falls below its torque between the last two samples of the final step, while both
+    samples stay below. Sampling cannot see it; it needs the indicators' rates. Kept as an
+    expected failure until then, so the gap is visible."""
+    from pathlib import Path
+
+    import pytest
+
+    model = st.Model.loads((Path(__file__).parent / "data" / "known_hump_at_stop.toml").read_text())
+    r = model.simulate()
+    locked = r["brake0.locked"] == 1.0
+    excess = (np.abs(r["brake0.tau"]) - r["brake0.tau0_max"])[locked].max()
+    if excess > 1e-6:
+        pytest.xfail(f"held {excess:.3f} N·m beyond the static limit near t = 0.97 s")

@@ -13,6 +13,9 @@ setup:
 	@test -x $(PY) || python3 -m venv $(VENV)
 	@$(PY) -m pip install --quiet --upgrade pip maturin
 	@VIRTUAL_ENV=$(CURDIR)/$(VENV) $(VENV)/bin/maturin develop --release --extras test --quiet
+	@# the FMU runtime (a C-ABI library, not part of the extension module maturin builds):
+	@# stiction.fmu finds it in target/release
+	@cargo build --release --quiet -p stiction-fmi
 
 demo: setup
 	@mkdir -p $(OUT)
@@ -22,7 +25,7 @@ demo: setup
 test: setup test-rust test-python
 
 test-rust:
-	cargo test --release -p stiction-core
+	cargo test --release -p stiction-core -p stiction-fmi
 
 test-python:
 	$(PY) -m pytest -q

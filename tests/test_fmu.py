@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import shutil
 import subprocess
+import sys
 from ctypes import byref
 from pathlib import Path
 
@@ -33,6 +34,11 @@ def flywheel_with_input() -> st.Model:
     return m
 
 
+@pytest.fixture(scope="module", params=[2, 3], ids=["fmi2", "fmi3"])
+def version(request: pytest.FixtureRequest) -> int:
+    return request.param
+
+
 @pytest.fixture(scope="module")
 def clutches_fmu(tmp_path_factory: pytest.TempPathFactory) -> Path:
     path = tmp_path_factory.mktemp("fmu") / "CoupledClutches.fmu"
@@ -42,6 +48,18 @@ def clutches_fmu(tmp_path_factory: pytest.TempPathFactory) -> Path:
 @pytest.fixture(scope="module")
 def flywheel_fmu(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return flywheel_with_input().to_fmu(tmp_path_factory.mktemp("fmu") / "Flywheel.fmu")
+
+
+@pytest.fixture(scope="module")
+def clutches_any(tmp_path_factory: pytest.TempPathFactory, version: int) -> Path:
+    path = tmp_path_factory.mktemp("fmu") / "CoupledClutches.fmu"
+    return st.Model.load(COUPLED).to_fmu(path, fmi_version=version, outputs=CLUTCH_OUT)
+
+
+@pytest.fixture(scope="module")
+def flywheel_any(tmp_path_factory: pytest.TempPathFactory, version: int) -> Path:
+    path = tmp_path_factory.mktemp("fmu") / "Flywheel.fmu"
+    return flywheel_with_input().to_fmu(path, fmi_version=version)
 
 
 class Host:
@@ -83,10 +101,13 @@ def assert_close(a: np.ndarray, b: np.ndarray, name: str) -> None:
     assert np.max(np.abs(a - b)) <= 1e-6 * scale, name
 
 
-def test_model_descriptions_pass_fmpy_validation(clutches_fmu: Path, flywheel_fmu: Path) -> None:
-    for fmu in (clutches_fmu, flywheel_fmu):
+def test_model_descriptions_pass_fmpy_validation(
+    clutches_any: Path, flywheel_any: Path, version: int
+) -> None:
+    for fmu in (clutches_any, flywheel_any):
         assert validate_fmu(str(fmu)) == []
-    md = fmpy.read_model_description(flywheel_fmu)
+    md = fmpy.read_model_description(flywheel_any)
+    assert md.fmiVersion == f"{version}.0"
     kinds = {v.name: (v.causality, v.variability) for v in md.modelVariables}
     assert kinds["brake.f_normalized"] == ("input", "continuous")
     assert kinds["flywheel.w"] == ("output", "continuous")
@@ -95,8 +116,8 @@ def test_model_descriptions_pass_fmpy_validation(clutches_fmu: Path, flywheel_fm
     assert (float(fn_max.start), fn_max.unit) == (2000.0, "N")
 
 
-def test_coupled_clutches_in_fmpy_equals_simulate(clutches_fmu: Path) -> None:
-    out = fmpy.simulate_fmu(str(clutches_fmu), stop_time=1.5, output_interval=0.01, output=CLUTCH_OUT)
+def test_coupled_clutches_in_fmpy_equals_simulate(clutches_any: Path) -> None:
+    out = fmpy.simulate_fmu(str(clutches_any), stop_time=1.5, output_interval=0.01, output=CLUTCH_OUT)
     ref = st.Model.load(COUPLED).simulate()
     assert len(out) == 151
     for name in CLUTCH_OUT[:-1]:
@@ -106,13 +127,25 @@ def test_coupled_clutches_in_fmpy_equals_simulate(clutches_fmu: Path) -> None:
     np.testing.assert_array_equal(out["clutch1.mode"], ref["clutch1.mode"][grid])
 
 
-def test_braked_flywheel_driven_by_an_input_signal(flywheel_fmu: Path) -> None:
+def test_parameters_set_by_the_importer_act_as_in_simulate(clutches_fmu: Path) -> None:
+    params = {"clutch1.fn_max": 30.0, "J2.J": 2.5}
+    out = fmpy.simulate_fmu(
+        str(clutches_fmu), stop_time=1.5, output_interval=0.01, output=CLUTCH_OUT, start_values=params
+    )
+    ref = st.Model.load(COUPLED).simulate(params=params)
+    plain = st.Model.load(COUPLED).simulate()
+    for name in ("J1.w", "J3.w"):
+        assert_close(out[name], np.interp(out["time"], ref.time, ref[name]), name)
+    assert np.max(np.abs(out["J3.w"] - np.interp(out["time"], plain.time, plain["J3.w"]))) > 0.1
+
+
+def test_braked_flywheel_driven_by_an_input_signal(flywheel_any: Path) -> None:
     signal = np.array(
         [(0.0, 0.0), (0.5, 0.0), (0.5, 0.6), (1.0, 0.6), (1.0, 1.0), (4.0, 1.0)],
         dtype=[("time", float), ("brake.f_normalized", float)],
     )
     out = fmpy.simulate_fmu(
-        str(flywheel_fmu), stop_time=4.0, output_interval=0.01, input=signal, output=["flywheel.w", "disc.T"]
+        str(flywheel_any), stop_time=4.0, output_interval=0.01, input=signal, output=["flywheel.w", "disc.T"]
     )
     sim = flywheel_with_input().simulation(StopTime=4.0)
     ref = {"flywheel.w": [sim["flywheel.w"]], "disc.T": [sim["disc.T"]]}
@@ -149,7 +182,7 @@ def test_bad_calls_return_an_error_with_a_message(flywheel_fmu: Path) -> None:
     h = Host(flywheel_fmu)
     with pytest.raises(FMICallException, match="status 3"):
         h.slave.doStep(0.0, 0.1)
-    assert "fmi2DoStep is not allowed in state Instantiated" in h.messages[-1]
+    assert "fmi2DoStep: doStep is not allowed in state Instantiated" in h.messages[-1]
     with pytest.raises(FMICallException):
         h.slave.getReal([9999])
     assert "unknown value reference 9999" in h.messages[-1]
@@ -164,6 +197,9 @@ def test_bad_calls_return_an_error_with_a_message(flywheel_fmu: Path) -> None:
     h.slave.doStep(0.0, 0.5)  # still usable after refused calls
     assert h.get("flywheel.w") == pytest.approx(100.0)
     h.slave.terminate()
+    assert h.get("flywheel.w") == pytest.approx(100.0)  # final values stay readable
+    with pytest.raises(FMICallException):
+        h.slave.doStep(0.5, 0.1)
     h.slave.reset()  # and reset after terminate starts anew
     h.start(1.0)
     h.slave.doStep(0.0, 1.0)
@@ -215,3 +251,52 @@ def test_a_c_host_runs_the_fmu_without_python(flywheel_fmu: Path, tmp_path: Path
     assert float(report["value"]) == pytest.approx(sim["flywheel.w"], abs=1e-9)
     # 300 reset/initialize and 300 instantiate/free cycles: memory does not keep growing
     assert int(report["rss_after_kb"]) - int(report["rss_before_kb"]) < 2000
+
+
+def test_fmi3_errors_states_and_steps(tmp_path: Path) -> None:
+    from fmpy.fmi3 import FMU3Slave
+
+    fmu = st.Model.load(COUPLED).to_fmu(tmp_path / "CC3.fmu", fmi_version=3, outputs=CLUTCH_OUT)
+    md = fmpy.read_model_description(fmu)
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    slave = FMU3Slave(
+        guid=md.guid, unzipDirectory=fmpy.extract(fmu), modelIdentifier=md.coSimulation.modelIdentifier
+    )
+    slave.instantiate()
+    with pytest.raises(FMICallException, match="status 3"):
+        slave.doStep(0.0, 0.1)
+    with pytest.raises(FMICallException):
+        slave.getFloat64([12345])
+    slave.enterInitializationMode(startTime=0.0, stopTime=1.5)
+    slave.exitInitializationMode()
+    slave.doStep(0.0, 0.5)
+    saved = slave.getFMUState()
+    slave.doStep(0.5, 0.5)
+    first = slave.getFloat64([vr["J4.w"], vr["time"]])
+    slave.setFMUState(saved)
+    assert slave.getFloat64([vr["time"]]) == [0.5]
+    slave.doStep(0.5, 0.5)
+    again = slave.getFloat64([vr["J4.w"], vr["time"]])
+    np.testing.assert_allclose(again, first, rtol=1e-5)
+    ref = st.Model.load(COUPLED).simulate()
+    assert first[0] == pytest.approx(float(np.interp(1.0, ref.time, ref["J4.w"])), abs=1e-5)
+    slave.freeFMUState(saved)
+    slave.terminate()
+    slave.freeInstance()
+
+
+def _stiction(*args: str | Path) -> subprocess.CompletedProcess[str]:
+    command = [sys.executable, "-m", "stiction", *map(str, args)]
+    return subprocess.run(command, check=False, capture_output=True, text=True)
+
+
+def test_the_command_exports_a_modelica_model(tmp_path: Path) -> None:
+    fmu = tmp_path / "CC.fmu"
+    run = _stiction(
+        "fmu", ROOT / "examples/msl/CoupledClutches.mo", "-o", fmu, "--fmi", "3", "--outputs", "J1.w"
+    )
+    assert run.returncode == 0, run.stderr
+    md = fmpy.read_model_description(fmu)
+    assert [v.name for v in md.modelVariables if v.causality == "output"] == ["J1.w"]
+    bad = _stiction("fmu", COUPLED, "-o", fmu, "--outputs", "J9.w")
+    assert bad.returncode != 0 and "output 'J9.w': not a variable of the model" in bad.stderr

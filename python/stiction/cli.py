@@ -217,7 +217,7 @@ def export_cmd(model_file: Path, output: Path) -> None:
     required=True,
     help="The FMU to write (Name.fmu).",
 )
-@click.option("--fmi", "fmi_version", type=click.Choice(["2"]), default="2", help="FMI version.")
+@click.option("--fmi", "fmi_version", type=click.Choice(["2", "3"]), default="2", help="FMI version.")
 @click.option(
     "--outputs",
     default=None,

@@ -1,4 +1,4 @@
-"""FMU export: a model as an FMI 2.0 Co-Simulation FMU that any FMI importer runs.
+"""FMU export: a model as an FMI 2.0 or 3.0 Co-Simulation FMU that any FMI importer runs.
 
 The FMU holds ``modelDescription.xml``, the runtime library (``crates/stiction-fmi``, a C-ABI
 build of the engine: no Python in the importer's process) in ``binaries/<platform>/`` and, in
@@ -10,7 +10,6 @@ parameters of the components with their MSL names, set before the end of initial
 
 from __future__ import annotations
 
-import datetime
 import os
 import platform
 import re
@@ -21,9 +20,8 @@ import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
-from xml.sax.saxutils import quoteattr
 
-from . import __version__
+from . import fmu_xml
 from .errors import ModelError, StictionError
 
 if TYPE_CHECKING:
@@ -32,7 +30,12 @@ if TYPE_CHECKING:
 __all__ = ["export_fmu", "runtime_library"]
 
 LIBRARY = {"linux": "libstiction_fmi.so", "darwin": "libstiction_fmi.dylib", "win32": "stiction_fmi.dll"}
-PLATFORM = {"linux": ("linux64", ".so"), "darwin": ("darwin64", ".dylib"), "win32": ("win64", ".dll")}
+# binaries/ folder names of FMI 2.0 and FMI 3.0, and the library suffix
+PLATFORM = {
+    "linux": ("linux64", "x86_64-linux", ".so"),
+    "darwin": ("darwin64", "x86_64-darwin", ".dylib"),
+    "win32": ("win64", "x86_64-windows", ".dll"),
+}
 # variables whose values are states, by component type: the default outputs
 STATES = {"Inertia": ("phi", "w"), "HeatCapacitor": ("T",)}
 
@@ -42,7 +45,7 @@ class FmuVariable:
     """One scalar variable of the FMU, in value-reference order."""
 
     name: str
-    kind: str  # input, output or parameter
+    kind: str  # input, output, parameter or independent (time, FMI 3.0)
     start: float
     unit: str = ""
     description: str = ""
@@ -66,11 +69,12 @@ def runtime_library() -> Path:
     )
 
 
-def _platform() -> tuple[str, str]:
-    """The FMI 2.0 ``binaries/`` folder of this platform and its library suffix."""
+def _platform(fmi_version: int) -> tuple[str, str]:
+    """The ``binaries/`` folder of this platform and its library suffix."""
     if sys.platform not in PLATFORM or platform.machine().lower() not in ("x86_64", "amd64"):
-        raise StictionError(f"FMU export: FMI 2.0 names no platform for {sys.platform}/{platform.machine()}")
-    return PLATFORM[sys.platform]
+        raise StictionError(f"FMU export: no FMI platform name for {sys.platform}/{platform.machine()}")
+    fmi2, fmi3, ext = PLATFORM[sys.platform]
+    return (fmi2 if fmi_version == 2 else fmi3), ext
 
 
 def _is_number(value: object) -> bool:
@@ -111,71 +115,19 @@ def _outputs(model: Model, names: list[str]) -> list[FmuVariable]:
     return found
 
 
-def interface(model: Model, outputs: list[str] | None = None) -> list[FmuVariable]:
-    """The FMU's variables: inputs, outputs, parameters, in value-reference order."""
+def interface(model: Model, outputs: list[str] | None = None, fmi_version: int = 2) -> list[FmuVariable]:
+    """The FMU's variables: inputs, outputs, parameters (and time for FMI 3.0), in
+    value-reference order."""
     components = tomllib.loads(model.engine_toml()).get("components", {})
     inputs = [FmuVariable(port, "input", start) for port, start in model.inputs.items()]
     chosen = _outputs(model, list(outputs) if outputs is not None else default_outputs(model))
-    return inputs + chosen + _parameters(model, components)
+    time = [FmuVariable("time", "independent", 0.0, "s", "Simulation time")] if fmi_version == 3 else []
+    return inputs + chosen + _parameters(model, components) + time
 
 
 def _identifier(name: str) -> str:
     ident = re.sub(r"\W", "_", name)
     return ident if re.match(r"[A-Za-z_]", ident) else "_" + ident
-
-
-def _scalar(k: int, v: FmuVariable) -> str:
-    attrs = {
-        "input": 'causality="input" variability="continuous"',
-        "output": 'causality="output" variability="continuous" initial="calculated"',
-        "parameter": 'causality="parameter" variability="fixed" initial="exact"',
-    }[v.kind]
-    if v.kind == "output" and v.name.endswith(".mode"):
-        attrs = attrs.replace("continuous", "discrete")
-    desc = f" description={quoteattr(v.description)}" if v.description else ""
-    real = [f'unit="{v.unit}"'] if v.unit else []
-    real += [] if v.kind == "output" else [f'start="{v.start!r}"']
-    return (
-        f'    <ScalarVariable name={quoteattr(v.name)} valueReference="{k}" {attrs}{desc}>\n'
-        f"      <Real {' '.join(real)}/>\n    </ScalarVariable>"
-    )
-
-
-def model_description(model: Model, variables: list[FmuVariable], ident: str, guid: str) -> str:
-    """``modelDescription.xml`` (FMI 2.0, Co-Simulation)."""
-    exp = tomllib.loads(model.engine_toml()).get("experiment", {})
-    units = sorted({v.unit for v in variables if v.unit})
-    outs = [k + 1 for k, v in enumerate(variables) if v.kind == "output"]
-    now = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
-    experiment = " ".join(
-        f'{fmi}="{float(exp[ours])!r}"'
-        for fmi, ours in [("startTime", "StartTime"), ("stopTime", "StopTime"), ("tolerance", "Tolerance")]
-        if ours in exp
-    )
-    unknowns = "\n".join(f'      <Unknown index="{k}"/>' for k in outs)
-    return f"""<?xml version="1.0" encoding="UTF-8"?>
-<fmiModelDescription fmiVersion="2.0" modelName={quoteattr(model.name)} guid="{guid}"
-  generationTool="stiction {__version__}" generationDateAndTime="{now}"
-  variableNamingConvention="structured" numberOfEventIndicators="0">
-  <CoSimulation modelIdentifier="{ident}" canHandleVariableCommunicationStepSize="true"
-    canGetAndSetFMUstate="true" canSerializeFMUstate="false" canNotUseMemoryManagementFunctions="true"/>
-  <UnitDefinitions>
-{chr(10).join(f"    <Unit name={quoteattr(u)}/>" for u in units)}
-  </UnitDefinitions>
-  <DefaultExperiment {experiment}/>
-  <ModelVariables>
-{chr(10).join(_scalar(k, v) for k, v in enumerate(variables))}
-  </ModelVariables>
-  <ModelStructure>
-    <Outputs>
-{unknowns}
-    </Outputs>
-    <InitialUnknowns>
-{unknowns}
-    </InitialUnknowns>
-  </ModelStructure>
-</fmiModelDescription>
-"""
 
 
 def variable_table(variables: list[FmuVariable], guid: str) -> str:
@@ -190,18 +142,20 @@ def export_fmu(
     fmi_version: int = 2,
     outputs: list[str] | None = None,
 ) -> Path:
-    """Write ``model`` as a Co-Simulation FMU to ``path``; returns the path."""
-    if fmi_version != 2:
-        raise ModelError(f"fmi_version={fmi_version}: only FMI 2.0 FMUs are written so far")
+    """Write ``model`` as a Co-Simulation FMU (FMI 2.0 or 3.0) to ``path``; returns the path."""
+    if fmi_version not in (2, 3):
+        raise ModelError(f"fmi_version={fmi_version}: FMI 2 and 3 are written")
     library = runtime_library()
-    variables = interface(model, outputs)
+    folder, ext = _platform(fmi_version)
+    variables = interface(model, outputs, fmi_version)
     text = model.engine_toml()
     guid = "{" + str(uuid.uuid5(uuid.NAMESPACE_URL, text + variable_table(variables, ""))) + "}"
     ident = _identifier(model.name)
-    folder, ext = _platform()
+    exp = tomllib.loads(text).get("experiment", {})
+    write = fmu_xml.fmi2 if fmi_version == 2 else fmu_xml.fmi3
     path = Path(path)
     with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as z:
-        z.writestr("modelDescription.xml", model_description(model, variables, ident, guid))
+        z.writestr("modelDescription.xml", write(model.name, exp, variables, ident, guid))
         z.write(library, f"binaries/{folder}/{ident}{ext}")
         z.writestr("resources/model.toml", text)
         z.writestr("resources/variables.tsv", variable_table(variables, guid))

@@ -6,88 +6,11 @@
 #![allow(non_snake_case, clippy::missing_safety_doc)] // FMI's names; FMI 2.0 is the contract
 
 use std::ffi::{c_int, CStr, CString};
-use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::ptr;
 
-use crate::instance::{Fallible, Instance, Snapshot};
+use crate::host::{self, slice, slice_mut, text, with, Log, Slave};
+use crate::instance::Instance;
 use crate::types::*;
-
-/// What `fmi2Component` points to: the instance, its name and the host's callbacks.
-pub struct Slave {
-    name: CString,
-    callbacks: CallbackFunctions,
-    logging: bool,
-    pub inner: Instance,
-}
-
-impl Slave {
-    fn log(&self, status: Status, category: &str, message: &str) {
-        if status != Status::Ok || self.logging {
-            emit(&self.callbacks, &self.name, status, category, message);
-        }
-    }
-}
-
-/// Hands a message to the host's logger, through `"%s"` (it is printf-style).
-fn emit(callbacks: &CallbackFunctions, name: &CStr, status: Status, category: &str, message: &str) {
-    let Some(logger) = callbacks.logger else {
-        return;
-    };
-    let category = CString::new(category).unwrap_or_default();
-    let message = CString::new(message.replace('\0', " ")).unwrap_or_default();
-    let env = callbacks.component_environment;
-    let (name, category, message) = (name.as_ptr(), category.as_ptr(), message.as_ptr());
-    // SAFETY: the host's logger, called as FMI 2.0 defines it, with valid C strings
-    unsafe { logger(env, name, status, category, c"%s".as_ptr(), message) }
-}
-
-fn panic_text(payload: Box<dyn std::any::Any + Send>) -> String {
-    payload
-        .downcast_ref::<&str>()
-        .map(|s| s.to_string())
-        .or_else(|| payload.downcast_ref::<String>().cloned())
-        .unwrap_or_else(|| "unknown panic".into())
-}
-
-/// Runs `f` on the instance `c` points to; errors and panics become a logged `fmi2Error`.
-unsafe fn with(c: Component, call: &str, f: impl FnOnce(&mut Instance) -> Fallible<()>) -> Status {
-    let Some(slave) = (c as *mut Slave).as_mut() else {
-        return Status::Error;
-    };
-    let outcome = catch_unwind(AssertUnwindSafe(|| f(&mut slave.inner)));
-    let message = match outcome {
-        Ok(Ok(())) => return Status::Ok,
-        Ok(Err(message)) => message,
-        Err(payload) => format!("internal error (please report): {}", panic_text(payload)),
-    };
-    slave.log(
-        Status::Error,
-        "logStatusError",
-        &format!("{call}: {message}"),
-    );
-    Status::Error
-}
-
-unsafe fn text(s: FmiString) -> String {
-    if s.is_null() {
-        return String::new();
-    }
-    CStr::from_ptr(s).to_string_lossy().into_owned()
-}
-
-unsafe fn slice<'a, T>(p: *const T, n: usize) -> &'a [T] {
-    if n == 0 || p.is_null() {
-        return &[];
-    }
-    std::slice::from_raw_parts(p, n)
-}
-
-unsafe fn slice_mut<'a, T>(p: *mut T, n: usize) -> &'a mut [T] {
-    if n == 0 || p.is_null() {
-        return &mut [];
-    }
-    std::slice::from_raw_parts_mut(p, n)
-}
 
 static TYPES_PLATFORM: &CStr = c"default";
 static VERSION: &CStr = c"2.0";
@@ -118,12 +41,6 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
     }
 }
 
-fn fail_instantiate(callbacks: &CallbackFunctions, name: &CStr, message: &str) -> Component {
-    let message = format!("fmi2Instantiate: {message}");
-    emit(callbacks, name, Status::Error, "logStatusError", &message);
-    ptr::null_mut()
-}
-
 #[no_mangle]
 pub unsafe extern "C" fn fmi2Instantiate(
     name: FmiString,
@@ -139,29 +56,16 @@ pub unsafe extern "C" fn fmi2Instantiate(
     };
     let cname = CString::new(text(name)).unwrap_or_default();
     let (guid, resources) = (text(guid), text(resources));
-    let loaded = catch_unwind(|| match kind {
+    let log = Log::Fmi2(callbacks);
+    host::instantiate(cname, log, logging_on == FMI_TRUE, || match kind {
         CO_SIMULATION => Instance::load(&resources, &guid),
         _ => Err("this FMU supports Co-Simulation only".to_string()),
-    });
-    let instance = match loaded {
-        Ok(Ok(instance)) => instance,
-        Ok(Err(message)) => return fail_instantiate(&callbacks, &cname, &message),
-        Err(payload) => return fail_instantiate(&callbacks, &cname, &panic_text(payload)),
-    };
-    let slave = Box::new(Slave {
-        name: cname,
-        callbacks,
-        logging: logging_on == FMI_TRUE,
-        inner: instance,
-    });
-    Box::into_raw(slave) as Component
+    })
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2FreeInstance(c: Component) {
-    if !c.is_null() {
-        let _ = catch_unwind(|| drop(Box::from_raw(c as *mut Slave)));
-    }
+    host::free(c)
 }
 
 #[no_mangle]
@@ -299,38 +203,17 @@ pub unsafe extern "C" fn fmi2SetString(
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetFMUstate(c: Component, state: *mut FmuState) -> Status {
-    with(c, "fmi2GetFMUstate", |i| {
-        let out = state.as_mut().ok_or("FMUstate is a null pointer")?;
-        let snap = i.snapshot()?;
-        match (*out as *mut Snapshot).as_mut() {
-            Some(old) => *old = snap,
-            None => *out = Box::into_raw(Box::new(snap)) as FmuState,
-        }
-        Ok(())
-    })
+    with(c, "fmi2GetFMUstate", |i| host::get_state(i, state))
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SetFMUstate(c: Component, state: FmuState) -> Status {
-    with(c, "fmi2SetFMUstate", |i| {
-        let snap = (state as *const Snapshot)
-            .as_ref()
-            .ok_or("FMUstate is a null pointer")?;
-        i.restore(snap)
-    })
+    with(c, "fmi2SetFMUstate", |i| host::set_state(i, state))
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2FreeFMUstate(c: Component, state: *mut FmuState) -> Status {
-    with(c, "fmi2FreeFMUstate", |_| {
-        if let Some(p) = state.as_mut() {
-            if !p.is_null() {
-                drop(Box::from_raw(*p as *mut Snapshot));
-            }
-            *p = ptr::null_mut();
-        }
-        Ok(())
-    })
+    with(c, "fmi2FreeFMUstate", |_| host::free_state(state))
 }
 
 unsafe fn unsupported(c: Component, call: &str) -> Status {

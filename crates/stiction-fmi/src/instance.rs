@@ -28,8 +28,14 @@ struct Var {
     name: String,
     start: f64,
     value: f64,
-    /// An output's column in `Simulation::values`.
+    /// An output's column in `Simulation::values` (time: 0).
     column: usize,
+}
+
+impl Var {
+    fn is_computed(&self) -> bool {
+        matches!(self.kind, Kind::Output | Kind::Independent)
+    }
 }
 
 /// A saved state: the run's and the values of the inputs and parameters.
@@ -72,6 +78,7 @@ fn bind(layout: Layout, model: &CompiledModel) -> Fallible<Vec<Var>> {
             Kind::Output => names.iter().position(|n| *n == v.name).map(|k| k + 1),
             Kind::Parameter => params.contains(&v.name).then_some(0),
             Kind::Input => inputs.contains(&v.name).then_some(0),
+            Kind::Independent => Some(0), // `time` is column 0 of `Simulation::values`
         };
         let column = known.ok_or(format!("'{}' is not a {:?} of the model", v.name, v.kind))?;
         Ok(Var {
@@ -117,7 +124,7 @@ impl Instance {
         start: f64,
         stop: Option<f64>,
     ) -> Fallible<()> {
-        self.expect(&[Mode::Instantiated], "fmi2SetupExperiment")?;
+        self.expect(&[Mode::Instantiated], "setupExperiment")?;
         if !start.is_finite() || stop.is_some_and(|s| s.is_nan() || s <= start) {
             return Err(format!("setupExperiment: bad interval [{start}, {stop:?}]"));
         }
@@ -133,13 +140,13 @@ impl Instance {
     }
 
     pub fn enter_initialization(&mut self) -> Fallible<()> {
-        self.expect(&[Mode::Instantiated], "fmi2EnterInitializationMode")?;
+        self.expect(&[Mode::Instantiated], "enterInitializationMode")?;
         self.mode = Mode::Initialization;
         Ok(())
     }
 
     pub fn exit_initialization(&mut self) -> Fallible<()> {
-        self.expect(&[Mode::Initialization], "fmi2ExitInitializationMode")?;
+        self.expect(&[Mode::Initialization], "exitInitializationMode")?;
         self.ensure_sim()?;
         self.mode = Mode::Step;
         Ok(())
@@ -182,16 +189,14 @@ impl Instance {
     }
 
     pub fn get_reals(&mut self, vrs: &[u32], out: &mut [f64]) -> Fallible<()> {
-        let needs_run = vrs
-            .iter()
-            .any(|&r| self.var(r).is_ok_and(|v| v.kind == Kind::Output));
+        let needs_run = vrs.iter().any(|&r| self.var(r).is_ok_and(Var::is_computed));
         let row = match needs_run {
             true => self.ensure_sim()?.values().map_err(|e| e.to_string())?,
             false => Vec::new(),
         };
         for (&vr, slot) in vrs.iter().zip(out) {
             let v = self.var(vr)?;
-            *slot = if v.kind == Kind::Output {
+            *slot = if v.is_computed() {
                 row[v.column]
             } else {
                 v.value
@@ -209,11 +214,15 @@ impl Instance {
 
     fn set_real(&mut self, vr: u32, value: f64) -> Fallible<()> {
         let (kind, name) = (self.var(vr)?.kind, self.var(vr)?.name.clone());
+        let settable = [Mode::Instantiated, Mode::Initialization, Mode::Step];
+        self.expect(&settable, &format!("setting {name}"))?;
         if !value.is_finite() {
             return Err(format!("{name}: {value} is not a finite number"));
         }
         match kind {
-            Kind::Output => return Err(format!("{name} is an output: it cannot be set")),
+            Kind::Output | Kind::Independent => {
+                return Err(format!("{name} is computed by the FMU: it cannot be set"))
+            }
             Kind::Parameter => self.set_parameter(&name, value)?,
             Kind::Input if self.mode == Mode::Step => {
                 let sim = self.sim.as_mut().expect("a run exists in step mode");
@@ -237,7 +246,7 @@ impl Instance {
     }
 
     pub fn do_step(&mut self, t: f64, h: f64) -> Fallible<()> {
-        self.expect(&[Mode::Step], "fmi2DoStep")?;
+        self.expect(&[Mode::Step], "doStep")?;
         let sim = self.sim.as_mut().expect("a run exists in step mode");
         let now = sim.time();
         if !h.is_finite() || h < 0.0 {
@@ -262,8 +271,8 @@ impl Instance {
     }
 
     pub fn terminate(&mut self) -> Fallible<()> {
-        self.expect(&[Mode::Step, Mode::Failed], "fmi2Terminate")?;
-        self.sim = None;
+        self.expect(&[Mode::Step, Mode::Failed], "terminate")?;
+        // the run stays until reset or free: FMI 2.0 lets the host read the final values
         self.mode = Mode::Terminated;
         Ok(())
     }
@@ -279,7 +288,7 @@ impl Instance {
     }
 
     pub fn snapshot(&mut self) -> Fallible<Snapshot> {
-        self.expect(&[Mode::Step], "fmi2GetFMUstate")?;
+        self.expect(&[Mode::Step], "getFMUstate")?;
         let sim = self.sim.as_mut().expect("a run exists in step mode");
         Ok(Snapshot {
             sim: sim.state().map_err(|e| e.to_string())?,
@@ -288,7 +297,7 @@ impl Instance {
     }
 
     pub fn restore(&mut self, snap: &Snapshot) -> Fallible<()> {
-        self.expect(&[Mode::Step], "fmi2SetFMUstate")?;
+        self.expect(&[Mode::Step], "setFMUstate")?;
         let sim = self.sim.as_mut().expect("a run exists in step mode");
         sim.set_state(&snap.sim).map_err(|e| e.to_string())?;
         for (v, &value) in self.vars.iter_mut().zip(&snap.values) {

@@ -11,6 +11,8 @@ pub enum Kind {
     Input,
     Output,
     Parameter,
+    /// Time (FMI 3.0 declares it).
+    Independent,
 }
 
 #[derive(Debug, Clone)]
@@ -34,6 +36,7 @@ fn parse_kind(word: &str) -> Result<Kind, String> {
         "input" => Ok(Kind::Input),
         "output" => Ok(Kind::Output),
         "parameter" => Ok(Kind::Parameter),
+        "independent" => Ok(Kind::Independent),
         other => Err(format!("unknown variable kind '{other}'")),
     }
 }

@@ -3,6 +3,8 @@
 //! The model and its variable table come from the FMU's `resources/` at instantiation.
 
 pub mod fmi2;
+pub mod fmi3;
+pub mod host;
 pub mod instance;
 pub mod layout;
 pub mod types;

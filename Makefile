@@ -12,10 +12,11 @@ DEMO_SIGNALS ?= J1.w+J2.w+J3.w+J4.w,clutch1.mode+clutch2.mode+clutch3.mode
 setup:
 	@test -x $(PY) || python3 -m venv $(VENV)
 	@$(PY) -m pip install --quiet --upgrade pip maturin
-	@VIRTUAL_ENV=$(CURDIR)/$(VENV) $(VENV)/bin/maturin develop --release --extras test --quiet
-	@# the FMU runtime (a C-ABI library, not part of the extension module maturin builds):
-	@# stiction.fmu finds it in target/release
+	@# the FMU runtime (a C-ABI library, not the extension module maturin builds) goes into the
+	@# package next to _core, so that a wheel built after it ships it too
 	@cargo build --release --quiet -p stiction-fmi
+	@cp target/release/libstiction_fmi.so python/stiction/
+	@VIRTUAL_ENV=$(CURDIR)/$(VENV) $(VENV)/bin/maturin develop --release --extras test --quiet
 
 demo: setup
 	@mkdir -p $(OUT)

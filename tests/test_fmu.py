@@ -196,6 +196,9 @@ def test_bad_calls_return_an_error_with_a_message(flywheel_fmu: Path) -> None:
         h.slave.setReal([h.vr["brake.fn_max"]], [10.0])  # parameters are fixed after initialization
     h.slave.doStep(0.0, 0.5)  # still usable after refused calls
     assert h.get("flywheel.w") == pytest.approx(100.0)
+    with pytest.raises(FMICallException):
+        h.slave.doStep(0.5, 1.0)  # past the stop time set up
+    assert "past StopTime = 1" in h.messages[-1]
     h.slave.terminate()
     assert h.get("flywheel.w") == pytest.approx(100.0)  # final values stay readable
     with pytest.raises(FMICallException):

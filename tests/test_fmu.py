@@ -303,3 +303,11 @@ def test_the_command_exports_a_modelica_model(tmp_path: Path) -> None:
     assert [v.name for v in md.modelVariables if v.causality == "output"] == ["J1.w"]
     bad = _stiction("fmu", COUPLED, "-o", fmu, "--outputs", "J9.w")
     assert bad.returncode != 0 and "output 'J9.w': not a variable of the model" in bad.stderr
+
+
+def test_a_model_with_a_data_file_carries_it(tmp_path: Path) -> None:
+    model = st.Model.load(ROOT / "examples" / "brake_force_profile.toml")
+    fmu = model.to_fmu(tmp_path / "Profile.fmu", outputs=["vehicle.w"])
+    out = fmpy.simulate_fmu(str(fmu), stop_time=6.0, output_interval=0.01)
+    ref = model.simulate()
+    assert_close(out["vehicle.w"], np.interp(out["time"], ref.time, ref["vehicle.w"]), "vehicle.w")

@@ -159,4 +159,23 @@ def export_fmu(
         z.write(library, f"binaries/{folder}/{ident}{ext}")
         z.writestr("resources/model.toml", text)
         z.writestr("resources/variables.tsv", variable_table(variables, guid))
+        for name in _data_files(model, tomllib.loads(text).get("components", {})):
+            z.write(model.base_dir / name, f"resources/{name}")
     return path
+
+
+def _data_files(model: Model, components: dict[str, dict]) -> list[str]:
+    """The files the model reads (a TimeTable's ``file``) by relative name: the FMU carries
+    them in ``resources/``, where the runtime resolves relative names. An absolute name would
+    point outside the FMU: refused."""
+    from .catalogue import catalogue
+
+    known = catalogue()
+    names = []
+    for comp, spec in components.items():
+        for p in known[spec["type"]].parameters:
+            if p.kind == "String" and p.name == "file" and isinstance(spec.get("file"), str):
+                if Path(spec["file"]).is_absolute():
+                    raise ModelError(f"{comp}.file: an FMU carries its data files by relative name")
+                names.append(spec["file"])
+    return names

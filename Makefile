@@ -7,11 +7,15 @@ EXAMPLE ?= examples/msl/CoupledClutches.toml
 # what the demo plots: speeds on one axes, the clutch modes on another
 DEMO_SIGNALS ?= J1.w+J2.w+J3.w+J4.w,clutch1.mode+clutch2.mode+clutch3.mode
 
-.PHONY: setup demo test test-rust test-python lint docs bench bench-io soak clean
+.PHONY: setup demo test test-rust test-python lint docs bench bench-io bench-fmu soak clean
 
 setup:
 	@test -x $(PY) || python3 -m venv $(VENV)
 	@$(PY) -m pip install --quiet --upgrade pip maturin
+	@# the FMU runtime (a C-ABI library, not the extension module maturin builds) goes into the
+	@# package next to _core, so that a wheel built after it ships it too
+	@cargo build --release --quiet -p stiction-fmi
+	@cp target/release/libstiction_fmi.so python/stiction/
 	@VIRTUAL_ENV=$(CURDIR)/$(VENV) $(VENV)/bin/maturin develop --release --extras test --quiet
 
 demo: setup
@@ -22,7 +26,7 @@ demo: setup
 test: setup test-rust test-python
 
 test-rust:
-	cargo test --release -p stiction-core
+	cargo test --release -p stiction-core -p stiction-fmi
 
 test-python:
 	$(PY) -m pytest -q
@@ -54,3 +58,7 @@ clean:
 # Modelica import and result-file speed (issue 11): prints numbers, asserts nothing
 bench-io: setup
 	$(PY) scripts/bench_modelica_io.py
+
+# FMU runtime speed and memory in a C host, and FMPy end to end (issue 12): prints numbers
+bench-fmu: setup
+	$(PY) scripts/bench_fmu.py

@@ -213,6 +213,33 @@ def export_cmd(model_file: Path, output: Path) -> None:
 
 @main.command()
 @click.argument("model_file", type=click.Path(dir_okay=False, path_type=Path))
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(dir_okay=False, path_type=Path),
+    required=True,
+    help="The FMU to write (Name.fmu).",
+)
+@click.option("--fmi", "fmi_version", type=click.Choice(["2", "3"]), default="2", help="FMI version.")
+@click.option(
+    "--outputs",
+    default=None,
+    help="Variables the FMU outputs, comma-separated (J1.w,brake.mode). Default: the states.",
+)
+@_model_option
+@_friendly_errors
+def fmu(
+    model_file: Path, output: Path, fmi_version: str, outputs: str | None, model_name: str | None
+) -> None:
+    """Write MODEL_FILE (.toml or .mo) as an FMI Co-Simulation FMU."""
+    model = _load(model_file, model_name)
+    chosen = [s.strip() for s in outputs.split(",") if s.strip()] if outputs else None
+    model.to_fmu(output, fmi_version=int(fmi_version), outputs=chosen)
+    click.echo(f"wrote {output}")
+
+
+@main.command()
+@click.argument("model_file", type=click.Path(dir_okay=False, path_type=Path))
 @click.option("-v", "--verbose", is_flag=True, help="Also show the experiment and every start value.")
 @_friendly_errors
 def check(model_file: Path, verbose: bool) -> None:

@@ -252,6 +252,19 @@ class Model:
             Path(path).write_text(text, encoding="utf-8")
         return text
 
+    def to_fmu(
+        self,
+        path: str | os.PathLike[str],
+        fmi_version: int = 2,
+        outputs: list[str] | None = None,
+    ) -> Path:
+        """Write the model as an FMI Co-Simulation FMU (see ``stiction.fmu``): its declared
+        inputs are the FMU's inputs, ``outputs`` (default: the states) its outputs, the
+        components' Real parameters its parameters by MSL name."""
+        from .fmu import export_fmu
+
+        return export_fmu(self, path, fmi_version, outputs)
+
     def save(self, path: str | os.PathLike[str]) -> None:
         """Write the model file; relative file parameters stay relative to it."""
         Path(path).write_text(self.to_toml(), encoding="utf-8")

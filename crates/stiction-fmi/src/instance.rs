@@ -1,0 +1,308 @@
+//! One FMU instance: the compiled model, the values of its parameters and inputs, and (from
+//! the end of initialization) the running `Simulation`. Pure Rust: every operation returns
+//! `Result<_, String>`; `fmi2.rs` turns an error into a logged `fmi2Error`.
+
+use std::path::Path;
+
+use stiction_core::assembly::CompiledModel;
+use stiction_core::simulation::SimState;
+use stiction_core::{ModelSpec, Simulation};
+
+use crate::layout::{resource_dir, Kind, Layout};
+
+pub type Fallible<T> = Result<T, String>;
+
+/// The FMI 2.0 Co-Simulation state machine, as far as a caller can tell states apart.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    Instantiated,
+    Initialization,
+    Step,
+    Terminated,
+    /// After an error in `doStep`: only reset, terminate or free are allowed.
+    Failed,
+}
+
+struct Var {
+    kind: Kind,
+    name: String,
+    start: f64,
+    value: f64,
+    /// An output's column in `Simulation::values` (time: 0).
+    column: usize,
+}
+
+impl Var {
+    fn is_computed(&self) -> bool {
+        matches!(self.kind, Kind::Output | Kind::Independent)
+    }
+}
+
+/// A saved state: the run's and the values of the inputs and parameters.
+pub struct Snapshot {
+    sim: SimState,
+    values: Vec<f64>,
+}
+
+pub struct Instance {
+    model: CompiledModel,
+    vars: Vec<Var>,
+    pub mode: Mode,
+    start_time: Option<f64>,
+    stop_time: Option<f64>,
+    tolerance: Option<f64>,
+    sim: Option<Simulation>,
+}
+
+fn read(dir: &Path, file: &str) -> Fallible<String> {
+    std::fs::read_to_string(dir.join(file))
+        .map_err(|e| format!("cannot read {}: {e}", dir.join(file).display()))
+}
+
+fn bind(layout: Layout, model: &CompiledModel) -> Fallible<Vec<Var>> {
+    let names: Vec<String> = model
+        .system()
+        .outputs
+        .iter()
+        .map(|(n, _)| n.clone())
+        .collect();
+    let params = model.parameter_names();
+    let inputs: Vec<String> = model
+        .system()
+        .inputs
+        .iter()
+        .map(|i| i.name.clone())
+        .collect();
+    let bind_one = |v: crate::layout::VarSpec| {
+        let known = match v.kind {
+            Kind::Output => names.iter().position(|n| *n == v.name).map(|k| k + 1),
+            Kind::Parameter => params.contains(&v.name).then_some(0),
+            Kind::Input => inputs.contains(&v.name).then_some(0),
+            Kind::Independent => Some(0), // `time` is column 0 of `Simulation::values`
+        };
+        let column = known.ok_or(format!("'{}' is not a {:?} of the model", v.name, v.kind))?;
+        Ok(Var {
+            kind: v.kind,
+            name: v.name,
+            start: v.start,
+            value: v.start,
+            column,
+        })
+    };
+    layout.vars.into_iter().map(bind_one).collect()
+}
+
+impl Instance {
+    /// Loads `model.toml` and `variables.tsv` from the resource folder the URI names.
+    pub fn load(resource_uri: &str, guid: &str) -> Fallible<Self> {
+        let dir = resource_dir(resource_uri)?;
+        let layout = Layout::parse(&read(&dir, "variables.tsv")?)?;
+        if layout.guid != guid {
+            return Err(format!(
+                "GUID {guid} does not match the FMU's resources ({})",
+                layout.guid
+            ));
+        }
+        let spec =
+            ModelSpec::from_toml(&read(&dir, "model.toml")?, &dir).map_err(|e| e.to_string())?;
+        let model = CompiledModel::new(spec).map_err(|e| e.to_string())?;
+        let vars = bind(layout, &model)?;
+        Ok(Instance {
+            model,
+            vars,
+            mode: Mode::Instantiated,
+            start_time: None,
+            stop_time: None,
+            tolerance: None,
+            sim: None,
+        })
+    }
+
+    pub fn setup_experiment(
+        &mut self,
+        tol: Option<f64>,
+        start: f64,
+        stop: Option<f64>,
+    ) -> Fallible<()> {
+        self.expect(&[Mode::Instantiated], "setupExperiment")?;
+        if !start.is_finite() || stop.is_some_and(|s| s.is_nan() || s <= start) {
+            return Err(format!("setupExperiment: bad interval [{start}, {stop:?}]"));
+        }
+        (self.start_time, self.stop_time, self.tolerance) = (Some(start), stop, tol);
+        Ok(())
+    }
+
+    fn expect(&self, modes: &[Mode], call: &str) -> Fallible<()> {
+        if modes.contains(&self.mode) {
+            return Ok(());
+        }
+        Err(format!("{call} is not allowed in state {:?}", self.mode))
+    }
+
+    pub fn enter_initialization(&mut self) -> Fallible<()> {
+        self.expect(&[Mode::Instantiated], "enterInitializationMode")?;
+        self.mode = Mode::Initialization;
+        Ok(())
+    }
+
+    pub fn exit_initialization(&mut self) -> Fallible<()> {
+        self.expect(&[Mode::Initialization], "exitInitializationMode")?;
+        self.ensure_sim()?;
+        self.mode = Mode::Step;
+        Ok(())
+    }
+
+    /// The model variant with the parameters and experiment settings set so far.
+    fn variant(&self) -> Fallible<CompiledModel> {
+        let mut overrides: Vec<(&str, toml::Value)> = (self.vars.iter())
+            .filter(|v| v.kind == Kind::Parameter && v.value != v.start)
+            .map(|v| (v.name.as_str(), toml::Value::Float(v.value)))
+            .collect();
+        let experiment = [
+            ("StartTime", self.start_time),
+            ("StopTime", self.stop_time),
+            ("Tolerance", self.tolerance),
+        ];
+        for (name, value) in experiment {
+            overrides.extend(value.map(|v| (name, toml::Value::Float(v))));
+        }
+        self.model.with(&overrides).map_err(|e| e.to_string())
+    }
+
+    /// Builds the run from the current parameters and inputs, once.
+    fn ensure_sim(&mut self) -> Fallible<&mut Simulation> {
+        if self.sim.is_none() {
+            let mut sim = Simulation::new(self.variant()?.system()).map_err(|e| e.to_string())?;
+            sim.set_recording(false);
+            for v in self.vars.iter().filter(|v| v.kind == Kind::Input) {
+                sim.set_input(&v.name, v.value).map_err(|e| e.to_string())?;
+            }
+            self.sim = Some(sim);
+        }
+        Ok(self.sim.as_mut().expect("built above"))
+    }
+
+    fn var(&self, vr: u32) -> Fallible<&Var> {
+        self.vars
+            .get(vr as usize)
+            .ok_or(format!("unknown value reference {vr}"))
+    }
+
+    pub fn get_reals(&mut self, vrs: &[u32], out: &mut [f64]) -> Fallible<()> {
+        let needs_run = vrs.iter().any(|&r| self.var(r).is_ok_and(Var::is_computed));
+        let row = match needs_run {
+            true => self.ensure_sim()?.values().map_err(|e| e.to_string())?,
+            false => Vec::new(),
+        };
+        for (&vr, slot) in vrs.iter().zip(out) {
+            let v = self.var(vr)?;
+            *slot = if v.is_computed() {
+                row[v.column]
+            } else {
+                v.value
+            };
+        }
+        Ok(())
+    }
+
+    pub fn set_reals(&mut self, vrs: &[u32], values: &[f64]) -> Fallible<()> {
+        for (&vr, &value) in vrs.iter().zip(values) {
+            self.set_real(vr, value)?;
+        }
+        Ok(())
+    }
+
+    fn set_real(&mut self, vr: u32, value: f64) -> Fallible<()> {
+        let (kind, name) = (self.var(vr)?.kind, self.var(vr)?.name.clone());
+        let settable = [Mode::Instantiated, Mode::Initialization, Mode::Step];
+        self.expect(&settable, &format!("setting {name}"))?;
+        if !value.is_finite() {
+            return Err(format!("{name}: {value} is not a finite number"));
+        }
+        match kind {
+            Kind::Output | Kind::Independent => {
+                return Err(format!("{name} is computed by the FMU: it cannot be set"))
+            }
+            Kind::Parameter => self.set_parameter(&name, value)?,
+            Kind::Input if self.mode == Mode::Step => {
+                let sim = self.sim.as_mut().expect("a run exists in step mode");
+                sim.set_input(&name, value).map_err(|e| e.to_string())?;
+            }
+            Kind::Input => self.sim = None,
+        }
+        self.vars[vr as usize].value = value;
+        Ok(())
+    }
+
+    /// Parameters are set before the end of initialization; a value is checked at once.
+    fn set_parameter(&mut self, name: &str, value: f64) -> Fallible<()> {
+        let allowed = [Mode::Instantiated, Mode::Initialization];
+        self.expect(&allowed, &format!("setting parameter {name}"))?;
+        self.model
+            .with(&[(name, toml::Value::Float(value))])
+            .map_err(|e| e.to_string())?;
+        self.sim = None;
+        Ok(())
+    }
+
+    pub fn do_step(&mut self, t: f64, h: f64) -> Fallible<()> {
+        self.expect(&[Mode::Step], "doStep")?;
+        let sim = self.sim.as_mut().expect("a run exists in step mode");
+        let now = sim.time();
+        if !h.is_finite() || h < 0.0 {
+            return Err(format!(
+                "doStep: the step size {h} must be a finite number ≥ 0"
+            ));
+        }
+        if (t - now).abs() > 1e-9 * now.abs().max(1.0) {
+            return Err(format!(
+                "doStep: currentCommunicationPoint {t} is not the FMU's time {now}"
+            ));
+        }
+        let outcome = sim.advance_to(now.max(t + h)).map_err(|e| e.to_string());
+        if outcome.is_err() {
+            self.mode = Mode::Failed;
+        }
+        outcome
+    }
+
+    pub fn time(&self) -> Option<f64> {
+        self.sim.as_ref().map(|s| s.time())
+    }
+
+    pub fn terminate(&mut self) -> Fallible<()> {
+        self.expect(&[Mode::Step, Mode::Failed], "terminate")?;
+        // the run stays until reset or free: FMI 2.0 lets the host read the final values
+        self.mode = Mode::Terminated;
+        Ok(())
+    }
+
+    /// Back to the state after instantiation: default values, no run.
+    pub fn reset(&mut self) {
+        for v in &mut self.vars {
+            v.value = v.start;
+        }
+        (self.start_time, self.stop_time, self.tolerance) = (None, None, None);
+        self.sim = None;
+        self.mode = Mode::Instantiated;
+    }
+
+    pub fn snapshot(&mut self) -> Fallible<Snapshot> {
+        self.expect(&[Mode::Step], "getFMUstate")?;
+        let sim = self.sim.as_mut().expect("a run exists in step mode");
+        Ok(Snapshot {
+            sim: sim.state().map_err(|e| e.to_string())?,
+            values: self.vars.iter().map(|v| v.value).collect(),
+        })
+    }
+
+    pub fn restore(&mut self, snap: &Snapshot) -> Fallible<()> {
+        self.expect(&[Mode::Step], "setFMUstate")?;
+        let sim = self.sim.as_mut().expect("a run exists in step mode");
+        sim.set_state(&snap.sim).map_err(|e| e.to_string())?;
+        for (v, &value) in self.vars.iter_mut().zip(&snap.values) {
+            v.value = value;
+        }
+        Ok(())
+    }
+}

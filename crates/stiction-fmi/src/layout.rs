@@ -1,0 +1,152 @@
+//! What an FMU made by `stiction fmu` carries in `resources/`: the model file (`model.toml`,
+//! the engine's text) and the variable table (`variables.tsv`) that maps each value reference
+//! to a model input, an output variable or a parameter by its MSL name. The Python side writes
+//! both together with `modelDescription.xml`, so the three always agree.
+
+use std::path::{Path, PathBuf};
+
+/// What a value reference stands for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    Input,
+    Output,
+    Parameter,
+    /// Time (FMI 3.0 declares it).
+    Independent,
+}
+
+#[derive(Debug, Clone)]
+pub struct VarSpec {
+    pub kind: Kind,
+    pub name: String,
+    /// The start value of an input or a parameter (outputs: unused).
+    pub start: f64,
+}
+
+/// The variable table: the GUID on its first line (`guid\t…`), then `vr kind name start`,
+/// tab-separated, value references 0, 1, 2, … in order.
+#[derive(Debug, Clone)]
+pub struct Layout {
+    pub guid: String,
+    pub vars: Vec<VarSpec>,
+}
+
+fn parse_kind(word: &str) -> Result<Kind, String> {
+    match word {
+        "input" => Ok(Kind::Input),
+        "output" => Ok(Kind::Output),
+        "parameter" => Ok(Kind::Parameter),
+        "independent" => Ok(Kind::Independent),
+        other => Err(format!("unknown variable kind '{other}'")),
+    }
+}
+
+fn parse_var(k: usize, line: &str) -> Result<VarSpec, String> {
+    let fields: Vec<&str> = line.split('\t').collect();
+    let [vr, kind, name, start] = fields[..] else {
+        return Err(format!("line {}: expected 4 tab-separated fields", k + 2));
+    };
+    if vr.parse::<usize>() != Ok(k) {
+        return Err(format!(
+            "line {}: value reference {vr}, expected {k}",
+            k + 2
+        ));
+    }
+    let start = start
+        .parse::<f64>()
+        .map_err(|_| format!("line {}: start value '{start}' is not a number", k + 2))?;
+    Ok(VarSpec {
+        kind: parse_kind(kind)?,
+        name: name.to_string(),
+        start,
+    })
+}
+
+impl Layout {
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let mut lines = text.lines();
+        let guid = lines
+            .next()
+            .and_then(|l| l.strip_prefix("guid\t"))
+            .ok_or("variables.tsv: the first line must be 'guid<TAB>…'")?
+            .to_string();
+        let vars = lines
+            .filter(|l| !l.is_empty())
+            .enumerate()
+            .map(|(k, l)| parse_var(k, l))
+            .collect::<Result<_, _>>()
+            .map_err(|e| format!("variables.tsv: {e}"))?;
+        Ok(Layout { guid, vars })
+    }
+}
+
+fn hex(b: u8) -> Option<u8> {
+    (b as char).to_digit(16).map(|d| d as u8)
+}
+
+/// The folder a `file:` URI names (`file:///a/b`, `file:/a/b`, `file://localhost/a/b`), with
+/// `%XX` escapes decoded; a plain path is taken as it is.
+pub fn resource_dir(uri: &str) -> Result<PathBuf, String> {
+    let path = match uri.strip_prefix("file:") {
+        None => uri,
+        Some(rest) => match rest.strip_prefix("//") {
+            Some(auth) => &auth[auth.find('/').ok_or(format!("bad file URI '{uri}'"))?..],
+            None => rest,
+        },
+    };
+    let bytes = path.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        let escaped = (bytes[i] == b'%')
+            .then(|| Some(hex(*bytes.get(i + 1)?)? * 16 + hex(*bytes.get(i + 2)?)?))
+            .flatten();
+        match escaped {
+            Some(b) => {
+                out.push(b);
+                i += 3;
+            }
+            None => {
+                out.push(bytes[i]);
+                i += 1;
+            }
+        }
+    }
+    let decoded = String::from_utf8(out).map_err(|_| format!("bad file URI '{uri}'"))?;
+    Ok(Path::new(&decoded).to_path_buf())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn file_uris_of_every_spelling_give_the_path() {
+        for uri in [
+            "file:///tmp/a%20b/res",
+            "file:/tmp/a%20b/res",
+            "file://localhost/tmp/a%20b/res",
+        ] {
+            assert_eq!(
+                resource_dir(uri).unwrap(),
+                Path::new("/tmp/a b/res"),
+                "{uri}"
+            );
+        }
+        assert_eq!(
+            resource_dir("file:///x/100%").unwrap(),
+            Path::new("/x/100%")
+        );
+    }
+
+    #[test]
+    fn the_variable_table_is_checked() {
+        let ok = Layout::parse("guid\tabc\n0\tinput\tb.f\t0.5\n1\toutput\tJ.w\t0\n").unwrap();
+        assert_eq!(ok.guid, "abc");
+        assert_eq!(ok.vars[0].kind, Kind::Input);
+        assert_eq!(ok.vars[0].start, 0.5);
+        assert!(Layout::parse("guid\tabc\n1\tinput\tb.f\t0\n").is_err());
+        assert!(Layout::parse("0\tinput\tb.f\t0\n").is_err());
+        assert!(Layout::parse("guid\tx\n0\tstate\tb.f\t0\n").is_err());
+    }
+}

@@ -1,0 +1,181 @@
+"""FMU export: a model as an FMI 2.0 or 3.0 Co-Simulation FMU that any FMI importer runs.
+
+The FMU holds ``modelDescription.xml``, the runtime library (``crates/stiction-fmi``, a C-ABI
+build of the engine: no Python in the importer's process) in ``binaries/<platform>/`` and, in
+``resources/``, the model file and the table that maps value references to names. Inputs are
+the model's declared inputs; outputs are the chosen variables; parameters are the numeric
+parameters of the components with their MSL names, set before the end of initialization
+(``variability="fixed"``: the engine compiles them into the run).
+"""
+
+from __future__ import annotations
+
+import os
+import platform
+import re
+import sys
+import tomllib
+import uuid
+import zipfile
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from . import fmu_xml
+from .errors import ModelError, StictionError
+
+if TYPE_CHECKING:
+    from .model import Model
+
+__all__ = ["export_fmu", "runtime_library"]
+
+LIBRARY = {"linux": "libstiction_fmi.so", "darwin": "libstiction_fmi.dylib", "win32": "stiction_fmi.dll"}
+# binaries/ folder names of FMI 2.0 and FMI 3.0, and the library suffix
+PLATFORM = {
+    "linux": ("linux64", "x86_64-linux", ".so"),
+    "darwin": ("darwin64", "x86_64-darwin", ".dylib"),
+    "win32": ("win64", "x86_64-windows", ".dll"),
+}
+# variables whose values are states, by component type: the default outputs
+STATES = {"Inertia": ("phi", "w"), "HeatCapacitor": ("T",)}
+
+
+@dataclass(frozen=True)
+class FmuVariable:
+    """One scalar variable of the FMU, in value-reference order."""
+
+    name: str
+    kind: str  # input, output, parameter or independent (time, FMI 3.0)
+    start: float
+    unit: str = ""
+    description: str = ""
+
+
+def runtime_library() -> Path:
+    """The FMU runtime built for this platform: shipped in the package, or in the build tree.
+
+    ``STICTION_FMI_LIBRARY`` names another build.
+    """
+    name = LIBRARY.get(sys.platform, "libstiction_fmi.so")
+    candidates = [Path(os.environ["STICTION_FMI_LIBRARY"])] if "STICTION_FMI_LIBRARY" in os.environ else []
+    here = Path(__file__).resolve().parent
+    candidates += [here / name, here.parents[1] / "target" / "release" / name]
+    for path in candidates:
+        if path.is_file():
+            return path
+    raise StictionError(
+        f"the FMU runtime ({name}) is not built: run `make setup` "
+        "(or `cargo build --release -p stiction-fmi`)"
+    )
+
+
+def _platform(fmi_version: int) -> tuple[str, str]:
+    """The ``binaries/`` folder of this platform and its library suffix."""
+    if sys.platform not in PLATFORM or platform.machine().lower() not in ("x86_64", "amd64"):
+        raise StictionError(f"FMU export: no FMI platform name for {sys.platform}/{platform.machine()}")
+    fmi2, fmi3, ext = PLATFORM[sys.platform]
+    return (fmi2 if fmi_version == 2 else fmi3), ext
+
+
+def _is_number(value: object) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _parameters(model: Model, components: dict[str, dict]) -> list[FmuVariable]:
+    """Every Real parameter with a numeric value (given, or its MSL default)."""
+    from .catalogue import catalogue
+
+    known = catalogue()
+    found = []
+    for name, spec in components.items():
+        for p in known[spec["type"]].parameters:
+            value = spec.get(p.name, p.default)
+            if p.kind == "Real" and _is_number(value):
+                found.append(
+                    FmuVariable(f"{name}.{p.name}", "parameter", float(value), p.unit, p.description)
+                )
+    return found
+
+
+def default_outputs(model: Model) -> list[str]:
+    """The states: every Inertia's phi and w, every HeatCapacitor's T."""
+    return [f"{n}.{v}" for n, c in model.components.items() for v in STATES.get(c.type, ())]
+
+
+def _outputs(model: Model, names: list[str]) -> list[FmuVariable]:
+    from .catalogue import unit_of
+
+    known = set(model.simulation().values())
+    types = model.types()
+    found = []
+    for name in names:
+        if name not in known:
+            raise ModelError(f"output '{name}': not a variable of the model")
+        found.append(FmuVariable(name, "output", 0.0, unit_of(name, types)))
+    return found
+
+
+def interface(model: Model, outputs: list[str] | None = None, fmi_version: int = 2) -> list[FmuVariable]:
+    """The FMU's variables: inputs, outputs, parameters (and time for FMI 3.0), in
+    value-reference order."""
+    components = tomllib.loads(model.engine_toml()).get("components", {})
+    inputs = [FmuVariable(port, "input", start) for port, start in model.inputs.items()]
+    chosen = _outputs(model, list(outputs) if outputs is not None else default_outputs(model))
+    time = [FmuVariable("time", "independent", 0.0, "s", "Simulation time")] if fmi_version == 3 else []
+    return inputs + chosen + _parameters(model, components) + time
+
+
+def _identifier(name: str) -> str:
+    ident = re.sub(r"\W", "_", name)
+    return ident if re.match(r"[A-Za-z_]", ident) else "_" + ident
+
+
+def variable_table(variables: list[FmuVariable], guid: str) -> str:
+    """``resources/variables.tsv``: what the runtime reads to map value references."""
+    rows = [f"{k}\t{v.kind}\t{v.name}\t{v.start!r}" for k, v in enumerate(variables)]
+    return "\n".join([f"guid\t{guid}", *rows]) + "\n"
+
+
+def export_fmu(
+    model: Model,
+    path: str | os.PathLike[str],
+    fmi_version: int = 2,
+    outputs: list[str] | None = None,
+) -> Path:
+    """Write ``model`` as a Co-Simulation FMU (FMI 2.0 or 3.0) to ``path``; returns the path."""
+    if fmi_version not in (2, 3):
+        raise ModelError(f"fmi_version={fmi_version}: FMI 2 and 3 are written")
+    library = runtime_library()
+    folder, ext = _platform(fmi_version)
+    variables = interface(model, outputs, fmi_version)
+    text = model.engine_toml()
+    guid = "{" + str(uuid.uuid5(uuid.NAMESPACE_URL, text + variable_table(variables, ""))) + "}"
+    ident = _identifier(model.name)
+    exp = tomllib.loads(text).get("experiment", {})
+    write = fmu_xml.fmi2 if fmi_version == 2 else fmu_xml.fmi3
+    path = Path(path)
+    with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as z:
+        z.writestr("modelDescription.xml", write(model.name, exp, variables, ident, guid))
+        z.write(library, f"binaries/{folder}/{ident}{ext}")
+        z.writestr("resources/model.toml", text)
+        z.writestr("resources/variables.tsv", variable_table(variables, guid))
+        for name in _data_files(model, tomllib.loads(text).get("components", {})):
+            z.write(model.base_dir / name, f"resources/{name}")
+    return path
+
+
+def _data_files(model: Model, components: dict[str, dict]) -> list[str]:
+    """The files the model reads (a TimeTable's ``file``) by relative name: the FMU carries
+    them in ``resources/``, where the runtime resolves relative names. An absolute name would
+    point outside the FMU: refused."""
+    from .catalogue import catalogue
+
+    known = catalogue()
+    names = []
+    for comp, spec in components.items():
+        for p in known[spec["type"]].parameters:
+            if p.kind == "String" and p.name == "file" and isinstance(spec.get("file"), str):
+                if Path(spec["file"]).is_absolute():
+                    raise ModelError(f"{comp}.file: an FMU carries its data files by relative name")
+                names.append(spec["file"])
+    return names

@@ -1,0 +1,115 @@
+"""``modelDescription.xml`` of stiction's Co-Simulation FMUs, for FMI 2.0 and FMI 3.0.
+
+Inputs are continuous with their start value; outputs are calculated (``*.mode`` discrete);
+parameters are ``fixed`` with ``initial="exact"``: they are compiled into the run at the end
+of initialization. No event indicators, no derivatives, no serialized states.
+"""
+
+from __future__ import annotations
+
+import datetime
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+from xml.sax.saxutils import quoteattr
+
+from . import __version__
+
+if TYPE_CHECKING:
+    from .fmu import FmuVariable
+
+ATTRIBUTES = {
+    "input": 'causality="input" variability="continuous"',
+    "output": 'causality="output" variability="continuous" initial="calculated"',
+    "parameter": 'causality="parameter" variability="fixed" initial="exact"',
+    "independent": 'causality="independent" variability="continuous"',
+}
+
+
+def _attributes(v: FmuVariable) -> str:
+    attrs = ATTRIBUTES[v.kind]
+    if v.kind == "output" and v.name.endswith(".mode"):
+        attrs = attrs.replace("continuous", "discrete")
+    return attrs + (f" description={quoteattr(v.description)}" if v.description else "")
+
+
+def _value(v: FmuVariable) -> list[str]:
+    unit = [f"unit={quoteattr(v.unit)}"] if v.unit else []
+    return unit + ([f'start="{v.start!r}"'] if v.kind in ("input", "parameter") else [])
+
+
+def _header(exp: Mapping[str, Any], variables: Sequence[FmuVariable]) -> tuple[str, str, str]:
+    now = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
+    names = [("startTime", "StartTime"), ("stopTime", "StopTime"), ("tolerance", "Tolerance")]
+    experiment = " ".join(f'{fmi}="{float(exp[ours])!r}"' for fmi, ours in names if ours in exp)
+    units = "\n".join(
+        f"    <Unit name={quoteattr(u)}/>" for u in sorted({v.unit for v in variables if v.unit})
+    )
+    return now, experiment, units
+
+
+def fmi2(name: str, exp: Mapping[str, Any], variables: Sequence[FmuVariable], ident: str, guid: str) -> str:
+    """FMI 2.0: ``ScalarVariable`` elements; the structure lists outputs by 1-based index."""
+    now, experiment, units = _header(exp, variables)
+    scalars = "\n".join(
+        f'    <ScalarVariable name={quoteattr(v.name)} valueReference="{k}" {_attributes(v)}>\n'
+        f"      <Real {' '.join(_value(v))}/>\n    </ScalarVariable>"
+        for k, v in enumerate(variables)
+    )
+    outs = "\n".join(
+        f'      <Unknown index="{k + 1}"/>' for k, v in enumerate(variables) if v.kind == "output"
+    )
+    return f"""<?xml version="1.0" encoding="UTF-8"?>
+<fmiModelDescription fmiVersion="2.0" modelName={quoteattr(name)} guid="{guid}"
+  generationTool="stiction {__version__}" generationDateAndTime="{now}"
+  variableNamingConvention="structured" numberOfEventIndicators="0">
+  <CoSimulation modelIdentifier="{ident}" canHandleVariableCommunicationStepSize="true"
+    canGetAndSetFMUstate="true" canSerializeFMUstate="false" canNotUseMemoryManagementFunctions="true"/>
+  <UnitDefinitions>
+{units}
+  </UnitDefinitions>
+  <DefaultExperiment {experiment}/>
+  <ModelVariables>
+{scalars}
+  </ModelVariables>
+  <ModelStructure>
+    <Outputs>
+{outs}
+    </Outputs>
+    <InitialUnknowns>
+{outs}
+    </InitialUnknowns>
+  </ModelStructure>
+</fmiModelDescription>
+"""
+
+
+def fmi3(name: str, exp: Mapping[str, Any], variables: Sequence[FmuVariable], ident: str, token: str) -> str:
+    """FMI 3.0: ``Float64`` elements; the structure lists outputs by value reference."""
+    now, experiment, units = _header(exp, variables)
+    floats = "\n".join(
+        f'    <Float64 name={quoteattr(v.name)} valueReference="{k}" {_attributes(v)} {" ".join(_value(v))}/>'
+        for k, v in enumerate(variables)
+    )
+    outs = [k for k, v in enumerate(variables) if v.kind == "output"]
+    structure = "\n".join(
+        [f'    <Output valueReference="{k}"/>' for k in outs]
+        + [f'    <InitialUnknown valueReference="{k}"/>' for k in outs]
+    )
+    return f"""<?xml version="1.0" encoding="UTF-8"?>
+<fmiModelDescription fmiVersion="3.0" modelName={quoteattr(name)} instantiationToken="{token}"
+  generationTool="stiction {__version__}" generationDateAndTime="{now}"
+  variableNamingConvention="structured">
+  <CoSimulation modelIdentifier="{ident}" canHandleVariableCommunicationStepSize="true"
+    canGetAndSetFMUState="true" canSerializeFMUState="false"/>
+  <UnitDefinitions>
+{units}
+  </UnitDefinitions>
+  <DefaultExperiment {experiment}/>
+  <ModelVariables>
+{floats}
+  </ModelVariables>
+  <ModelStructure>
+{structure}
+  </ModelStructure>
+</fmiModelDescription>
+"""

@@ -1,12 +1,18 @@
 //! The linear algebra the engine and the initialization need, behind two small interfaces:
 //! - `LinearSolver` factors a square system given as triplets (the per-mode KKT system) into a
-//!   `Factorization` that is solved many times. `DenseLu` is today's implementation; a sparse or
-//!   structured solver plugs in here without the engine changing.
+//!   `Factorization` that is solved many times. `DenseLu` for small systems, `BandLu` (RCM-ordered banded LU)
+//!   for large ones, chosen by size in `SizedLu`.
 //! - `RowBasis` is the one rank test: rows offered in priority order are kept when independent
 //!   of those kept before (locks of a mode, fixed start values); it also answers whether another
 //!   row depends on the kept ones (a motion the mode holds). One tolerance, one place.
 
 use nalgebra::{DMatrix, Dyn, LU};
+
+mod band;
+mod basis;
+
+pub use band::{rcm_order, BandLu};
+pub use basis::RowBasis;
 
 /// A row is dependent when what is left of it after removing the kept rows' directions is below
 /// this fraction of its norm.
@@ -55,6 +61,24 @@ pub trait LinearSolver {
     fn factor(&self, matrix: &Triplets) -> Result<Box<dyn Factorization>, Singular>;
 }
 
+/// From this many unknowns on, `SizedLu` uses the banded LU.
+pub const BAND_FROM: usize = 40;
+
+/// Dense LU for small systems (the MSL examples keep their exact arithmetic), banded LU after
+/// a reverse Cuthill–McKee ordering for large ones (cost linear in the drivetrain's size).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct SizedLu;
+
+impl LinearSolver for SizedLu {
+    fn factor(&self, matrix: &Triplets) -> Result<Box<dyn Factorization>, Singular> {
+        if matrix.size < BAND_FROM {
+            DenseLu.factor(matrix)
+        } else {
+            BandLu.factor(matrix)
+        }
+    }
+}
+
 /// Dense LU with partial pivoting (nalgebra): right for the small drivetrains of the MSL
 /// examples; its cost grows like n³.
 #[derive(Debug, Clone, Copy, Default)]
@@ -98,62 +122,6 @@ impl LinearSolver for DenseLu {
     }
 }
 
-/// An orthonormal basis of the rows kept so far (modified Gram–Schmidt, i.e. a QR factorization
-/// of the kept rows built one row at a time, which keeps the priority order).
-pub struct RowBasis {
-    dim: usize,
-    kept: Vec<Vec<f64>>,
-}
-
-impl RowBasis {
-    pub fn new(dim: usize) -> Self {
-        Self {
-            dim,
-            kept: Vec::new(),
-        }
-    }
-
-    /// The row's norm and what is left of it after removing the kept rows' directions.
-    fn residual(&self, terms: &[(usize, f64)]) -> (f64, Vec<f64>) {
-        let mut v = vec![0.0; self.dim];
-        for &(i, c) in terms {
-            v[i] += c;
-        }
-        let norm0 = norm(&v);
-        for q in &self.kept {
-            let dot: f64 = q.iter().zip(&v).map(|(a, b)| a * b).sum();
-            v.iter_mut().zip(q).for_each(|(x, qi)| *x -= dot * qi);
-        }
-        (norm0, v)
-    }
-
-    /// Whether the row (sparse terms) is a nonzero combination of the kept rows.
-    pub fn depends(&self, terms: &[(usize, f64)]) -> bool {
-        let (norm0, v) = self.residual(terms);
-        norm0 > 0.0 && norm(&v) <= RANK_TOLERANCE * norm0
-    }
-
-    /// Keeps the row if it is independent of the rows kept so far; a zero row is never kept.
-    pub fn accept(&mut self, terms: &[(usize, f64)]) -> bool {
-        let (norm0, mut v) = self.residual(terms);
-        let left = norm(&v);
-        if norm0 == 0.0 || left <= RANK_TOLERANCE * norm0 {
-            return false;
-        }
-        v.iter_mut().for_each(|x| *x /= left);
-        self.kept.push(v);
-        true
-    }
-
-    pub fn rank(&self) -> usize {
-        self.kept.len()
-    }
-}
-
-fn norm(v: &[f64]) -> f64 {
-    v.iter().map(|x| x * x).sum::<f64>().sqrt()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -188,5 +156,85 @@ mod tests {
         assert!(!basis.depends(&[(0, 1.0)]));
         assert!(!basis.accept(&[]));
         assert_eq!(basis.rank(), 2);
+    }
+
+    /// A KKT-like system of a chain: masses (some zero), locks between neighbours, a
+    /// non-symmetric column (a LossyGear's), pivots needed on the zero masses.
+    fn chain_system(n: usize) -> Triplets {
+        let locks: Vec<usize> = (0..n - 1).filter(|k| k % 3 != 1).collect();
+        let mut m = Triplets::new(n + locks.len());
+        for i in 0..n {
+            m.add(
+                i,
+                i,
+                if i % 5 == 4 {
+                    0.0
+                } else {
+                    1.0 + i as f64 * 0.1
+                },
+            );
+        }
+        for (r, &k) in locks.iter().enumerate() {
+            m.add(n + r, k, 1.0);
+            m.add(n + r, k + 1, -2.0);
+            m.add(k, n + r, 1.0);
+            m.add(k + 1, n + r, -2.0 + 0.3 * (r % 2) as f64);
+        }
+        for k in (0..n - 1).filter(|k| k % 3 == 1) {
+            m.add(k, k + 1, -0.5);
+            m.add(k + 1, k, -0.5);
+            m.add(k, k, 0.5);
+            m.add(k + 1, k + 1, 0.5);
+        }
+        m
+    }
+
+    #[test]
+    fn the_banded_lu_agrees_with_the_dense_one() {
+        for n in [1, 2, 7, 60, 200] {
+            let m = chain_system(n);
+            let b: Vec<f64> = (0..m.size).map(|i| (i as f64 * 0.7).sin()).collect();
+            let (mut x, mut y) = (b.clone(), b.clone());
+            DenseLu.factor(&m).expect("regular").solve_in_place(&mut x);
+            BandLu.factor(&m).expect("regular").solve_in_place(&mut y);
+            let err = x
+                .iter()
+                .zip(&y)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            assert!(err < 1e-10, "n = {n}: {err}");
+        }
+        let mut s = chain_system(30);
+        s.add(0, 0, -1.0); // node 0 now massless and free: singular
+        s.entries.retain(|&(r, c, _)| r != 30 && c != 30);
+        s.add(30, 30, 1.0);
+        assert!(DenseLu.factor(&s).is_err() && BandLu.factor(&s).is_err());
+    }
+
+    #[test]
+    fn the_graph_rank_test_agrees_with_the_general_one() {
+        let rows: Vec<Vec<(usize, f64)>> = vec![
+            vec![(0, 1.0), (1, -1.0)],
+            vec![(2, 3.0), (1, -3.0)],
+            vec![(0, 2.0), (2, -2.0)], // cycle
+            vec![(3, 1.0)],
+            vec![(4, -1.0), (3, 1.0), (4, 2.0)], // φ3 + φ4: a general row
+            vec![(4, 1.0)],                      // dependent now
+            vec![(5, 1.0), (5, -1.0)],           // zero
+        ];
+        let (mut graph, mut dense) = (RowBasis::new(6), basis::Dense::new(6));
+        for row in &rows[..4] {
+            assert_eq!(graph.accept(row), dense.accept(row));
+            assert_eq!(
+                graph.depends(&[(0, 1.0), (3, -1.0)]),
+                dense.depends(&[(0, 1.0), (3, -1.0)])
+            );
+        }
+        assert!(!graph.depends(&[(0, 1.0), (3, -1.0)]) && graph.rank() == 3);
+        assert!(graph.depends(&[(0, 1.0), (2, -1.0)]));
+        for row in &rows[4..] {
+            assert_eq!(graph.accept(row), dense.accept(row));
+        }
+        assert_eq!(graph.rank(), 4);
     }
 }

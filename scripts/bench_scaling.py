@@ -35,7 +35,9 @@ def main() -> None:
     model = st.Model.loads(chain_toml(750))
     t0 = time.perf_counter()
     model.check()
-    print(f"check of a 750-clutch chain ({len(model.components)} components): {(time.perf_counter() - t0) * 1e3:.0f} ms")
+    print(
+        f"check of a 750-clutch chain ({len(model.components)} components): {(time.perf_counter() - t0) * 1e3:.0f} ms"
+    )
 
 
 if __name__ == "__main__":

@@ -171,7 +171,7 @@ def _variables_and_parameters(doc: dict[str, Any], source: str) -> tuple[dict[st
 
 # --- writing --------------------------------------------------------------------------
 # strings TOML writes between double quotes as they are
-_PLAIN_STRING = re.compile(r'[ !#-\[\]-~]*')
+_PLAIN_STRING = re.compile(r"[ !#-\[\]-~]*")
 
 
 def _key(key: str) -> str:

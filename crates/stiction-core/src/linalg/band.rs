@@ -166,8 +166,10 @@ impl Factorization for BandFactors {
         for k in 0..n {
             y.swap(k, self.pivot_row[k]);
             let yk = y[k];
-            for i in k + 1..=(k + kl).min(n.saturating_sub(1)) {
-                y[i] -= self.lower[k * kl + (i - k - 1)] * yk;
+            let last = (k + kl).min(n - 1);
+            let below = &mut y[k + 1..=last];
+            for (yi, m) in below.iter_mut().zip(&self.lower[k * kl..]) {
+                *yi -= m * yk;
             }
         }
         let ku_all = self.width - 1 - kl;

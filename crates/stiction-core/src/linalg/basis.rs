@@ -7,11 +7,13 @@
 
 use super::RANK_TOLERANCE;
 
+type Row = Vec<(usize, f64)>;
+
 /// Rows offered in priority order are kept when independent of those kept before.
 pub struct RowBasis {
     dim: usize,
     /// While every kept row is a graph edge: the forest of kept edges and the rows, in order.
-    graph: Option<(Forest, Vec<Vec<(usize, f64)>>)>,
+    graph: Option<(Forest, Vec<Row>)>,
     dense: Dense,
 }
 
@@ -30,7 +32,7 @@ impl RowBasis {
             (Edge::Zero, _) => false,
             (Edge::Between(a, b), Some((forest, _))) => forest.find(a) == forest.find(b),
             _ => {
-                self.to_dense();
+                self.switch_to_general();
                 self.dense.depends(terms)
             }
         }
@@ -48,7 +50,7 @@ impl RowBasis {
                 joined
             }
             _ => {
-                self.to_dense();
+                self.switch_to_general();
                 self.dense.accept(terms)
             }
         }
@@ -61,7 +63,7 @@ impl RowBasis {
         }
     }
 
-    fn to_dense(&mut self) {
+    fn switch_to_general(&mut self) {
         if let Some((_, rows)) = self.graph.take() {
             for row in rows {
                 self.dense.accept(&row);

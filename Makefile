@@ -7,7 +7,7 @@ EXAMPLE ?= examples/msl/CoupledClutches.toml
 # what the demo plots: speeds on one axes, the clutch modes on another
 DEMO_SIGNALS ?= J1.w+J2.w+J3.w+J4.w,clutch1.mode+clutch2.mode+clutch3.mode
 
-.PHONY: setup demo test test-rust test-python lint docs bench bench-io clean
+.PHONY: setup demo test test-rust test-python lint docs bench bench-io bench-scaling clean
 
 setup:
 	@test -x $(PY) || python3 -m venv $(VENV)
@@ -50,3 +50,7 @@ clean:
 # Modelica import and result-file speed (issue 11): prints numbers, asserts nothing
 bench-io: setup
 	$(PY) scripts/bench_modelica_io.py
+
+# Growth with model size (issue 10): chains and ladders of generated models; prints numbers
+bench-scaling: setup
+	$(PY) scripts/bench_scaling.py

@@ -46,3 +46,20 @@ def test_redundant_locks_in_a_large_model_carry_no_torque() -> None:
     assert res.lock_times("brakeA") == [0.0] and res.lock_times("brakeB") == [0.0]
     assert np.all(res["brakeB.tau"] == 0.0)
     assert abs(res["brakeA.tau"][-1]) > 0.1  # the chain pulls on J40 once clutch40 engages
+
+
+def test_bench_scale_prints_a_row_per_model_and_size() -> None:
+    from click.testing import CliRunner
+
+    from stiction.cli import main
+
+    out = CliRunner().invoke(main, ["bench", "--scale", "4,12"])
+    assert out.exit_code == 0, out.output
+    rows = [line.split() for line in out.output.splitlines()[1:]]
+    assert [(r[0], r[1]) for r in rows] == [
+        ("chain", "4"),
+        ("chain", "12"),
+        ("ladder", "4"),
+        ("ladder", "12"),
+    ]
+    assert all(float(r[2]) > 0 and int(r[5]) > 0 for r in rows)

@@ -237,4 +237,31 @@ mod tests {
         }
         assert_eq!(graph.rank(), 4);
     }
+
+    /// Where dense and banded LU cross over (`BAND_FROM`): prints, asserts nothing.
+    /// `cargo test --release -p stiction-core linalg::tests::crossover -- --ignored --nocapture`
+    #[test]
+    #[ignore]
+    fn crossover() {
+        for n in [8, 16, 24, 32, 48, 64, 128] {
+            let m = chain_system(n);
+            let time = |solver: &dyn LinearSolver| {
+                let start = std::time::Instant::now();
+                for _ in 0..200 {
+                    let f = solver.factor(&m).expect("regular");
+                    let mut b = vec![1.0; m.size];
+                    for _ in 0..10 {
+                        f.solve_in_place(&mut b);
+                    }
+                }
+                start.elapsed().as_secs_f64() / 200.0 * 1e6
+            };
+            println!(
+                "size {:>4}: dense {:>8.1} us, band {:>8.1} us (factor + 10 solves)",
+                m.size,
+                time(&DenseLu),
+                time(&BandLu)
+            );
+        }
+    }
 }

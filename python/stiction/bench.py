@@ -14,7 +14,7 @@ from typing import Any
 
 from .model import Model
 
-__all__ = ["BenchRow", "SweepBench", "bench", "bench_sweep"]
+__all__ = ["BenchRow", "ScaleRow", "SweepBench", "bench", "bench_scale", "bench_sweep"]
 
 
 @dataclass(frozen=True)
@@ -109,3 +109,43 @@ def _timed(run: Any) -> float:
     start = time.perf_counter()
     run()
     return (time.perf_counter() - start) * 1e3
+
+
+@dataclass(frozen=True)
+class ScaleRow:
+    """One generated model of the scaling table: load + simulate, and the run's counts."""
+
+    kind: str
+    elements: int
+    ms: float
+    steps: int
+    rhs_evals: int
+    events: int
+
+    @property
+    def us_per_step_element(self) -> float:
+        """Microseconds per integrator step per element: flat when cost is linear in size."""
+        return 1e3 * self.ms / max(self.steps * self.elements, 1)
+
+    @property
+    def ms_per_event(self) -> float:
+        return self.ms / max(self.events, 1)
+
+
+def bench_scale(kind: str, n: int) -> ScaleRow:
+    """Time one generated ``chain`` or ``ladder`` of ``n`` elements (``stiction.testing``)."""
+    from .testing import chain_toml, ladder_toml
+
+    text = chain_toml(n) if kind == "chain" else ladder_toml(n)
+    start = time.perf_counter()
+    result = Model.loads(text).simulate()
+    ms = (time.perf_counter() - start) * 1e3
+    stats = result.stats
+    return ScaleRow(
+        kind=kind,
+        elements=n,
+        ms=ms,
+        steps=int(stats.get("steps", 0)),
+        rhs_evals=int(stats.get("rhs_evals", 0)),
+        events=int(stats.get("events", len(result.events))),
+    )

@@ -347,12 +347,27 @@ def compare_cmd(
     default=None,
     help="Time a sweep of this many variants instead (1 worker and every core).",
 )
+@click.option(
+    "--scale",
+    "scale_sizes",
+    default=None,
+    help="Time generated chains and ladders of these sizes instead, e.g. 10,100,1000.",
+)
 @_friendly_errors
-def bench(model_files: tuple[Path, ...], repeat: int, warmup: int, sweep_variants: int | None) -> None:
+def bench(
+    model_files: tuple[Path, ...],
+    repeat: int,
+    warmup: int,
+    sweep_variants: int | None,
+    scale_sizes: str | None,
+) -> None:
     """Time whole runs of MODEL_FILES (default: MSL CoupledClutches, Friction, SimpleGearShift, HeatLosses)."""
     from .bench import bench as run_bench
     from .model import Model
 
+    if scale_sizes is not None:
+        _bench_scale(scale_sizes)
+        return
     files = list(model_files) or [EXAMPLES_DIR / f"{n}.toml" for n in DEFAULT_BENCH]
     if not model_files and not all(f.is_file() for f in files):
         _fail(f"no MODEL files given and the default examples are not in {EXAMPLES_DIR}")
@@ -372,6 +387,26 @@ def bench(model_files: tuple[Path, ...], repeat: int, warmup: int, sweep_variant
             f"{row.model:<24} {row.median_ms:>10.3f} {row.min_ms:>10.3f} {row.table_ms:>13.3f} "
             f"{row.steps:>7} {row.rhs_evals:>10} {row.events:>7}"
         )
+
+
+def _bench_scale(sizes: str) -> None:
+    from .bench import bench_scale
+
+    try:
+        ns = [int(s) for s in sizes.split(",") if s.strip()]
+    except ValueError:
+        _fail(f"--scale: expected sizes like 10,100,1000, got {sizes!r}")
+    click.echo(
+        f"{'model':<8} {'N':>6} {'ms':>10} {'steps':>7} {'rhs evals':>10} {'events':>7} "
+        f"{'us/step/elem':>13} {'ms/event':>9}"
+    )
+    for kind in ("chain", "ladder"):
+        for n in ns:
+            row = bench_scale(kind, n)
+            click.echo(
+                f"{kind:<8} {n:>6} {row.ms:>10.1f} {row.steps:>7} {row.rhs_evals:>10} {row.events:>7} "
+                f"{row.us_per_step_element:>13.3f} {row.ms_per_event:>9.3f}"
+            )
 
 
 def _bench_sweeps(files: list[Path], variants: int) -> None:

@@ -45,6 +45,7 @@ class Model:
         self.name = name
         self.components: dict[str, Component] = {}
         self.connections: list[tuple[str, str]] = []
+        self._pairs: set[frozenset[str]] = set()
         self.experiment: dict[str, Any] = {}
         # Signal inputs left unconnected on purpose, set while the model runs: port -> start.
         self.inputs: dict[str, float] = {}
@@ -115,10 +116,20 @@ class Model:
         self._check_end(b)
         if a == b:
             raise ModelError(f"connection '{a}' - '{b}': a port cannot be connected to itself")
-        if (a, b) in self.connections or (b, a) in self.connections:
+        if self._connected(a, b):
             raise ModelError(f"connection '{a}' - '{b}': already connected")
         self.connections.append((a, b))
+        self._pairs.add(frozenset((a, b)))
         return self
+
+    def _connected(self, a: str, b: str) -> bool:
+        """Whether a-b is in ``connections``, through a set (linear cost to build a model); the
+        set is rebuilt when the public list was changed directly, and a hit is confirmed."""
+        if len(self._pairs) != len(self.connections):
+            self._pairs = {frozenset(pair) for pair in self.connections}
+        if frozenset((a, b)) not in self._pairs:
+            return False
+        return (a, b) in self.connections or (b, a) in self.connections
 
     def set(self, name: str, value: Any) -> Model:
         """Change one parameter, ``m.set("brake.fn_max", 1800.0)``; returns the model.

@@ -10,6 +10,7 @@ layout a person would write.
 from __future__ import annotations
 
 import difflib
+import math
 import re
 import tomllib
 from collections.abc import Iterable, Mapping
@@ -169,12 +170,26 @@ def _variables_and_parameters(doc: dict[str, Any], source: str) -> tuple[dict[st
 
 
 # --- writing --------------------------------------------------------------------------
+# strings TOML writes between double quotes as they are
+_PLAIN_STRING = re.compile(r"[ !#-\[\]-~]*")
+
+
 def _key(key: str) -> str:
     return key if _BARE_KEY.fullmatch(key) else _scalar(key)
 
 
 def _scalar(value: Any) -> str:
-    # tomli-w knows the exact TOML spelling of strings (escapes) and floats (inf, nan).
+    # The common cases spelled directly (a model of thousands of components writes tens of
+    # thousands of scalars); tomli-w knows the exact TOML spelling of the rest (escapes, inf, nan).
+    kind = type(value)
+    if kind is bool:
+        return "true" if value else "false"
+    if kind is int:
+        return str(value)
+    if kind is float and math.isfinite(value):
+        return repr(value)
+    if kind is str and _PLAIN_STRING.fullmatch(value):
+        return f'"{value}"'
     return tomli_w.dumps({"v": value})[len("v = ") : -1]
 
 

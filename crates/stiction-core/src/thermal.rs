@@ -5,6 +5,8 @@
 
 use nalgebra::{DMatrix, DVector};
 
+use crate::linalg::{BandLu, LinearSolver, Triplets, BAND_FROM};
+
 use crate::model::InitValue;
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -79,31 +81,23 @@ impl ThermalNet {
         }
         // Σ_links G·(T_other − T_i) + heat_in_i = 0 for every algebraic node i.
         let n = self.algebraic.len();
-        let mut m = DMatrix::<f64>::zeros(n, n);
-        let mut rhs = DVector::<f64>::zeros(n);
-        for (k, &node) in self.algebraic.iter().enumerate() {
-            rhs[k] = heat_in[node];
-        }
+        let mut m = Triplets::new(n);
+        let mut rhs: Vec<f64> = self.algebraic.iter().map(|&node| heat_in[node]).collect();
         for link in &self.links {
             let g = link.conductance(signals);
             for (me, other) in [(link.a, link.b), (link.b, link.a)] {
                 if let NodeKind::Algebraic(i) = self.kind[me] {
-                    m[(i, i)] += g;
+                    m.add(i, i, g);
                     match self.kind[other] {
-                        NodeKind::Algebraic(j) => m[(i, j)] -= g,
+                        NodeKind::Algebraic(j) => m.add(i, j, -g),
                         _ => rhs[i] += g * temps[other],
                     }
                 }
             }
         }
-        if let Some(solution) = m.lu().solve(&rhs) {
-            for (k, &node) in self.algebraic.iter().enumerate() {
-                temps[node] = solution[k];
-            }
-        } else {
-            for &node in &self.algebraic {
-                temps[node] = f64::NAN;
-            }
+        let solved = solve_heat_balance(&m, &mut rhs);
+        for (k, &node) in self.algebraic.iter().enumerate() {
+            temps[node] = if solved { rhs[k] } else { f64::NAN };
         }
     }
 
@@ -115,5 +109,31 @@ impl ThermalNet {
             q[link.a] -= flow;
             q[link.b] += flow;
         }
+    }
+}
+
+/// Solves in place: dense LU (nalgebra, no answer only at an exact zero pivot) for a few nodes,
+/// the banded LU for many (a network of heat links is as sparse as the drivetrain).
+fn solve_heat_balance(m: &Triplets, rhs: &mut [f64]) -> bool {
+    let n = m.size;
+    if n >= BAND_FROM {
+        return match BandLu.factor(m) {
+            Ok(f) => {
+                f.solve_in_place(rhs);
+                true
+            }
+            Err(_) => false,
+        };
+    }
+    let mut dense = DMatrix::<f64>::zeros(n, n);
+    for &(r, c, v) in &m.entries {
+        dense[(r, c)] += v;
+    }
+    match dense.lu().solve(&DVector::from_column_slice(rhs)) {
+        Some(x) => {
+            rhs.copy_from_slice(x.as_slice());
+            true
+        }
+        None => false,
     }
 }

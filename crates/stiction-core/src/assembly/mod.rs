@@ -46,7 +46,7 @@ pub fn canonical(spec: &ModelSpec) -> ModelSpec {
         }
     }
     out.connections
-        .sort_by_key(|(a, b)| (a.to_string(), b.to_string()));
+        .sort_by_cached_key(|(a, b)| (a.to_string(), b.to_string()));
     out.connections.dedup();
     out
 }
@@ -138,7 +138,11 @@ fn in_written_order(
     if written.is_empty() {
         return;
     }
-    let position = |name: &String| written.iter().position(|w| w == name).unwrap_or(usize::MAX);
+    let at: std::collections::HashMap<&str, usize> = (written.iter().enumerate())
+        .map(|(k, w)| (w.as_str(), k))
+        .rev()
+        .collect();
+    let position = |name: &String| at.get(name.as_str()).copied().unwrap_or(usize::MAX);
     let mut order: Vec<usize> = (0..names.len()).collect();
     order.sort_by_key(|&ci| position(&names[ci]));
     let mut taken: Vec<Option<(String, Out)>> =

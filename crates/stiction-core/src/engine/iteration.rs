@@ -10,7 +10,7 @@ use std::rc::Rc;
 use crate::engine::eval::{evaluate, kinematics, DiscreteState, Workspace};
 use crate::engine::kkt::ModeMatrix;
 use crate::error::SimError;
-use crate::linalg::{DenseLu, LinearSolver};
+use crate::linalg::{LinearSolver, SizedLu};
 use crate::switching::element::SwitchState;
 use crate::switching::logic::Discrete;
 use crate::switching::relation::RelationSet;
@@ -25,7 +25,7 @@ pub struct ModeCache {
 
 impl Default for ModeCache {
     fn default() -> Self {
-        Self::new(Box::new(DenseLu))
+        Self::new(Box::new(SizedLu))
     }
 }
 

@@ -4,7 +4,7 @@
 
 use crate::engine::eval::Layout;
 use crate::error::ModelError;
-use crate::linalg::{DenseLu, LinearSolver, RowBasis, Triplets};
+use crate::linalg::{LinearSolver, RowBasis, SizedLu, Triplets};
 use crate::system::{InitEq, System};
 
 pub fn initial_state(sys: &System) -> Result<Vec<f64>, ModelError> {
@@ -79,7 +79,7 @@ fn solve(eqs: &[InitEq], sys: &System, what: &str) -> Result<Vec<f64>, ModelErro
         }
     }
     let mut x: Vec<f64> = rows.iter().map(|r| r.1).collect();
-    let factors = DenseLu.factor(&a).map_err(|_| {
+    let factors = SizedLu.factor(&a).map_err(|_| {
         ModelError::File(format!(
             "initial values: the start {what}s cannot be solved"
         ))

@@ -67,10 +67,9 @@ impl Builder {
     }
 
     fn port(&self, port: &str) -> Option<usize> {
-        self.index
-            .iter()
-            .find(|((c, p), _)| *c == self.comp && *p == port)
-            .map(|(_, &i)| i)
+        // the map is covariant in its key, so a shorter-lived name looks it up directly
+        let index: &HashMap<(usize, &str), usize> = &self.index;
+        index.get(&(self.comp, port)).copied()
     }
 
     fn port_index(&self, port: &str) -> ModelResult<usize> {

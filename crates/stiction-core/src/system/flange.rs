@@ -1,7 +1,10 @@
 //! Cut torques of flanges (`J1.flange_a.tau`, …) for the results. Most are known from the
 //! component's own law; the rest (an Inertia's or a Brake's two flanges, a Fixed flange) follow
 //! from the torque balance of each connection set (`Σ tau = 0`) and the component's own sum.
-//! The small linear system is solved once, as a pseudo-inverse, at assembly.
+//! The linear system is solved once, as a pseudo-inverse, at assembly. Each unknown appears in
+//! at most two equations (its connection set and its component's sum), so the matrix falls apart
+//! into small independent blocks (equations sharing an unknown); the pseudo-inverse of the whole
+//! is that of each block, which keeps assembly and each result row linear in the model's size.
 
 use std::collections::HashMap;
 
@@ -69,18 +72,7 @@ impl FlangeBuilder {
                 eq_total.push(Some(total));
             }
         }
-        let mut a = DMatrix::<f64>::zeros(rows.len(), unknown.len());
-        for (r, cols) in rows.iter().enumerate() {
-            for &c in cols {
-                a[(r, c)] = 1.0;
-            }
-        }
-        let pinv = if unknown.is_empty() || rows.is_empty() {
-            DMatrix::zeros(unknown.len(), rows.len())
-        } else {
-            a.pseudo_inverse(1e-12)
-                .unwrap_or_else(|_| DMatrix::zeros(unknown.len(), rows.len()))
-        };
+        let blocks = blocks(&rows, unknown.len());
         let mut known: Vec<(usize, Out)> = self.known.into_iter().collect();
         known.sort_by_key(|(p, _)| *p);
         FlangeTorques {
@@ -89,7 +81,7 @@ impl FlangeBuilder {
             unknown,
             eq_known,
             eq_total,
-            pinv,
+            blocks,
         }
     }
 }
@@ -101,7 +93,7 @@ pub struct FlangeTorques {
     unknown: Vec<usize>,
     eq_known: Vec<Vec<usize>>,
     eq_total: Vec<Option<Out>>,
-    pinv: DMatrix<f64>,
+    blocks: Vec<Block>,
 }
 
 impl FlangeTorques {
@@ -122,8 +114,87 @@ impl FlangeTorques {
                 None => -known.iter().map(|&p| tau[p]).sum::<f64>(),
             };
         }
-        for (k, &p) in self.unknown.iter().enumerate() {
-            tau[p] = (0..rhs.len()).map(|r| self.pinv[(k, r)] * rhs[r]).sum();
+        for &p in &self.unknown {
+            tau[p] = 0.0;
         }
+        for b in &self.blocks {
+            for (k, &c) in b.cols.iter().enumerate() {
+                tau[self.unknown[c]] = (b.rows.iter().enumerate())
+                    .map(|(j, &r)| b.pinv[(k, j)] * rhs[r])
+                    .sum();
+            }
+        }
+    }
+}
+
+/// Equations linked through shared unknowns, with the pseudo-inverse of their sub-matrix.
+struct Block {
+    rows: Vec<usize>,
+    cols: Vec<usize>,
+    pinv: DMatrix<f64>,
+}
+
+/// Splits the 0/1 matrix whose row `r` has ones in `rows[r]` into independent blocks.
+fn blocks(rows: &[Vec<usize>], ncols: usize) -> Vec<Block> {
+    let mut parent: Vec<usize> = (0..rows.len()).collect();
+    let mut owner: Vec<Option<usize>> = vec![None; ncols];
+    for (r, cols) in rows.iter().enumerate() {
+        for &c in cols {
+            match owner[c] {
+                Some(o) => union(&mut parent, o, r),
+                None => owner[c] = Some(r),
+            }
+        }
+    }
+    let mut index: HashMap<usize, usize> = HashMap::new();
+    let mut out: Vec<Block> = Vec::new();
+    for r in 0..rows.len() {
+        let root = find(&mut parent, r);
+        let b = *index.entry(root).or_insert_with(|| {
+            out.push(Block {
+                rows: Vec::new(),
+                cols: Vec::new(),
+                pinv: DMatrix::zeros(0, 0),
+            });
+            out.len() - 1
+        });
+        out[b].rows.push(r);
+    }
+    for (c, o) in owner.iter().enumerate() {
+        if let Some(o) = o {
+            let b = index[&find(&mut parent, *o)];
+            out[b].cols.push(c);
+        }
+    }
+    out.retain(|b| !b.cols.is_empty());
+    out.iter_mut().for_each(|b| b.pinv = block_pinv(rows, b));
+    out
+}
+
+fn block_pinv(rows: &[Vec<usize>], b: &Block) -> DMatrix<f64> {
+    let col: HashMap<usize, usize> = b.cols.iter().enumerate().map(|(k, &c)| (c, k)).collect();
+    let mut a = DMatrix::<f64>::zeros(b.rows.len(), b.cols.len());
+    for (j, &r) in b.rows.iter().enumerate() {
+        for c in &rows[r] {
+            a[(j, col[c])] = 1.0;
+        }
+    }
+    let (m, n) = (b.cols.len(), b.rows.len());
+    a.pseudo_inverse(1e-12)
+        .unwrap_or_else(|_| DMatrix::zeros(m, n))
+}
+
+fn find(parent: &mut [usize], mut i: usize) -> usize {
+    while parent[i] != i {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    i
+}
+
+fn union(parent: &mut [usize], a: usize, b: usize) {
+    let (ra, rb) = (find(parent, a), find(parent, b));
+    if ra != rb {
+        parent[ra.max(rb)] = ra.min(rb);
     }
 }

@@ -1,0 +1,65 @@
+"""Generated large drivetrains (issue 10): they run with the banded per-mode solve (above 40
+unknowns) and the union-find rank test, and their physics closes. No timing here: see
+scripts/bench_scaling.py."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import stiction as st
+from stiction.testing import chain_toml, ladder_toml
+
+
+@pytest.mark.parametrize("n", [30, 120])
+def test_a_generated_chain_locks_in_turn_and_keeps_momentum(n: int) -> None:
+    res = st.Model.loads(chain_toml(n)).simulate()
+    stop = float(res.time[-1])
+    # no torque to the housing: Σ J·w grows by the drive's torque (1 N·m) only
+    momentum = sum(res[f"J{k}.w"][-1] for k in range(n + 1))
+    assert momentum == pytest.approx(10.0 + stop, rel=1e-6)
+    for k in range(1, n + 1):
+        locks = res.lock_times(f"clutch{k}")
+        assert len(locks) == 1, f"clutch{k} locks {locks}"  # engages once, never chatters
+        assert locks[0] >= 0.05 * k
+    assert np.ptp([res[f"J{k}.w"][-1] for k in range(n + 1)]) < 1e-6
+
+
+def test_a_generated_ladder_runs_and_its_brakes_hold() -> None:
+    n = 60
+    res = st.Model.loads(ladder_toml(n)).simulate()
+    for k in range(3, n, 4):
+        assert len(res.lock_times(f"brake{k}")) <= 1
+    assert abs(res["J3.w"][-1]) < 1e-6  # braked to the housing at the end
+
+
+def test_redundant_locks_in_a_large_model_carry_no_torque() -> None:
+    """Two brakes on the chain's last inertia lock together: the one offered later carries 0."""
+    text = chain_toml(40)
+    extra = '["J40.flange_b", "brakeA.flange_a"], ["J40.flange_b", "brakeB.flange_a"], '
+    extra += '["on.y", "brakeA.f_normalized"], ["on.y", "brakeB.f_normalized"],'
+    text = text.replace("connect = [", "connect = [\n  " + extra, 1)
+    text += 'brakeA = { type = "Brake", fn_max = 1000.0 }\n'
+    text += 'brakeB = { type = "Brake", fn_max = 1000.0 }\n'
+    text += 'on = { type = "Step", startTime = 0.0 }\n'
+    res = st.Model.loads(text).simulate()
+    assert res.lock_times("brakeA") == [0.0] and res.lock_times("brakeB") == [0.0]
+    assert np.all(res["brakeB.tau"] == 0.0)
+    assert abs(res["brakeA.tau"][-1]) > 0.1  # the chain pulls on J40 once clutch40 engages
+
+
+def test_bench_scale_prints_a_row_per_model_and_size() -> None:
+    from click.testing import CliRunner
+
+    from stiction.cli import main
+
+    out = CliRunner().invoke(main, ["bench", "--scale", "4,12"])
+    assert out.exit_code == 0, out.output
+    rows = [line.split() for line in out.output.splitlines()[1:]]
+    assert [(r[0], r[1]) for r in rows] == [
+        ("chain", "4"),
+        ("chain", "12"),
+        ("ladder", "4"),
+        ("ladder", "12"),
+    ]
+    assert all(float(r[2]) > 0 and int(r[5]) > 0 for r in rows)

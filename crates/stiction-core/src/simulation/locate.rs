@@ -93,7 +93,7 @@ impl Stepper {
                 self.evaluate_here(t, true);
             }
             if let Some((t_back, z_back)) = &back {
-                if let Some(found) = self.hump(solver, (*t_back, z_back.clone()), t)? {
+                if let Some(found) = self.hump(solver, (*t_back, z_back.clone()), t_prev, t)? {
                     candidates.clear();
                     candidates.push(found.1);
                     return self.locate(solver, found.0, found.2, candidates).map(Some);
@@ -113,17 +113,21 @@ impl Stepper {
     /// for a few milliseconds inside one long step. Where three samples make a hump whose top
     /// may reach zero (a parabola through them says so), its maximum is found on the dense
     /// output (golden section); if it is above zero, the crossing lies before it:
-    /// `(bracket start, (i, z there, z at the top), top)`. Leaves the sample at `b` loaded.
+    /// `(bracket start, (i, z there, z at the top), top)`, searched within this step (from
+    /// `step_start` at the earliest). Leaves the sample at `b` loaded.
     fn hump<'a, S>(
         &mut self,
         solver: &S,
         back: (f64, Vec<f64>),
+        step_start: f64,
         b: f64,
     ) -> Result<Option<Hump>, SimError>
     where
         S: OdeSolverMethod<'a, Eqn>,
     {
-        let (t0, z0) = back;
+        let (t_back, z0) = back;
+        // the dense output covers this step only: a hump from the last step is searched from here
+        let t0 = t_back.max(step_start);
         let may_cross = |zl: f64, zm: f64, zr: f64| {
             let curvature = 2.0 * zm - zl - zr;
             zl < zm && zm > zr && zm <= 0.0 && curvature > 0.0 && {

@@ -16,6 +16,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from .modelfile import EXPERIMENT_KEYS
 from .result import Result
 
 if TYPE_CHECKING:
@@ -23,16 +24,7 @@ if TYPE_CHECKING:
 
 __all__ = ["CompiledModel"]
 
-EXPERIMENT = (
-    "StartTime",
-    "StopTime",
-    "Interval",
-    "Tolerance",
-    "Solver",
-    "max_events",
-    "max_steps",
-    "timeout",
-)
+EXPERIMENT = EXPERIMENT_KEYS  # StartTime … Solver, max_events, max_steps, timeout
 
 
 def merge_overrides(params: Mapping[str, Any] | None, experiment: Mapping[str, Any]) -> dict[str, Any]:

@@ -130,14 +130,9 @@ impl CompiledModel {
                 .params
                 .insert(parameter.to_string(), value.clone());
         })?;
-        let mut comps: Vec<Arc<dyn Component>> = (*self.components).clone();
-        for (ci, component) in &edited {
-            comps[*ci] = components::create(component, &self.spec.base_dir)?.into();
-        }
-        if !changed
-            .iter()
-            .all(|&ci| comps[ci].ports() == self.topology.port_decls[ci])
-        {
+        debug_assert_eq!(changed.len(), edited.len());
+        let (comps, same_ports) = self.recreate(edited.iter().map(|(ci, c)| (*ci, c)))?;
+        if !same_ports {
             // a structural change: the general path
             return Ok(self.with(overrides)?.system());
         }
@@ -180,18 +175,28 @@ impl CompiledModel {
         spec: &ModelSpec,
         changed: &[usize],
     ) -> ModelResult<(Components, Arc<Topology>, Recompiled)> {
-        let mut comps: Vec<Arc<dyn Component>> = (*self.components).clone();
-        for &ci in changed {
-            comps[ci] = components::create(&spec.components[ci], &spec.base_dir)?.into();
-        }
-        let same_ports = changed
-            .iter()
-            .all(|&ci| comps[ci].ports() == self.topology.port_decls[ci]);
+        let (comps, same_ports) =
+            self.recreate(changed.iter().map(|&ci| (ci, &spec.components[ci])))?;
         if same_ports {
             return Ok((comps, self.topology.clone(), Recompiled::Build));
         }
         let topology = Topology::resolve(spec, &comps)?;
         Ok((comps, Arc::new(topology), Recompiled::Topology))
+    }
+
+    /// The components with the `edited` ones created anew from their specifications, and
+    /// whether those still declare the ports the topology was resolved for.
+    fn recreate<'a>(
+        &self,
+        edited: impl Iterator<Item = (usize, &'a ComponentSpec)>,
+    ) -> ModelResult<(Components, bool)> {
+        let mut comps: Components = (*self.components).clone();
+        let mut same_ports = true;
+        for (ci, component) in edited {
+            comps[ci] = components::create(component, &self.spec.base_dir)?.into();
+            same_ports &= comps[ci].ports() == self.topology.port_decls[ci];
+        }
+        Ok((comps, same_ports))
     }
 
     fn component_index(&self, name: &str) -> ModelResult<usize> {

@@ -154,8 +154,8 @@ fn experiment<'py>(
 fn initialization(model_toml: &str, base_dir: &str) -> PyResult<Vec<(String, f64, String, f64)>> {
     let spec = parse(model_toml, base_dir, &HashMap::new(), None)?;
     let values = guarded(|| {
-        let mut sys = stiction_core::assembly::assemble(&spec)?;
-        Ok(stiction_core::initialization::report(&mut sys)?)
+        let sys = stiction_core::assembly::assemble(&spec)?;
+        Ok(stiction_core::initialization::report(&sys)?)
     })?;
     Ok(values
         .into_iter()

@@ -8,11 +8,26 @@ use crate::linalg::{LinearSolver, RowBasis, SizedLu, Triplets};
 use crate::system::{InitEq, System};
 
 pub fn initial_state(sys: &System) -> Result<Vec<f64>, ModelError> {
+    Ok(initial_state_and_guesses(sys)?.x)
+}
+
+/// The initial state and, for every start-value equation, whether its guess was used.
+pub struct InitialState {
+    pub x: Vec<f64>,
+    /// Per `sys.init_phi` equation: an unfixed start the initialization kept as an equation.
+    pub phi_guess_used: Vec<bool>,
+    /// The same per `sys.init_w` equation.
+    pub w_guess_used: Vec<bool>,
+}
+
+/// `initial_state`, and which guesses it used (a guess is used when its row is independent of
+/// the fixed rows and the guesses before it, so the start state satisfies it exactly).
+pub fn initial_state_and_guesses(sys: &System) -> Result<InitialState, ModelError> {
     let n = sys.nodes;
     let lay = Layout::of(sys);
     let mut x = vec![0.0; sys.state_len()];
-    let phi = solve(&sys.init_phi, sys, "angle")?;
-    let w = solve(&sys.init_w, sys, "speed")?;
+    let (phi, phi_guess_used) = solve(&sys.init_phi, sys, "angle")?;
+    let (w, w_guess_used) = solve(&sys.init_w, sys, "speed")?;
     x[..n].copy_from_slice(&phi);
     x[n..2 * n].copy_from_slice(&w);
     for (k, cap) in sys.thermal.capacities.iter().enumerate() {
@@ -25,13 +40,20 @@ pub fn initial_state(sys: &System) -> Result<Vec<f64>, ModelError> {
                 message,
             })?;
     }
-    Ok(x)
+    Ok(InitialState {
+        x,
+        phi_guess_used,
+        w_guess_used,
+    })
 }
 
-fn solve(eqs: &[InitEq], sys: &System, what: &str) -> Result<Vec<f64>, ModelError> {
+type Solved = (Vec<f64>, Vec<bool>);
+
+fn solve(eqs: &[InitEq], sys: &System, what: &str) -> Result<Solved, ModelError> {
     let n = sys.nodes;
+    let mut used = vec![false; eqs.len()];
     if n == 0 {
-        return Ok(Vec::new());
+        return Ok((Vec::new(), used));
     }
     let mut basis = RowBasis::new(n);
     let mut rows: Vec<(Vec<(usize, f64)>, f64)> = Vec::new();
@@ -55,12 +77,13 @@ fn solve(eqs: &[InitEq], sys: &System, what: &str) -> Result<Vec<f64>, ModelErro
         }
         rows.push((eq.rel.terms.clone(), eq.value.start - eq.rel.offset));
     }
-    for eq in eqs.iter().filter(|e| !e.value.fixed) {
+    for (k, eq) in eqs.iter().enumerate().filter(|(_, e)| !e.value.fixed) {
         if rows.len() == n {
             break;
         }
         if basis.accept(&eq.rel.terms) {
             rows.push((eq.rel.terms.clone(), eq.value.start - eq.rel.offset));
+            used[k] = true;
         }
     }
     // Shafts no start value reaches (e.g. without an inertia) start at 0.
@@ -85,5 +108,5 @@ fn solve(eqs: &[InitEq], sys: &System, what: &str) -> Result<Vec<f64>, ModelErro
         ))
     })?;
     factors.solve_in_place(&mut x);
-    Ok(x)
+    Ok((x, used))
 }

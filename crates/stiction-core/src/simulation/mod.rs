@@ -22,7 +22,7 @@ use std::time::Instant;
 
 use diffsol::OdeSolverMethod;
 
-pub use init::initial_state;
+pub use init::{initial_state, initial_state_and_guesses, InitialState};
 pub use stepper::Cursor;
 
 use integrator::{with_solver, IntegratorCell};

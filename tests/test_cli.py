@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from stiction.compare import read_signal_list
+from stiction.comparison import read_signal_list
 from stiction.csvio import read_csv, write_csv
 
 REPO = Path(__file__).resolve().parents[1]

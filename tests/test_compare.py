@@ -10,7 +10,7 @@ import pytest
 from click.testing import CliRunner
 
 from stiction.cli import main
-from stiction.compare import compare, read_signal_list, tube
+from stiction.comparison import compare, read_signal_list, tube
 from stiction.csvio import read_csv
 from stiction.result import Result
 

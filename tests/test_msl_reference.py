@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import stiction as st
-from stiction.compare import read_signal_list
+from stiction.comparison import read_signal_list
 from stiction.csvio import read_csv
 
 REPO = Path(__file__).resolve().parents[1]

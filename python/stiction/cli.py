@@ -15,8 +15,7 @@ from typing import TYPE_CHECKING, Any, NoReturn, TypeVar
 
 import click
 
-from . import __version__
-from .compare import DEFAULT_FLOOR
+from .comparison import DEFAULT_FLOOR
 from .errors import ModelError
 
 if TYPE_CHECKING:
@@ -69,7 +68,7 @@ def _friendly_errors(func: F) -> F:
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
-@click.version_option(__version__, prog_name="stiction", message="%(prog)s %(version)s")
+@click.version_option(package_name="stiction", prog_name="stiction", message="%(prog)s %(version)s")
 def main() -> None:
     """Simulate rotational drivetrains with exact Coulomb friction (MSL semantics)."""
 
@@ -163,7 +162,7 @@ def simulate(
         chosen = [n.strip() for n in outputs.split(",") if n.strip()] if outputs else None
         result.save(output, chosen)
     if plot_file is not None:
-        from .compare import parse_signals
+        from .comparison import parse_signals
 
         groups = [[n.strip() for n in g.split("+") if n.strip()] for g in parse_signals(signals or "")]
         result.plot(*groups, path=plot_file)
@@ -310,7 +309,7 @@ def compare_cmd(
     """Check RESULT_CSV against REFERENCE_CSV (MSL tube method); exit 1 on failure.
 
     Either file may be a CSV, a Dymola/OpenModelica .mat result or a Parquet table."""
-    from .compare import compare, parse_signals
+    from .comparison import compare, parse_signals
 
     sibling = reference_csv.with_suffix(".signals.txt")
     if signals is None and sibling.is_file():

@@ -107,6 +107,39 @@ def test_top_level_parameters_are_kept_and_a_sweep_recomputes_dependents(tmp_pat
     assert first.parameter_values()["damper.d"] == 10.0  # damping
 
 
+SPIN = """
+model Spin
+  parameter Real w0 = 3;
+  Modelica.Mechanics.Rotational.Components.Inertia J(J=2, phi(fixed=true, start=0), w(fixed=true, start=2*w0));
+  Modelica.Mechanics.Rotational.Components.Damper d(d=1);
+  Modelica.Mechanics.Rotational.Components.Fixed f;
+equation
+  connect(J.flange_b, d.flange_a);
+  connect(d.flange_b, f.flange);
+  annotation(experiment(StopTime=1, Interval=0.01));
+end Spin;
+"""
+
+
+def test_a_start_value_written_with_a_parameter_follows_it(tmp_path: Path) -> None:
+    """`w(start=2*w0)` stays an expression: editing w0, overriding it for one run, sweeping it
+    and a Modelica round trip all start J at 2·w0; J decays as 2·w0·exp(-d·t/J)."""
+    m = st.Model.from_modelica(SPIN)
+    assert m.components["J"].params["w"] == {"fixed": True, "start": {"expr": "2 * w0"}}
+    decay = np.exp(-0.5)  # d·t/J at t = 1
+    assert m.simulate()["J.w"][-1] == pytest.approx(6.0 * decay, rel=1e-5)
+    once = m.simulate(params={"w0": 1.0})
+    assert once["J.w"][0] == 2.0 and m.simulate()["J.w"][0] == 6.0  # the model is unchanged
+    table = st.sweep(m, {"w0": [1.0, 5.0]}, ["final(J.w)"], workers=1, progress=False).table
+    assert table["final(J.w)"].tolist() == [
+        once.metric("final(J.w)"),
+        m.simulate(params={"w0": 5.0}).metric("final(J.w)"),
+    ]
+    back = st.Model.from_modelica(m.to_modelica())
+    back.parameters["w0"] = 4.0
+    assert back.simulate()["J.w"][0] == 8.0
+
+
 def test_parameter_expressions_and_their_errors() -> None:
     m = st.Model("p")
     m.parameters.update({"T": 0.5, "T2": "2*T"})

@@ -378,16 +378,19 @@ class Model:
         (``r.initialization``, of the model without ``params``).
         """
         from .compiled import merge_overrides
-        from .parameters import evaluate_parameters
+        from .parameters import evaluate_parameters, expand_parameters
 
         given: dict[str, Any] = {"StartTime": StartTime, "StopTime": StopTime, "Interval": Interval}
         given |= {"Tolerance": Tolerance, "Solver": Solver}
         overrides = merge_overrides(params, given)
+        top = evaluate_parameters(
+            {**self.parameters, **{k: overrides[k] for k in self.parameters if k in overrides}}
+        )
+        overrides = expand_parameters(self.parameters, self.components, overrides)
         core = self.compile()._core
         raw = (core.variant(overrides) if overrides else core).simulate()
         experiment = {k: float(v) for k, v in given.items() if v is not None and k != "Solver"}
         info = RunInfo(self.engine_toml(), str(self.base_dir), experiment, Solver, self.types())
-        top = evaluate_parameters(self.parameters)
         result = Result.from_core(raw, name=self.name, variables=self.variables, parameters=top, info=info)
         result.parameters = self.parameter_values()
         return result

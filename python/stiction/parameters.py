@@ -14,7 +14,7 @@ from typing import Any
 
 from .errors import ModelError
 
-__all__ = ["evaluate_parameters", "expr", "is_expr", "resolve_params"]
+__all__ = ["evaluate_parameters", "expand_parameters", "expr", "is_expr", "resolve_params"]
 
 
 def expr(text: str) -> dict[str, str]:
@@ -81,11 +81,32 @@ def resolve_params(comp: str, params: Mapping[str, Any], values: Mapping[str, An
             raise ModelError(f"no parameter '{name}' in the model")
         return values[name]
 
-    out = {}
-    for key, raw in params.items():
+    def resolve(raw: Any, where: str) -> Any:
         if is_expr(raw):
-            result = _evaluate(raw["expr"], f"component '{comp}': parameter '{key}'", lookup)
-            out[key] = float(result) if type(result) is int else result
-        else:
-            out[key] = raw
+            result = _evaluate(raw["expr"], where, lookup)
+            return float(result) if type(result) is int else result
+        if isinstance(raw, Mapping):  # a start value: { start = { expr = "w0" }, fixed = true }
+            return {k: resolve(v, f"{where}.{k}") for k, v in raw.items()}
+        return raw
+
+    return {key: resolve(raw, f"component '{comp}': parameter '{key}'") for key, raw in params.items()}
+
+
+def expand_parameters(
+    parameters: Mapping[str, Any], components: Mapping[str, Any], overrides: Mapping[str, Any]
+) -> dict[str, Any]:
+    """Overrides with the top-level parameters among them (``T2``) turned into the component
+    values they imply: every expression is evaluated again, and what changed is overridden.
+    ``components`` maps names to objects with ``params`` (``Model.components``)."""
+    top = {k: v for k, v in overrides.items() if k in parameters}
+    if not top:
+        return dict(overrides)
+    base = evaluate_parameters(parameters)
+    varied = evaluate_parameters({**parameters, **top})
+    out = {k: v for k, v in overrides.items() if k not in top}
+    for name, comp in components.items():
+        before = resolve_params(name, comp.params, base)
+        for key, value in resolve_params(name, comp.params, varied).items():
+            if before.get(key) != value and f"{name}.{key}" not in out:
+                out[f"{name}.{key}"] = value
     return out

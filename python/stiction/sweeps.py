@@ -24,6 +24,7 @@ import numpy as np
 from .compiled import CompiledModel
 from .errors import ModelError
 from .model import Model
+from .parameters import expand_parameters
 
 if TYPE_CHECKING:
     import pandas
@@ -157,25 +158,6 @@ def _records(variants: Any) -> tuple[pandas.DataFrame, list[dict[str, Any]]]:
     return frame, records
 
 
-def _expand_parameters(model: Model, record: dict[str, Any]) -> dict[str, Any]:
-    """Top-level parameters of a variant (``T2``) become the component values they imply:
-    every expression is evaluated again, and what changed is overridden."""
-    from .parameters import evaluate_parameters, resolve_params
-
-    top = {k: v for k, v in record.items() if k in model.parameters}
-    if not top:
-        return record
-    base = evaluate_parameters(model.parameters)
-    varied = evaluate_parameters({**model.parameters, **top})
-    out = {k: v for k, v in record.items() if k not in top}
-    for name, comp in model.components.items():
-        before = resolve_params(name, comp.params, base)
-        for key, value in resolve_params(name, comp.params, varied).items():
-            if before.get(key) != value and f"{name}.{key}" not in out:
-                out[f"{name}.{key}"] = value
-    return out
-
-
 def _plain(value: Any) -> Any:
     return value.tolist() if hasattr(value, "tolist") else value
 
@@ -220,7 +202,7 @@ def sweep(
     metrics, outputs = [str(m) for m in metrics], [str(o) for o in outputs]
     frame, records = _records(variants)
     if isinstance(model, Model) and model.parameters:
-        records = [_expand_parameters(model, r) for r in records]
+        records = [expand_parameters(model.parameters, model.components, r) for r in records]
     if outputs and any(k in ("StartTime", "StopTime", "Interval") for k in frame.columns):
         raise ModelError(
             "trajectories need one output grid: do not vary StartTime, StopTime or Interval with outputs="

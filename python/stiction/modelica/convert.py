@@ -282,7 +282,9 @@ class _Converter:
             if sub.name not in _ATTRIBUTES or sub.value is None:
                 raise ModelicaError(sub.pos, f"unknown attribute '{sub.name}' of '{comp}.{mod.name}'")
             if sub.name in ("start", "fixed"):
-                attrs[sub.name] = _real(python_value(self.expression(sub.value)), mod.name)
+                value = _real(python_value(self.expression(sub.value)), mod.name)
+                kept = self.kept(sub.value, value)  # `start = w0` stays an expression over w0
+                attrs[sub.name] = {"expr": kept} if isinstance(kept, str) and kept != value else value
         if attrs.get("fixed") is True and isinstance(attrs.get("start"), float):
             return attrs["start"]  # the model file's short form of a fixed start value
         return attrs

@@ -91,7 +91,7 @@ def _modifier(key: str, value: Any) -> str:
     if key in _ENUMS and isinstance(value, str):
         return f"{key}={_ENUMS[key]}.{value}"
     if key in START_VARIABLES and isinstance(value, dict):
-        attrs = ", ".join(f"{k}={format_literal(v)}" for k, v in value.items())
+        attrs = ", ".join(f"{k}={v['expr'] if is_expr(v) else format_literal(v)}" for k, v in value.items())
         return f"{key}({attrs})"
     if key in START_VARIABLES and isinstance(value, (int, float)) and not isinstance(value, bool):
         return f"{key}(start={format_literal(float(value))}, fixed=true)"

@@ -8,12 +8,14 @@ Every refusal names the construct at its ``file:line:column``.
 
 from __future__ import annotations
 
+import functools
+import math
 import re
 from typing import TYPE_CHECKING, Any
 
 from ..components import Component, component_types
 from ..errors import ModelError
-from ..parameters import resolve_params
+from ..parameters import is_expr, resolve_params
 from .ast import ClassDef, Declaration, Literal, Modification, Ref, StoredDefinition
 from .expr import CONSTANTS, evaluate, python_value, unparse
 from .lexer import ModelicaError, Pos
@@ -285,7 +287,9 @@ class _Converter:
                 value = _real(python_value(self.expression(sub.value)), mod.name)
                 kept = self.kept(sub.value, value)  # `start = w0` stays an expression over w0
                 attrs[sub.name] = {"expr": kept} if isinstance(kept, str) and kept != value else value
-        if attrs.get("fixed") is True and isinstance(attrs.get("start"), float):
+        if attrs.get("fixed") is True and (
+            isinstance(attrs.get("start"), float) or is_expr(attrs.get("start"))
+        ):
             return attrs["start"]  # the model file's short form of a fixed start value
         return attrs
 
@@ -345,7 +349,8 @@ class _Converter:
         distinct: dict[tuple[str, str], tuple[str, str, dict[str, Any]]] = {}
         for name, comp in self.model.components.items():
             params = resolve_params(name, comp.params, self.values)
-            distinct.setdefault((comp.type, repr(params)), (name, comp.type, params))
+            key = {k: v for k, v in params.items() if not _always_valid(comp.type, k, v)}
+            distinct.setdefault((comp.type, repr(key)), (name, comp.type, params))
         found = _first_problem(list(distinct.values()), str(self.model.base_dir))
         if found is not None:
             name, message = found
@@ -355,6 +360,37 @@ class _Converter:
 
 
 _SIGNAL_INPUTS = ("f_normalized", "tau", "u", "u1", "u2", "Gc")
+
+
+def _always_valid(stype: str, key: str, value: Any) -> bool:
+    """Whether the catalogue declares ``key`` a Real without a range, so any finite number
+    passes: 500 steps that differ only in ``startTime`` need one check, not 500."""
+    if type(value) is not float or not math.isfinite(value):
+        return False
+    return key in _free_reals().get(stype, ())
+
+
+# Reals without a declared range that the engine still checks against others: a pulse
+# starting long before the run would schedule millions of time events.
+_CHECKED_TOGETHER = frozenset({("Pulse", "startTime")})
+
+
+@functools.cache
+def _free_reals() -> dict[str, frozenset[str]]:
+    """Per component type, the Real parameters any finite value passes (tested against the
+    engine in test_modelica_errors.py)."""
+    from ..catalogue import catalogue
+
+    return {
+        name: frozenset(
+            p.name
+            for p in info.parameters
+            if p.kind == "Real" and p.range is None and (name, p.name) not in _CHECKED_TOGETHER
+        )
+        for name, info in catalogue().items()
+    }
+
+
 _BATCH = 32
 
 

@@ -86,6 +86,8 @@ def _parameter(name: str, value: Any) -> str:
 
 
 def _modifier(key: str, value: Any) -> str:
+    if key in START_VARIABLES and is_expr(value):
+        return f"{key}(start={value['expr']}, fixed=true)"
     if is_expr(value):
         return f"{key}={value['expr']}"
     if key in _ENUMS and isinstance(value, str):

@@ -65,6 +65,25 @@ def test_ctrl_c_interrupts_a_long_run_promptly():
     assert latency < 1.0, f"stopped {latency:.3f} s after the signal"
 
 
+def test_ctrl_c_interrupts_a_sweep_inside_its_runs():
+    """The signal reaches the runs under way (each about 6 s long), not only the gaps
+    between batches."""
+    import _thread
+    import threading
+    import time
+
+    model = st.Model.load(MSL / "CoupledClutches.toml")
+    variants = {"clutch1.fn_max": [10.0, 20.0, 30.0, 40.0], "StopTime": [20_000.0] * 4, "Interval": [1.0] * 4}
+    timer = threading.Timer(0.3, _thread.interrupt_main)
+    started = time.perf_counter()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        st.sweep(model, variants, ["max(J1.w)"], workers=2, progress=False)
+    latency = time.perf_counter() - started - 0.3
+    timer.cancel()
+    assert latency < 1.0, f"stopped {latency:.3f} s after the signal"
+
+
 def test_ctrl_c_stops_the_command_line_with_status_130_and_no_result_file(tmp_path):
     import os
     import signal

@@ -7,7 +7,6 @@
 
 use std::cell::RefCell;
 use std::rc::Rc;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use rayon::prelude::*;
@@ -16,7 +15,7 @@ use crate::assembly::CompiledModel;
 use crate::error::ModelResult;
 use crate::model::Experiment;
 use crate::result::{Accumulator, EventRecord, Metric, Probe, RowView};
-use crate::simulation::{Observer, Simulation};
+use crate::simulation::{CancelHandle, Observer, Simulation};
 
 /// An override: a parameter, start value or experiment setting by name, and its value.
 pub type Override = (String, toml::Value);
@@ -82,9 +81,17 @@ pub struct Outcome {
 }
 
 /// Runs one variant.
-pub fn run_variant(cm: &CompiledModel, overrides: &[Override], plan: &Plan) -> Outcome {
+pub fn run_variant(
+    cm: &CompiledModel,
+    overrides: &[Override],
+    plan: &Plan,
+    cancel: &CancelHandle,
+) -> Outcome {
     let started = Instant::now();
-    let result = run(cm, overrides, plan);
+    let result = run(cm, overrides, plan, cancel).map_err(|error| match cancel.is_cancelled() {
+        true => "cancelled".to_string(),
+        false => error,
+    });
     let wall_s = started.elapsed().as_secs_f64();
     match result {
         Ok((metrics, trajectories)) => Outcome {
@@ -103,16 +110,17 @@ pub fn run_variant(cm: &CompiledModel, overrides: &[Override], plan: &Plan) -> O
 }
 
 /// Runs the variants on `workers` threads (every core when None), in their order. Once
-/// `cancel` is set, the variants not started yet report "cancelled".
+/// `cancel` is set, the runs under way stop at their next step and they and the variants not
+/// started yet report "cancelled".
 pub fn run_variants(
     cm: &CompiledModel,
     variants: &[Vec<Override>],
     plan: &Plan,
     workers: Option<usize>,
-    cancel: &AtomicBool,
+    cancel: &CancelHandle,
 ) -> Vec<Outcome> {
     let one = |overrides: &Vec<Override>| {
-        if cancel.load(Ordering::Relaxed) {
+        if cancel.is_cancelled() {
             return Outcome {
                 metrics: vec![f64::NAN; plan.metrics.len()],
                 trajectories: Vec::new(),
@@ -120,7 +128,7 @@ pub fn run_variants(
                 wall_s: 0.0,
             };
         }
-        run_variant(cm, overrides, plan)
+        run_variant(cm, overrides, plan, cancel)
     };
     if workers == Some(1) {
         return variants.iter().map(one).collect();
@@ -137,7 +145,12 @@ pub fn run_variants(
 
 type Values = (Vec<f64>, Vec<Vec<f64>>);
 
-fn run(cm: &CompiledModel, overrides: &[Override], plan: &Plan) -> Result<Values, String> {
+fn run(
+    cm: &CompiledModel,
+    overrides: &[Override],
+    plan: &Plan,
+    cancel: &CancelHandle,
+) -> Result<Values, String> {
     let pairs: Vec<(&str, toml::Value)> = overrides
         .iter()
         .map(|(n, v)| (n.as_str(), v.clone()))
@@ -147,6 +160,7 @@ fn run(cm: &CompiledModel, overrides: &[Override], plan: &Plan) -> Result<Values
     let watch = Rc::new(RefCell::new(Watch::new(plan, probe, &sys.experiment)));
     let mut sim = Simulation::new(sys).map_err(|e| e.to_string())?;
     sim.set_recording(false);
+    sim.share_cancel(cancel);
     sim.set_observer(Box::new(Shared(watch.clone())));
     sim.run().map_err(|e| e.to_string())?;
     drop(sim);

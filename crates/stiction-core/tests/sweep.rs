@@ -3,9 +3,8 @@
 //! does not depend on the number of threads; a failing variant reports its error and the
 //! others run.
 
-use std::sync::atomic::AtomicBool;
-
 use stiction_core::assembly::CompiledModel;
+use stiction_core::simulation::CancelHandle;
 use stiction_core::sweep::{run_variants, Override, Plan};
 use stiction_core::{ModelSpec, SimResult, Simulation};
 
@@ -74,7 +73,7 @@ fn sweep_metrics_and_trajectories_equal_single_runs_whatever_the_threads() {
         &["clutch1.fn_max", "sin1.f"],
         &[[20.0, 5.0], [8.0, 3.0], [40.0, 7.5], [15.0, 1.0]],
     );
-    let cancel = AtomicBool::new(false);
+    let cancel = CancelHandle::new();
     let one = run_variants(&cm, &vs, &plan, Some(1), &cancel);
     let two = run_variants(&cm, &vs, &plan, Some(2), &cancel);
     let exp = &cm.spec().experiment;
@@ -115,7 +114,7 @@ fn a_failing_variant_reports_its_error_and_the_others_run() {
         &["brake.fn_max", "flywheel.w"],
         &[[2000.0, 100.0], [-5.0, 100.0], [3000.0, 80.0]],
     );
-    let out = run_variants(&cm, &vs, &plan, None, &AtomicBool::new(false));
+    let out = run_variants(&cm, &vs, &plan, None, &CancelHandle::new());
     let error = out[1]
         .error
         .as_deref()
@@ -140,7 +139,9 @@ fn a_failing_variant_reports_its_error_and_the_others_run() {
         );
     }
     // cancelled before starting: every variant says so
-    let cancelled = run_variants(&cm, &vs, &plan, Some(2), &AtomicBool::new(true));
+    let stop = CancelHandle::new();
+    stop.cancel();
+    let cancelled = run_variants(&cm, &vs, &plan, Some(2), &stop);
     assert!(cancelled
         .iter()
         .all(|o| o.error.as_deref() == Some("cancelled")));
@@ -161,4 +162,29 @@ fn bad_metrics_and_outputs_are_refused_before_any_run() {
         .unwrap_err()
         .to_string()
         .contains("J9.w"));
+}
+
+#[test]
+fn cancelling_a_sweep_stops_the_runs_under_way() {
+    // four runs of 20 000 s take many seconds each; the cancel comes after 100 ms
+    let cm = compiled(COUPLED);
+    let plan = Plan::new(&cm, &["max(J1.w)".to_string()], &[]).unwrap();
+    let vs = variants(&["StopTime", "Interval"], &[[2e4, 1.0]; 4]);
+    let cancel = CancelHandle::new();
+    let started = std::time::Instant::now();
+    let outcomes = std::thread::scope(|s| {
+        s.spawn(|| {
+            std::thread::sleep(std::time::Duration::from_millis(100));
+            cancel.cancel();
+        });
+        run_variants(&cm, &vs, &plan, Some(2), &cancel)
+    });
+    let stopped = started.elapsed().as_secs_f64();
+    assert!(outcomes
+        .iter()
+        .all(|o| o.error.as_deref() == Some("cancelled")));
+    assert!(
+        stopped < 3.0,
+        "the sweep went on for {stopped} s after the cancel"
+    );
 }

@@ -1,13 +1,14 @@
 //! `_core.CompiledModel`: a model compiled once, its variants (parameters, start values,
 //! experiment settings by MSL name) and sweeps over them, run in the core with the GIL released.
 
-use std::sync::atomic::AtomicBool;
+use std::time::Duration;
 
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use stiction_core::assembly::CompiledModel;
-use stiction_core::sweep::{run_variants, Override, Plan};
+use stiction_core::simulation::CancelHandle;
+use stiction_core::sweep::{run_variants, Outcome, Override, Plan};
 use stiction_core::{ModelSpec, Simulation};
 
 use crate::{advance_interruptibly, guarded, model_err, py_error, RawResult};
@@ -139,9 +140,9 @@ impl PyCompiled {
             .iter()
             .map(|v| overrides(Some(v)))
             .collect::<PyResult<Vec<_>>>()?;
-        let cancel = AtomicBool::new(false);
-        let outcomes = py
-            .detach(|| guarded(|| Ok(run_variants(&self.0, &variants, &plan, workers, &cancel))))?;
+        let outcomes = sweep_interruptibly(py, |cancel| {
+            run_variants(&self.0, &variants, &plan, workers, cancel)
+        })?;
         let n = outcomes.len();
         let flat: Vec<f64> = outcomes.iter().flat_map(|o| o.metrics.clone()).collect();
         let metrics = PyArray1::from_vec(py, flat).reshape([n, plan.metrics.len()])?;
@@ -162,5 +163,46 @@ impl PyCompiled {
         let status = outcomes.iter().map(|o| o.error.clone()).collect();
         let wall = PyArray1::from_vec(py, outcomes.iter().map(|o| o.wall_s).collect());
         Ok((metrics, trajectories, status, wall))
+    }
+}
+
+/// Runs a sweep on a thread of its own while this one, every 50 ms, checks for signals with
+/// the GIL: Ctrl-C cancels the runs under way (they stop at their next step) and raises
+/// `KeyboardInterrupt` once they have stopped.
+fn sweep_interruptibly<F>(py: Python<'_>, sweep: F) -> PyResult<Vec<Outcome>>
+where
+    F: FnOnce(&CancelHandle) -> Vec<Outcome> + Send,
+{
+    let cancel = CancelHandle::new();
+    std::thread::scope(|scope| {
+        let worker = scope.spawn(|| guarded(|| Ok(sweep(&cancel))));
+        let mut interrupted = None;
+        while !worker.is_finished() {
+            py.detach(|| wait_until_finished(&worker, Duration::from_millis(50)));
+            if interrupted.is_none() {
+                if let Err(signal) = py.check_signals() {
+                    cancel.cancel();
+                    interrupted = Some(signal);
+                }
+            }
+        }
+        let outcomes = worker.join().unwrap_or_else(|_| {
+            Err(py_error(
+                "SimulationError",
+                "internal error in the engine (please report): a sweep thread ended abnormally"
+                    .into(),
+            ))
+        });
+        match interrupted {
+            Some(signal) => Err(signal),
+            None => outcomes,
+        }
+    })
+}
+
+fn wait_until_finished<T>(worker: &std::thread::ScopedJoinHandle<'_, T>, at_most: Duration) {
+    let started = std::time::Instant::now();
+    while !worker.is_finished() && started.elapsed() < at_most {
+        std::thread::sleep(Duration::from_millis(2));
     }
 }

@@ -76,8 +76,23 @@ pub trait Observer {
 pub struct CancelHandle(Arc<AtomicBool>);
 
 impl CancelHandle {
+    /// A flag no run uses yet; `Simulation::share_cancel` makes runs stop on it.
+    pub fn new() -> Self {
+        CancelHandle(Arc::new(AtomicBool::new(false)))
+    }
+
     pub fn cancel(&self) {
         self.0.store(true, Ordering::Relaxed);
+    }
+
+    pub fn is_cancelled(&self) -> bool {
+        self.0.load(Ordering::Relaxed)
+    }
+}
+
+impl Default for CancelHandle {
+    fn default() -> Self {
+        Self::new()
     }
 }
 
@@ -310,6 +325,11 @@ impl Simulation {
 
     pub fn cancel_handle(&self) -> CancelHandle {
         CancelHandle(self.stepper.cancel.clone())
+    }
+
+    /// Makes `handle` this run's cancel flag: a sweep stops every run it has going with one.
+    pub fn share_cancel(&mut self, handle: &CancelHandle) {
+        self.stepper.cancel = handle.0.clone();
     }
 
     /// Stops the run at its next step (from this or any thread, through a `CancelHandle`).

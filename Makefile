@@ -7,7 +7,7 @@ EXAMPLE ?= examples/msl/CoupledClutches.toml
 # what the demo plots: speeds on one axes, the clutch modes on another
 DEMO_SIGNALS ?= J1.w+J2.w+J3.w+J4.w,clutch1.mode+clutch2.mode+clutch3.mode
 
-.PHONY: setup demo test test-rust test-python lint docs bench bench-io bench-fmu bench-scaling soak clean
+.PHONY: setup demo test test-rust test-python lint docs bench bench-io bench-fmu bench-scaling bench-sweep soak clean
 
 setup:
 	@test -x $(PY) || python3 -m venv $(VENV)
@@ -66,3 +66,9 @@ bench-fmu: setup
 # Growth with model size (issue 10): chains and ladders of generated models; prints numbers
 bench-scaling: setup
 	$(PY) scripts/bench_scaling.py
+
+# Sweeps (issue 9): 10⁴ CoupledClutches variants on 1 worker and every core, then the peak
+# memory of metrics-only sweeps of 10³–5·10⁴ variants; prints numbers
+bench-sweep: setup
+	$(VENV)/bin/stiction bench --sweep 10000
+	$(PY) scripts/bench_sweep_memory.py

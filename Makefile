@@ -45,7 +45,7 @@ docs: setup
 	@$(PY) -m pip install --quiet -r docs/requirements.txt
 	$(PY) -m sphinx -W --keep-going -q -b html docs docs/_build/html
 
-# The property tests over 10⁴ random drivetrains (CI runs a fixed budget of 60).
+# The property tests over 10⁴ random drivetrains (CI runs a fixed budget of about 200).
 soak: setup
 	STICTION_SOAK=10000 $(PY) -m pytest -q tests/test_properties.py --hypothesis-show-statistics
 

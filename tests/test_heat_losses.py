@@ -261,3 +261,17 @@ def test_modes_at_t0_follow_the_spec() -> None:
     for name in ("clutch.mode", "brake.mode", "bearingFriction.mode", "lossyGear.mode"):
         assert np.all(r[name][soon] == 0), name
     assert np.all(r["oneWayClutch.stuck"][soon] == 1)
+
+
+def test_the_freewheel_released_for_a_millisecond_slides_and_locks_again_exactly() -> None:
+    """At 0.521094 s the clutch locks and the freewheel's constraint torque flips past its
+    static limit: it starts forward, its slip rises and falls back to zero within one
+    integrator step. The slip crossing the event band is an event (found at the slip's peak
+    on the dense output), so it slides and locks again with its slip inside the band, and
+    its balance closes (before: it locked at a slip of 8e-6 rad/s and kept it for 9 ms)."""
+    r = _msl_run()
+    starts = [e.time for e in r.events if e.component == "oneWayClutch" and "sliding forward" in str(e)]
+    assert any(abs(t - 0.521094) < 1e-5 for t in starts), starts
+    locked = r["oneWayClutch.locked"] == 1.0
+    assert np.abs(r["oneWayClutch.w_rel"][locked]).max() <= 2e-10
+    assert r.audit().ok()

@@ -6,7 +6,7 @@ use diffsol::{NonLinearOp, OdeEquations, OdeSolverMethod, Vector};
 use super::integrator::{integrator_error, Eqn};
 use super::stepper::{EventKind, Stepper};
 use super::Phase;
-use crate::engine::{iterate, EventPoint};
+use crate::engine::{iterate, speed_rates, EventPoint};
 use crate::error::SimError;
 use crate::result::EventRecord;
 
@@ -67,7 +67,10 @@ impl Stepper {
         }
         self.evaluate_here(t, true);
         self.z_prev.copy_from_slice(&self.z);
-        self.dz.fill(f64::NAN);
+        // the rates in the new mode, so that a speed rising from the event and falling back
+        // within the first step is searched too (a freewheel released for half a millisecond)
+        let guard = self.phase.borrow();
+        speed_rates(&self.sys, &guard.disc, &guard.ws, &mut self.dz);
         Ok(())
     }
 

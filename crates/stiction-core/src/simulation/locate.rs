@@ -66,6 +66,10 @@ impl Stepper {
                 let guard = self.phase.borrow();
                 speed_rates(&self.sys, &guard.disc, &guard.ws, &mut self.dz);
             }
+            // A speed indicator that rises above zero and falls back between the two samples
+            // ends the bracket at its peak, so it competes with every crossing before it (a
+            // later crossing of another indicator must not hide it).
+            let end = self.end_at_peak(solver, a, t, k == SAMPLES)?;
             candidates.clear();
             for (i, (&za, &zb)) in self.z_scan.iter().zip(&self.z).enumerate() {
                 if za <= 0.0 && zb > 0.0 {
@@ -73,24 +77,7 @@ impl Stepper {
                 }
             }
             if !candidates.is_empty() {
-                return self.locate(solver, a, t, candidates).map(Some);
-            }
-            // A speed indicator that rises and falls back between two samples: find its peak.
-            if let Some((t_peak, i)) = self.peak_between(solver, a, t)? {
-                let z_a = self.z_scan[i];
-                let z_peak = self.indicator_at(solver, t_peak, i)?;
-                if z_peak > 0.0 {
-                    candidates.clear();
-                    candidates.push((i, z_a, z_peak));
-                    return self.locate(solver, a, t_peak, candidates).map(Some);
-                }
-                // restore the sample at t
-                if k == SAMPLES {
-                    self.x.copy_from_slice(solver.state().y.inner().as_slice());
-                } else {
-                    self.load(solver, t)?;
-                }
-                self.evaluate_here(t, true);
+                return self.locate(solver, a, end, candidates).map(Some);
             }
             if let Some((t_back, z_back)) = &back {
                 if let Some(found) = self.hump(solver, (*t_back, z_back.clone()), t_prev, t)? {
@@ -205,6 +192,36 @@ impl Stepper {
         let guard = self.phase.borrow();
         speed_rates(&self.sys, &guard.disc, &guard.ws, &mut self.dz);
         Ok(())
+    }
+
+    /// `t`, or the peak of a speed indicator that rises above zero and falls back between the
+    /// samples `a` and `t`; the indicators are left evaluated there (the sample at `t` is the
+    /// step's end when `last`).
+    fn end_at_peak<'a, S>(
+        &mut self,
+        solver: &S,
+        a: f64,
+        t: f64,
+        last: bool,
+    ) -> Result<f64, SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let Some((t_peak, i)) = self.peak_between(solver, a, t)? else {
+            return Ok(t);
+        };
+        let end = if self.indicator_at(solver, t_peak, i)? > 0.0 {
+            self.load(solver, t_peak)?;
+            t_peak
+        } else if last {
+            self.x.copy_from_slice(solver.state().y.inner().as_slice());
+            t
+        } else {
+            self.load(solver, t)?;
+            t
+        };
+        self.evaluate_here(end, true);
+        Ok(end)
     }
 
     /// The highest point between samples `a` and `b` of a speed indicator whose rate goes from

@@ -23,6 +23,7 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
+    from .audit import EnergyAudit
     from .runinfo import Experiment, Initialization, RunInfo
 
 __all__ = ["MODE_NAMES", "Event", "Result", "mode_name"]
@@ -141,6 +142,17 @@ class Result:
         if self._source is None:
             raise ValueError("metrics need a result of the engine (not one read from a file)")
         return float(self._source.metric(text))
+
+    def audit(self) -> EnergyAudit:
+        """The energy audit element by element (see ``stiction.audit``): for every component,
+        the power entering at its flanges against its losses and stored energy, row by row;
+        ``r.audit().worst`` is the element furthest from closing, ``r.audit().ok()`` whether
+        all close and no passive element delivers energy."""
+        from .audit import EnergyAudit
+
+        if self._source is None:
+            raise ValueError("the energy audit needs a result of the engine (not one read from a file)")
+        return EnergyAudit.from_core(self._source.audit())
 
     @property
     def events(self) -> list[Event]:

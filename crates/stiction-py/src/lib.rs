@@ -136,6 +136,31 @@ impl RawResult {
         self.0.metric(text).map_err(model_err)
     }
 
+    /// The energy audit per element: (component, residual, scale, torque, passive, min
+    /// dissipation, energy in, dissipated) for every component with flanges.
+    #[allow(clippy::type_complexity)]
+    fn audit(&self, py: Python<'_>) -> PyResult<Vec<(String, f64, f64, f64, bool, f64, f64, f64)>> {
+        let audits = py.detach(|| guarded(|| Ok(self.0.audit())))?;
+        Ok(audits
+            .into_iter()
+            .map(|a| {
+                let (power, energy) =
+                    ((a.residual, a.scale, a.torque), (a.energy_in, a.dissipated));
+                let (r, s, t) = power;
+                (
+                    a.component,
+                    r,
+                    s,
+                    t,
+                    a.passive,
+                    a.min_dissipation,
+                    energy.0,
+                    energy.1,
+                )
+            })
+            .collect())
+    }
+
     /// All variables as a `rows × len(names)` array.
     fn table<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let table = py.detach(|| self.0.table());

@@ -169,6 +169,7 @@ fn builder(spec: &SpecView, topo: &Topology) -> Builder {
             experiment: spec.experiment.clone(),
             nodes,
             mass: vec![0.0; nodes],
+            masses: Vec::new(),
             node_ports: topo.node_ports.clone(),
             laws: Vec::new(),
             relation_count: 0,

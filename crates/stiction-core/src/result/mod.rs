@@ -1,6 +1,7 @@
 //! Results: every output variable by its MSL name on the output grid plus both sides of every
 //! event (as MSL reference files have them), the event log and solver statistics.
 
+mod audit;
 pub mod csv;
 pub mod mat;
 pub mod metric;
@@ -9,6 +10,7 @@ mod probe;
 use std::rc::Rc;
 use std::sync::{Arc, OnceLock};
 
+pub use audit::ElementAudit;
 pub use metric::{Accumulator, Metric};
 pub use probe::{Probe, RowView};
 

@@ -90,6 +90,8 @@ impl Builder {
     pub fn add_mass(&mut self, node: NodeRef, j: f64) {
         if let NodeRef::Node(i) = node {
             self.sys.mass[i] += j;
+            let owner = self.name().to_string();
+            self.sys.masses.push((owner, i, j));
         }
     }
 

@@ -60,6 +60,8 @@ pub struct System {
     pub experiment: Experiment,
     pub nodes: usize,
     pub mass: Vec<f64>,
+    /// Who gave each node its mass: (component, node, J), for the per-element energy audit.
+    pub masses: Vec<(String, usize, f64)>,
     /// Ports on each node, for messages.
     pub node_ports: Vec<Vec<String>>,
     pub laws: Vec<LawElem>,

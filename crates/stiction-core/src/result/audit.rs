@@ -1,0 +1,206 @@
+//! The energy audit per element: at every result row, the power entering a component through
+//! its flanges (its reported cut torques times the flange speeds) must equal what its parts take
+//! out of the drivetrain: an inertia `J·w·a`, a force law `tau·w_rel` (stored or dissipated), a
+//! constraint its multiplier times its speed (an ideal gear: nothing), a friction element or
+//! lossy gear its `lossPower`. The flange torques come from the torque balances of the
+//! connection sets, the parts from the component's own equations, so the two sides are computed
+//! independently. A passive element (no source law, no working constraint) must never dissipate
+//! negative power: it never delivers net energy.
+
+use std::rc::Rc;
+
+use super::SimResult;
+use crate::engine::eval::{evaluate, DiscreteState, Workspace};
+use crate::engine::kkt::ModeMatrix;
+use crate::engine::ModeCache;
+use crate::rel::Rel;
+use crate::system::{EnergyRole, Out, System};
+
+/// The energy balance of one component over a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ElementAudit {
+    pub component: String,
+    /// The largest |power in − power taken by its parts| over the rows [W].
+    pub residual: f64,
+    /// The largest power term of the component over the rows [W] (for a relative figure).
+    pub scale: f64,
+    /// The largest cut torque at its flanges [N·m]: a stuck element's slip stays inside the
+    /// ±1e-10 rad/s event band, so its held torque may show up to about 1e-10 of this in power.
+    pub torque: f64,
+    /// No source law and no constraint that does work.
+    pub passive: bool,
+    /// The least power it dissipated over the rows [W] (negative: it delivered energy).
+    pub min_dissipation: f64,
+    /// Energy that entered through the flanges and energy dissipated over the run [J]
+    /// (trapezoid rule over the rows).
+    pub energy_in: f64,
+    pub dissipated: f64,
+}
+
+/// Where each component's power goes, as indices into the system.
+#[derive(Default)]
+struct Parts {
+    name: String,
+    ports: Vec<(usize, Rel)>,
+    masses: Vec<(usize, f64)>,
+    laws: Vec<usize>,
+    constraints: Vec<usize>,
+    switching: Vec<usize>,
+}
+
+impl SimResult {
+    /// The per-element energy audit, one entry per component with flanges, in model order.
+    pub fn audit(&self) -> Vec<ElementAudit> {
+        let sys = &*self.system;
+        let parts = parts_of(sys);
+        let mut audits: Vec<ElementAudit> = parts.iter().map(|p| empty(&p.name)).collect();
+        let mut last: Vec<Option<(f64, f64, f64)>> = vec![None; parts.len()];
+        let tr = &self.trajectory;
+        let mut ws = Workspace::new(sys);
+        let mut cache = ModeCache::default();
+        let mut modes: Vec<Option<Rc<ModeMatrix>>> = vec![None; self.discs.len()];
+        let mut flange_tau = vec![0.0; sys.flange_torques.ports()];
+        let mut scratch = Vec::new();
+        for r in 0..tr.rows() {
+            let id = tr.disc[r] as usize;
+            let disc = &self.discs[id];
+            if modes[id].is_none() {
+                modes[id] = cache.get(sys, disc, tr.t[r]).ok();
+            }
+            let Some(mm) = modes[id].as_ref() else {
+                continue;
+            };
+            evaluate(sys, mm, disc, tr.t[r], tr.x(r), tr.horizon[r], &mut ws);
+            let value = |out: &Out| super::value(out, sys, &ws, disc, &[]);
+            sys.flange_torques
+                .solve(&value, &mut flange_tau, &mut scratch);
+            for (k, p) in parts.iter().enumerate() {
+                let (power_in, taken, dissipation) = balance(sys, &ws, disc, p, &flange_tau);
+                let a = &mut audits[k];
+                if (power_in - taken).abs() > 1e-7 && std::env::var("AUDIT_DEBUG").is_ok() {
+                    eprintln!(
+                        "DEBUG {} t={} in={power_in} taken={taken} diss={dissipation} disc={:?}",
+                        p.name, tr.t[r], disc.switching
+                    );
+                }
+                a.residual = a.residual.max((power_in - taken).abs());
+                a.scale = a.scale.max(power_in.abs()).max(taken.abs());
+                a.torque = (p.ports.iter()).fold(a.torque, |m, (i, _)| m.max(flange_tau[*i].abs()));
+                a.min_dissipation = a.min_dissipation.min(dissipation);
+                if let Some((t0, p0, d0)) = last[k] {
+                    let dt = tr.t[r] - t0;
+                    a.energy_in += 0.5 * (p0 + power_in) * dt;
+                    a.dissipated += 0.5 * (d0 + dissipation) * dt;
+                }
+                last[k] = Some((tr.t[r], power_in, dissipation));
+            }
+        }
+        for (a, p) in audits.iter_mut().zip(&parts) {
+            a.passive = is_passive(sys, p);
+        }
+        audits
+    }
+}
+
+fn empty(name: &str) -> ElementAudit {
+    ElementAudit {
+        component: name.to_string(),
+        residual: 0.0,
+        scale: 0.0,
+        torque: 0.0,
+        passive: true,
+        min_dissipation: f64::INFINITY,
+        energy_in: 0.0,
+        dissipated: 0.0,
+    }
+}
+
+/// (power in through the flanges, power taken by the parts, power dissipated) at one row.
+fn balance(
+    sys: &System,
+    ws: &Workspace,
+    disc: &DiscreteState,
+    p: &Parts,
+    flange_tau: &[f64],
+) -> (f64, f64, f64) {
+    let power_in: f64 = p
+        .ports
+        .iter()
+        .map(|(i, rel)| flange_tau[*i] * rel.dot(&ws.w))
+        .sum();
+    let mut taken: f64 = p.masses.iter().map(|&(n, j)| j * ws.w[n] * ws.a[n]).sum();
+    let mut dissipation = 0.0;
+    for &k in &p.laws {
+        let law = &sys.laws[k];
+        taken += ws.law_tau[k] * ws.law_w[k];
+        if law.law.role() != EnergyRole::Source {
+            let ctx = ws.law_ctx(sys, disc, k);
+            dissipation += law.law.dissipation(&ctx, ws.law_tau[k]);
+        }
+    }
+    for &k in &p.constraints {
+        taken += ws.constraint_tau[k] * sys.constraints[k].rel.dot(&ws.w);
+    }
+    for &k in &p.switching {
+        taken += ws.elements[k].loss;
+        dissipation += ws.elements[k].loss;
+    }
+    (power_in, taken, dissipation)
+}
+
+fn is_passive(sys: &System, p: &Parts) -> bool {
+    p.laws
+        .iter()
+        .all(|&k| sys.laws[k].law.role() != EnergyRole::Source)
+        && p.constraints.iter().all(|&k| !sys.constraints[k].does_work)
+}
+
+/// Each component's flanges (from its `.phi`/`.tau` outputs), masses, laws, constraints and
+/// switching elements, in the order the components appear in the outputs.
+fn parts_of(sys: &System) -> Vec<Parts> {
+    let mut parts: Vec<Parts> = Vec::new();
+    let mut index = std::collections::HashMap::new();
+    let mut of = |name: &str, parts: &mut Vec<Parts>| -> usize {
+        *index.entry(name.to_string()).or_insert_with(|| {
+            parts.push(Parts {
+                name: name.to_string(),
+                ..Parts::default()
+            });
+            parts.len() - 1
+        })
+    };
+    let angles: std::collections::HashMap<&str, &Rel> = (sys.outputs.iter())
+        .filter_map(|(n, out)| match out {
+            Out::Angle(rel) => n.strip_suffix(".phi").map(|port| (port, rel)),
+            _ => None,
+        })
+        .collect();
+    for (name, out) in &sys.outputs {
+        let (Out::FlangeTau(i), Some(port)) = (out, name.strip_suffix(".tau")) else {
+            continue;
+        };
+        let (Some(rel), Some((component, _))) = (angles.get(port), port.split_once('.')) else {
+            continue;
+        };
+        let k = of(component, &mut parts);
+        parts[k].ports.push((*i, (*rel).clone()));
+    }
+    for (owner, node, j) in &sys.masses {
+        let k = of(owner, &mut parts);
+        parts[k].masses.push((*node, *j));
+    }
+    for (i, law) in sys.laws.iter().enumerate() {
+        let k = of(&law.owner, &mut parts);
+        parts[k].laws.push(i);
+    }
+    for (i, c) in sys.constraints.iter().enumerate() {
+        let k = of(&c.owner, &mut parts);
+        parts[k].constraints.push(i);
+    }
+    for (i, e) in sys.switching.iter().enumerate() {
+        let k = of(e.name(), &mut parts);
+        parts[k].switching.push(i);
+    }
+    parts.retain(|p| !p.ports.is_empty());
+    parts
+}

@@ -1,0 +1,105 @@
+"""The energy audit of a run, element by element (``Result.audit()``).
+
+For every component with flanges and at every result row, the power entering through its
+flanges (the reported cut torques times the flange speeds) is compared with what the
+component's own equations take: an inertia ``J·w·a``, a spring or damper ``tau·w_rel``, a
+friction element or lossy gear its ``lossPower``, an ideal gear nothing. The two sides are
+computed independently (the flange torques from the torque balance of each connection), so a
+mistake in either shows. A passive element (no source, no prescribed speed) must never
+dissipate negative power: it never delivers net energy.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    import pandas
+
+__all__ = ["ElementBalance", "EnergyAudit"]
+
+# Round-off: 1e-9 of the model's largest power. And a stuck element's relative speed stays
+# inside the ±1e-10 rad/s event band (the relations switch there), so its held torque may show
+# up to 1e-10·tau of power; twice that is allowed per element.
+DEFAULT_TOLERANCE = 1e-9
+EVENT_BAND = 2e-10
+
+
+@dataclass(frozen=True)
+class ElementBalance:
+    """One component's energy balance over the run (powers in W, energies in J)."""
+
+    component: str
+    residual: float
+    """Largest |power in − power its parts take| over the rows."""
+    scale: float
+    """Largest power term of the component over the rows."""
+    torque: float
+    """Largest cut torque at its flanges (N·m)."""
+    passive: bool
+    """No source law and no constraint doing work (a speed source)."""
+    min_dissipation: float
+    """Least power dissipated over the rows; negative means it delivered energy."""
+    energy_in: float
+    """Energy that entered through the flanges (trapezoid rule over the rows)."""
+    dissipated: float
+    """Energy dissipated (trapezoid rule over the rows)."""
+
+
+class EnergyAudit:
+    """Every element's balance; ``worst`` is the one furthest from closing."""
+
+    def __init__(self, elements: Iterable[ElementBalance]) -> None:
+        self.elements = list(elements)
+        self.scale = max([1.0, *(e.scale for e in self.elements)])
+
+    @classmethod
+    def from_core(cls, rows: Iterable[tuple[Any, ...]]) -> EnergyAudit:
+        """From the engine's tuples (component, residual, scale, torque, passive, min
+        dissipation, energy in, dissipated)."""
+        return cls(ElementBalance(*row) for row in rows)
+
+    @property
+    def worst(self) -> ElementBalance | None:
+        """The element with the largest residual (None for a model without flanges)."""
+        return max(self.elements, key=lambda e: e.residual, default=None)
+
+    def allowed(self, element: ElementBalance, tolerance: float = DEFAULT_TOLERANCE) -> float:
+        """The power an element's balance may be off by [W]: round-off of the model's largest
+        power plus its held torque times the event band."""
+        return tolerance * self.scale + EVENT_BAND * element.torque
+
+    def delivering(self, tolerance: float = DEFAULT_TOLERANCE) -> list[ElementBalance]:
+        """Passive elements that delivered energy (dissipated less than −``allowed``)."""
+        return [e for e in self.elements if e.passive and e.min_dissipation < -self.allowed(e, tolerance)]
+
+    def open(self, tolerance: float = DEFAULT_TOLERANCE) -> list[ElementBalance]:
+        """Elements whose balance does not close (residual above ``allowed``)."""
+        return [e for e in self.elements if e.residual > self.allowed(e, tolerance)]
+
+    def ok(self, tolerance: float = DEFAULT_TOLERANCE) -> bool:
+        """Every balance closes and no passive element delivers energy."""
+        return not self.open(tolerance) and not self.delivering(tolerance)
+
+    def to_pandas(self) -> pandas.DataFrame:
+        """One row per component, indexed by name."""
+        import pandas as pd
+
+        return pd.DataFrame([vars(e) for e in self.elements]).set_index("component")
+
+    def __str__(self) -> str:
+        worst = self.worst
+        if worst is None:
+            return "energy audit: no component with flanges"
+        state = "closes" if self.ok() else "DOES NOT CLOSE"
+        lines = [
+            f"energy audit {state}: worst {worst.component}, {worst.residual:.3g} W of {self.scale:.3g} W",
+            *(f"  {e.component} is off by {e.residual:.3g} W" for e in self.open()),
+            *(f"  {e.component} delivered {-e.min_dissipation:.3g} W" for e in self.delivering()),
+        ]
+        return "\n".join(lines)
+
+    def __repr__(self) -> str:
+        return f"<EnergyAudit {len(self.elements)} elements; {str(self).splitlines()[0]}>"

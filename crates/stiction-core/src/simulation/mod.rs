@@ -61,7 +61,11 @@ pub(crate) struct Phase {
     ws: Workspace,
     rhs_calls: usize,
     probe: Vec<f64>,
+    /// f at (`f0_t`, `f0_x`), kept for the Jacobian–vector products of one Jacobian (diffsol
+    /// asks for its columns one by one at one point); `f0_t` is NaN once the mode changes.
     f0: Vec<f64>,
+    f0_t: f64,
+    f0_x: Vec<f64>,
 }
 
 /// Receives every output row (grid points and both sides of each event) and every mode change
@@ -161,6 +165,8 @@ impl Simulation {
             rhs_calls: 0,
             probe: vec![0.0; n],
             f0: vec![0.0; n],
+            f0_t: f64::NAN,
+            f0_x: vec![0.0; n],
         }));
         let problem = integrator::problem(&sys, &phase, t0, x0.clone(), exp.tolerance)?;
         let mut cell = integrator::integrator(problem, &exp.solver)?;
@@ -386,6 +392,7 @@ impl Simulation {
         {
             let mut phase = self.stepper.phase.borrow_mut();
             phase.disc = state.disc.clone();
+            phase.f0_t = f64::NAN;
             phase.horizon = state.horizon;
             phase.mm = mm;
         }

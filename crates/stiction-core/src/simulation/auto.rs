@@ -13,12 +13,11 @@
 //! Once switched, the run stays implicit: its events restart the implicit method with the new
 //! mode's Jacobian (`event.rs`), and it locates events on the implicit method's dense output.
 
+use std::cell::RefCell;
+
 use diffsol::ode_solver::OdeSolverStatistics;
-use diffsol::{OdeSolverMethod, VectorCommon};
 use nalgebra::Complex;
 
-use super::integrator::Eqn;
-use super::stepper::Stepper;
 use super::Phase;
 use crate::engine::eval::{derivative, evaluate};
 use crate::system::System;
@@ -99,26 +98,28 @@ impl StiffnessWatch {
     }
 }
 
-impl Stepper {
-    /// After an accepted step ending at `t` (whose state the solver holds): count it and, when
-    /// a check is due, decide whether the explicit method is held back by stability.
-    pub(super) fn watch_stiffness<'a, S>(&mut self, solver: &S, t: f64, h: f64)
-    where
-        S: OdeSolverMethod<'a, Eqn>,
-    {
-        let Some(mean_h) = self.stiffness.record(h) else {
+impl StiffnessWatch {
+    /// After an accepted step of length `h` ending at (t, x): count it and, when a check is
+    /// due, decide whether the explicit method is held back by stability.
+    pub(super) fn watch(
+        &mut self,
+        sys: &System,
+        phase: &RefCell<Phase>,
+        t: f64,
+        x: &[f64],
+        h: f64,
+    ) {
+        let Some(mean_h) = self.record(h) else {
             return;
         };
-        let watch = &mut self.stiffness;
-        watch.x.copy_from_slice(solver.state().y.inner().as_slice());
-        let mut phase = self.phase.borrow_mut();
-        let lambda = dominant_eigenvalue(&self.sys, &mut phase, t, watch);
+        self.x.copy_from_slice(x);
+        let lambda = dominant_eigenvalue(sys, &mut phase.borrow_mut(), t, self);
         // a growing (or undamped) dominant mode is not what holds an explicit method back
         if lambda.re >= 0.0 || !lambda.norm().is_finite() {
             return;
         }
         let used = mean_h * lambda.norm() / stability_radius(lambda);
-        watch.switch_due = used > STIFF_FRACTION;
+        self.switch_due = used > STIFF_FRACTION;
     }
 }
 

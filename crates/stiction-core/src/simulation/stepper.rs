@@ -90,10 +90,8 @@ pub(super) struct Stepper {
     pub(super) started: Instant, // when the run began (for the `timeout` limit)
     /// `advance_for`: pause between steps once this instant has passed.
     pub(super) deadline: Option<Instant>,
-    /// Mode changes per element, to tell chattering from many legitimate events.
-    pub(super) chatter: ChatterWatch,
-    /// Solver = "auto": whether the explicit method is held back by stability.
-    pub(super) stiffness: StiffnessWatch,
+    pub(super) chatter: ChatterWatch, // mode changes per element: chattering or many events
+    pub(super) stiffness: StiffnessWatch, // Solver = "auto": held back by stability?
     pub(super) candidates: Vec<(usize, f64, f64)>,
 }
 
@@ -393,7 +391,9 @@ impl Stepper {
             .map_err(|e| integrator_error(self.t_prev, e))?;
         let t_now = solver.state().t;
         self.check_progress(solver, t_now)?;
-        self.watch_stiffness(solver, t_now, t_now - self.t_prev);
+        let (x_now, h) = (solver.state().y.inner().as_slice(), t_now - self.t_prev);
+        self.stiffness
+            .watch(&self.sys, &self.phase, t_now, x_now, h);
         let stop = self.stop;
         // At a pending time event the signals keep their left limits (the horizon).
         let at_time_event = self.next_te < self.sys.time_events.len()

@@ -40,6 +40,7 @@ def test_bench_solvers_reports_every_method(capsys: pytest.CaptureFixture[str]) 
     rows = bench_solvers(st.Model.load(MSL / "First.toml"), ["tsit45", "bdf", "auto"], repeat=1)
     assert [r.solver for r in rows] == ["tsit45", "bdf", "auto"]
     assert rows[0].lu_setups == 0 and rows[1].lu_setups > 0 and rows[2].switches == 0
+    assert rows[0].jacobians == 0 and 0 < rows[1].jacobians <= rows[1].lu_setups
     assert rows[0].steps == rows[2].steps  # auto did not switch: the explicit steps exactly
     with pytest.raises(SystemExit) as done:
         main(["bench", "--stiff", str(MSL / "First.toml")])

@@ -171,6 +171,7 @@ class SolverRow:
     rejected: int
     rhs_evals: int
     lu_setups: int
+    jacobians: int
     switches: int
 
 
@@ -178,9 +179,9 @@ def bench_solvers(model: Model, solvers: list[str], repeat: int = 5) -> list[Sol
     """Run ``model`` under each of ``solvers``: once, then ``repeat`` more times if that took
     less than half a second; the fastest run counts.
 
-    ``lu_setups`` counts the implicit methods' Newton-matrix setups (each with the mode's
-    Jacobian, from differences of the right-hand side); ``rhs_evals`` includes those
-    differences and the "auto" stiffness checks."""
+    ``lu_setups`` counts the implicit methods' Newton-matrix factorizations, ``jacobians``
+    the Jacobians they built (forward differences of the right-hand side, in the current
+    mode); ``rhs_evals`` includes those differences and the "auto" stiffness checks."""
     rows = []
     for solver in solvers:
         start = time.perf_counter()
@@ -201,6 +202,7 @@ def bench_solvers(model: Model, solvers: list[str], repeat: int = 5) -> list[Sol
                 rejected=int(s.get("rejected_steps", 0)),
                 rhs_evals=int(s.get("rhs_evals", 0)),
                 lu_setups=int(s.get("lu_setups", 0)),
+                jacobians=int(s.get("jacobian_evals", 0)),
                 switches=int(s.get("solver_switches", 0)),
             )
         )

@@ -427,14 +427,14 @@ def _bench_stiff(files: list[Path]) -> None:
 
     click.echo(
         f"{'model':<18} {'solver':<9} {'min ms':>10} {'steps':>8} {'rejected':>9} "
-        f"{'rhs evals':>10} {'lu setups':>10} {'switches':>9}"
+        f"{'rhs evals':>10} {'jacobians':>10} {'lu setups':>10} {'switches':>9}"
     )
     for path in files:
         model = Model.load(path)
         for row in bench_solvers(model, ["tsit45", "bdf", "esdirk34", "auto"], repeat=5):
             click.echo(
                 f"{row.model:<18} {row.solver:<9} {row.min_ms:>10.1f} {row.steps:>8} {row.rejected:>9} "
-                f"{row.rhs_evals:>10} {row.lu_setups:>10} {row.switches:>9}"
+                f"{row.rhs_evals:>10} {row.jacobians:>10} {row.lu_setups:>10} {row.switches:>9}"
             )
 
 

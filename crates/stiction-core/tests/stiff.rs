@@ -62,6 +62,9 @@ fn auto_switches_to_the_implicit_method_on_the_stiff_shaft_and_agrees_with_the_e
     let explicit = run(STIFF_SHAFT, "tsit45", None);
     assert_eq!(auto.stats.solver_switches, 1);
     assert_eq!(explicit.stats.solver_switches, 0);
+    assert_eq!(explicit.stats.jacobian_evals, 0);
+    // the implicit method builds a Jacobian after the switch and after each event at least
+    assert!(auto.stats.jacobian_evals >= 3, "{:?}", auto.stats);
     // the implicit method takes a small fraction of the explicit method's steps
     assert!(
         auto.stats.steps * 20 < explicit.stats.steps,
@@ -131,6 +134,7 @@ fn auto_keeps_every_msl_example_explicit_bit_for_bit() {
         let auto = run(&text, "auto", None);
         let explicit = run(&text, "tsit45", None);
         assert_eq!(auto.stats.solver_switches, 0, "{name}");
+        assert_eq!(auto.stats.jacobian_evals, 0, "{name}");
         assert_eq!(auto.stats.steps, explicit.stats.steps, "{name}");
         assert_eq!(auto.events, explicit.events, "{name}");
         for column in &auto.names {

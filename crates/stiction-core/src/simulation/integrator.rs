@@ -158,6 +158,7 @@ pub fn problem(
             f0,
             f0_t,
             f0_x,
+            jacobians,
             horizon,
         } = &mut *guard;
         let horizon = *horizon;
@@ -169,6 +170,7 @@ pub fn problem(
         let xnorm = x.iter().map(|a| a * a).sum::<f64>().sqrt();
         let eps = f64::EPSILON.sqrt() * (1.0 + xnorm) / vnorm;
         if !(*f0_t == t && f0_x[..] == x[..]) {
+            *jacobians += 1;
             *rhs_calls += 1;
             evaluate(&sy, mm, disc, t, x, horizon, ws);
             derivative(&sy, ws, f0);

@@ -66,6 +66,8 @@ pub(crate) struct Phase {
     f0: Vec<f64>,
     f0_t: f64,
     f0_x: Vec<f64>,
+    /// Jacobians the implicit methods built (points where their columns were differenced).
+    jacobians: usize,
 }
 
 /// Receives every output row (grid points and both sides of each event) and every mode change
@@ -167,6 +169,7 @@ impl Simulation {
             f0: vec![0.0; n],
             f0_t: f64::NAN,
             f0_x: vec![0.0; n],
+            jacobians: 0,
         }));
         let problem = integrator::problem(&sys, &phase, t0, x0.clone(), exp.tolerance)?;
         let mut cell = integrator::integrator(problem, &exp.solver)?;
@@ -435,6 +438,7 @@ impl Simulation {
         stats.lu_setups = all.lu_setups;
         stats.solver_switches = st.stiffness.switches;
         stats.rhs_evals = st.phase.borrow().rhs_calls;
+        stats.jacobian_evals = st.phase.borrow().jacobians;
         stats.factorizations = st.cache.factorizations;
         stats.wall_ms = self.started.elapsed().as_secs_f64() * 1e3;
         SimResult::new(st.sys, st.trajectory, st.discs, st.log, stats)

@@ -7,7 +7,7 @@ EXAMPLE ?= examples/msl/CoupledClutches.toml
 # what the demo plots: speeds on one axes, the clutch modes on another
 DEMO_SIGNALS ?= J1.w+J2.w+J3.w+J4.w,clutch1.mode+clutch2.mode+clutch3.mode
 
-.PHONY: setup demo test test-rust test-python lint docs bench bench-io bench-fmu bench-scaling bench-sweep soak clean
+.PHONY: setup demo test test-rust test-python lint docs bench bench-io bench-fmu bench-scaling bench-sweep bench-stiff soak clean
 
 setup:
 	@test -x $(PY) || python3 -m venv $(VENV)
@@ -72,3 +72,7 @@ bench-scaling: setup
 bench-sweep: setup
 	$(VENV)/bin/stiction bench --sweep 10000
 	$(PY) scripts/bench_sweep_memory.py
+
+# Solvers on stiff drivetrains (issue 13): tsit45, bdf, esdirk34, auto on examples/stiff and HeatLosses.
+bench-stiff: setup
+	$(VENV)/bin/stiction bench --stiff

@@ -31,8 +31,8 @@ def test_a_missing_experiment_is_reported_as_defaults() -> None:
     r = _two_shafts().simulate()
     assert r.experiment is not None
     assert r.experiment.defaults == ALL
-    assert (r.experiment.StopTime, r.experiment["Solver"]) == (1.0, "tsit45")
-    assert "StopTime 1 (default)" in r.summary() and "Solver tsit45 (default)" in r.summary()
+    assert (r.experiment.StopTime, r.experiment["Solver"]) == (1.0, "auto")
+    assert "StopTime 1 (default)" in r.summary() and "Solver auto (default)" in r.summary()
 
 
 def test_given_settings_are_not_defaults_and_solver_is_an_override() -> None:

@@ -14,7 +14,16 @@ from typing import Any
 
 from .model import Model
 
-__all__ = ["BenchRow", "ScaleRow", "SweepBench", "bench", "bench_scale", "bench_sweep"]
+__all__ = [
+    "BenchRow",
+    "ScaleRow",
+    "SolverRow",
+    "SweepBench",
+    "bench",
+    "bench_scale",
+    "bench_solvers",
+    "bench_sweep",
+]
 
 
 @dataclass(frozen=True)
@@ -149,3 +158,52 @@ def bench_scale(kind: str, n: int) -> ScaleRow:
         rhs_evals=int(stats.get("rhs_evals", 0)),
         events=int(stats.get("events", len(result.events))),
     )
+
+
+@dataclass(frozen=True)
+class SolverRow:
+    """One model under one ``Solver``: the fastest run and the last run's counts."""
+
+    model: str
+    solver: str
+    min_ms: float
+    steps: int
+    rejected: int
+    rhs_evals: int
+    lu_setups: int
+    jacobians: int
+    switches: int
+
+
+def bench_solvers(model: Model, solvers: list[str], repeat: int = 5) -> list[SolverRow]:
+    """Run ``model`` under each of ``solvers``: once, then ``repeat`` more times if that took
+    less than half a second; the fastest run counts.
+
+    ``lu_setups`` counts the implicit methods' Newton-matrix factorizations, ``jacobians``
+    the Jacobians they built (forward differences of the right-hand side, in the current
+    mode); ``rhs_evals`` includes those differences and the "auto" stiffness checks."""
+    rows = []
+    for solver in solvers:
+        start = time.perf_counter()
+        result = model.simulate(Solver=solver)
+        times = [(time.perf_counter() - start) * 1e3]
+        # a run of seconds (an explicit method on a stiff model) is timed once
+        for _ in range(repeat if times[0] < 500 else 0):
+            start = time.perf_counter()
+            result = model.simulate(Solver=solver)
+            times.append((time.perf_counter() - start) * 1e3)
+        s = result.stats
+        rows.append(
+            SolverRow(
+                model=model.name,
+                solver=solver,
+                min_ms=min(times),
+                steps=int(s.get("steps", 0)),
+                rejected=int(s.get("rejected_steps", 0)),
+                rhs_evals=int(s.get("rhs_evals", 0)),
+                lu_setups=int(s.get("lu_setups", 0)),
+                jacobians=int(s.get("jacobian_evals", 0)),
+                switches=int(s.get("solver_switches", 0)),
+            )
+        )
+    return rows

@@ -26,6 +26,8 @@ F = TypeVar("F", bound=Callable[..., Any])
 # MSL examples of a source checkout (repo/examples/msl): `bench` runs these by default.
 EXAMPLES_DIR = Path(__file__).resolve().parents[2] / "examples" / "msl"
 DEFAULT_BENCH = ("CoupledClutches", "Friction", "SimpleGearShift", "HeatLosses")
+# `bench --stiff` (issue 13): the stiff shaft and HeatLosses with a stiff shaft.
+STIFF_BENCH = tuple(EXAMPLES_DIR.parent / "stiff" / f"{n}.toml" for n in ("StiffShaft", "StiffHeatLosses"))
 
 
 def _fail(message: str) -> NoReturn:
@@ -77,9 +79,9 @@ def _experiment_options(func: F) -> F:
     func = click.option(
         "--Solver",
         "Solver",
-        type=click.Choice(["tsit45", "bdf", "esdirk34"]),
+        type=click.Choice(["auto", "tsit45", "bdf", "esdirk34"]),
         default=None,
-        help="Override the experiment's Solver (tsit45 default; bdf, esdirk34 for stiff models).",
+        help="Override the experiment's Solver (auto default: tsit45, esdirk34 once stiff; tsit45, bdf, esdirk34).",
     )(func)
     for key in reversed(("StartTime", "StopTime", "Interval", "Tolerance")):
         func = click.option(
@@ -352,6 +354,12 @@ def compare_cmd(
     default=None,
     help="Time generated chains and ladders of these sizes instead, e.g. 10,100,1000.",
 )
+@click.option(
+    "--stiff",
+    is_flag=True,
+    help="Compare the solvers (tsit45, bdf, esdirk34, auto) on the stiff examples and HeatLosses "
+    "(or on MODEL_FILES) instead.",
+)
 @_friendly_errors
 def bench(
     model_files: tuple[Path, ...],
@@ -359,6 +367,7 @@ def bench(
     warmup: int,
     sweep_variants: int | None,
     scale_sizes: str | None,
+    stiff: bool,
 ) -> None:
     """Time whole runs of MODEL_FILES (default: MSL CoupledClutches, Friction, SimpleGearShift, HeatLosses)."""
     from .bench import bench as run_bench
@@ -366,6 +375,9 @@ def bench(
 
     if scale_sizes is not None:
         _bench_scale(scale_sizes)
+        return
+    if stiff:
+        _bench_stiff(list(model_files) or [*STIFF_BENCH, EXAMPLES_DIR / "HeatLosses.toml"])
         return
     files = list(model_files) or [EXAMPLES_DIR / f"{n}.toml" for n in DEFAULT_BENCH]
     if not model_files and not all(f.is_file() for f in files):
@@ -405,6 +417,23 @@ def _bench_scale(sizes: str) -> None:
             click.echo(
                 f"{kind:<8} {n:>6} {row.ms:>10.1f} {row.steps:>7} {row.rhs_evals:>10} {row.events:>7} "
                 f"{row.us_per_step_element:>13.3f} {row.ms_per_event:>9.3f}"
+            )
+
+
+def _bench_stiff(files: list[Path]) -> None:
+    from .bench import bench_solvers
+    from .model import Model
+
+    click.echo(
+        f"{'model':<18} {'solver':<9} {'min ms':>10} {'steps':>8} {'rejected':>9} "
+        f"{'rhs evals':>10} {'jacobians':>10} {'lu setups':>10} {'switches':>9}"
+    )
+    for path in files:
+        model = Model.load(path)
+        for row in bench_solvers(model, ["tsit45", "bdf", "esdirk34", "auto"], repeat=5):
+            click.echo(
+                f"{row.model:<18} {row.solver:<9} {row.min_ms:>10.1f} {row.steps:>8} {row.rejected:>9} "
+                f"{row.rhs_evals:>10} {row.jacobians:>10} {row.lu_setups:>10} {row.switches:>9}"
             )
 
 

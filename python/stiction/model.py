@@ -371,8 +371,8 @@ class Model:
     ) -> Result:
         """Run the model; arguments override its experiment settings for this run.
 
-        ``Solver`` is "tsit45" (the default), "bdf" or "esdirk34" (stiff models). ``params``
-        overrides parameters and start values by name for this run (``{"clutch1.fn_max": 30,
+        ``Solver`` is "auto" (the default: tsit45, changing to esdirk34 once the run is stiff),
+        "tsit45", "bdf" or "esdirk34". ``params`` overrides parameters and start values by name for this run (``{"clutch1.fn_max": 30,
         "J1.w": 5}``); the model itself is unchanged. The result reports the experiment used
         (``r.experiment``, with the settings left at defaults) and the initialization
         (``r.initialization``, of the model without ``params``).

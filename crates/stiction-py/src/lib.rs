@@ -113,6 +113,9 @@ impl RawResult {
         let d = PyDict::new(py);
         d.set_item("steps", s.steps)?;
         d.set_item("rejected_steps", s.rejected_steps)?;
+        d.set_item("lu_setups", s.lu_setups)?;
+        d.set_item("jacobian_evals", s.jacobian_evals)?;
+        d.set_item("solver_switches", s.solver_switches)?;
         d.set_item("rhs_evals", s.rhs_evals)?;
         d.set_item("events", s.state_events + s.time_events + s.input_events)?;
         d.set_item("input_events", s.input_events)?;

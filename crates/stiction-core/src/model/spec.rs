@@ -69,7 +69,7 @@ impl Default for Experiment {
             stop_time: 1.0,
             interval: 0.002,
             tolerance: 1e-6,
-            solver: "tsit45".into(),
+            solver: "auto".into(),
             limits: Limits::default(),
             given: Vec::new(),
         }
@@ -171,10 +171,10 @@ impl Experiment {
         if !(self.tolerance > 0.0 && self.tolerance < 1.0) {
             return bad("Tolerance", "must be in (0, 1)");
         }
-        if !["tsit45", "bdf", "esdirk34"].contains(&self.solver.as_str()) {
+        if !["auto", "tsit45", "bdf", "esdirk34"].contains(&self.solver.as_str()) {
             return bad(
                 "Solver",
-                "must be one of \"tsit45\" (default, non-stiff), \"bdf\", \"esdirk34\" (stiff)",
+                "must be one of \"auto\" (default: tsit45, esdirk34 once stiff), \"tsit45\" (non-stiff), \"bdf\", \"esdirk34\" (stiff)",
             );
         }
         Ok(())

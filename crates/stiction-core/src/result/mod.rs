@@ -42,6 +42,13 @@ pub struct Stats {
     /// Events caused by setting a model input to a new value.
     pub input_events: usize,
     pub factorizations: usize,
+    /// Factorizations of the implicit methods' Newton matrix (each after a Jacobian update
+    /// or a step-size change; 0 for the explicit method).
+    pub lu_setups: usize,
+    /// Jacobians of the right-hand side the implicit methods built (by forward differences).
+    pub jacobian_evals: usize,
+    /// Solver = "auto": 1 if the run changed to the implicit method.
+    pub solver_switches: usize,
     pub wall_ms: f64,
 }
 

@@ -29,6 +29,7 @@ impl Stepper {
         let changes = {
             let mut guard = self.phase.borrow_mut();
             guard.horizon = horizon;
+            guard.f0_t = f64::NAN; // the mode may change
             let Phase { disc, ws, .. } = &mut *guard;
             if let EventKind::Input(k, value) = kind {
                 disc.inputs[k] = value;

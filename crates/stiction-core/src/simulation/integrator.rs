@@ -7,7 +7,7 @@ use std::rc::Rc;
 
 use diffsol::{
     Bdf, Closure, ConstantClosure, ExplicitRk, NalgebraLU, NalgebraMat, NalgebraVec, OdeBuilder,
-    OdeSolverEquations, OdeSolverProblem, Sdirk, UnitCallable,
+    OdeSolverEquations, OdeSolverMethod, OdeSolverProblem, Sdirk, UnitCallable,
 };
 use self_cell::self_cell;
 
@@ -35,7 +35,34 @@ pub type Eqn = OdeSolverEquations<
 >;
 pub type Problem = OdeSolverProblem<Eqn>;
 
-/// The integration methods offered through the experiment's `Solver` setting.
+/// diffsol counts nonlinear-solver failures over the whole run against a limit it documents
+/// as per solve (50), so a long stiff run fails on the 51st failure however far apart they
+/// are. Before each step the limit is moved to the count so far plus this many.
+const NEWTON_FAILS_PER_STEP: usize = 50;
+
+/// What a method needs renewed before each step.
+pub trait StepBudget {
+    fn renew_budget(&mut self) {}
+}
+
+impl StepBudget for ExplicitRk<'_, Eqn> {}
+
+impl StepBudget for Bdf<'_, Eqn, LS> {
+    fn renew_budget(&mut self) {
+        let failures = self.get_statistics().number_of_nonlinear_solver_fails;
+        self.config_mut().maximum_newton_fails = failures + NEWTON_FAILS_PER_STEP;
+    }
+}
+
+impl StepBudget for Sdirk<'_, Eqn, LS> {
+    fn renew_budget(&mut self) {
+        let failures = self.get_statistics().number_of_nonlinear_solver_fails;
+        self.config_mut().maximum_newton_fails = failures + NEWTON_FAILS_PER_STEP;
+    }
+}
+
+/// The integration methods offered through the experiment's `Solver` setting ("auto" starts
+/// with Tsit45 and may change to Esdirk34 during the run, `simulation/auto.rs`).
 pub enum Integrator<'a> {
     Tsit45(Box<ExplicitRk<'a, Eqn>>),
     Bdf(Box<Bdf<'a, Eqn, LS>>),
@@ -129,6 +156,9 @@ pub fn problem(
             rhs_calls,
             probe,
             f0,
+            f0_t,
+            f0_x,
+            jacobians,
             horizon,
         } = &mut *guard;
         let horizon = *horizon;
@@ -139,9 +169,15 @@ pub fn problem(
         }
         let xnorm = x.iter().map(|a| a * a).sum::<f64>().sqrt();
         let eps = f64::EPSILON.sqrt() * (1.0 + xnorm) / vnorm;
-        *rhs_calls += 2;
-        evaluate(&sy, mm, disc, t, x, horizon, ws);
-        derivative(&sy, ws, f0);
+        if !(*f0_t == t && f0_x[..] == x[..]) {
+            *jacobians += 1;
+            *rhs_calls += 1;
+            evaluate(&sy, mm, disc, t, x, horizon, ws);
+            derivative(&sy, ws, f0);
+            *f0_t = t;
+            f0_x.copy_from_slice(x);
+        }
+        *rhs_calls += 1;
         for i in 0..x.len() {
             probe[i] = x[i] + eps * v[i];
         }
@@ -162,18 +198,21 @@ pub fn problem(
         .map_err(|e| integrator_error(t0, e))
 }
 
-/// The problem with a fresh solver of the named method.
+/// The problem with a fresh solver of the named method ("auto" starts explicit).
 pub fn integrator(problem: Problem, method: &str) -> Result<IntegratorCell, SimError> {
-    let t0 = problem.t0;
-    IntegratorCell::try_new(problem, |p| {
-        Ok(match method {
-            "bdf" => Integrator::Bdf(Box::new(
-                p.bdf::<LS>().map_err(|e| integrator_error(t0, e))?,
-            )),
-            "esdirk34" => Integrator::Esdirk34(Box::new(
-                p.esdirk34::<LS>().map_err(|e| integrator_error(t0, e))?,
-            )),
-            _ => Integrator::Tsit45(Box::new(p.tsit45().map_err(|e| integrator_error(t0, e))?)),
-        })
+    IntegratorCell::try_new(problem, |p| solver_for(p, method))
+}
+
+/// A fresh solver of the named method over `p`, at the problem's start.
+pub fn solver_for<'a>(p: &'a Problem, method: &str) -> Result<Integrator<'a>, SimError> {
+    let t0 = p.t0;
+    Ok(match method {
+        "bdf" => Integrator::Bdf(Box::new(
+            p.bdf::<LS>().map_err(|e| integrator_error(t0, e))?,
+        )),
+        "esdirk34" => Integrator::Esdirk34(Box::new(
+            p.esdirk34::<LS>().map_err(|e| integrator_error(t0, e))?,
+        )),
+        _ => Integrator::Tsit45(Box::new(p.tsit45().map_err(|e| integrator_error(t0, e))?)),
     })
 }

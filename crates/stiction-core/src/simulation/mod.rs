@@ -7,6 +7,7 @@
 //! state and the integrator restarts. The integrator is *not* restarted where a piece of
 //! `advance_to` ends, so a run advanced in pieces is bit-identical to one call.
 
+mod auto;
 mod chatter;
 mod event;
 mod init;
@@ -25,7 +26,7 @@ use diffsol::OdeSolverMethod;
 pub use init::{initial_state, initial_state_and_guesses, InitialState};
 pub use stepper::Cursor;
 
-use integrator::{with_solver, IntegratorCell};
+use integrator::{solver_for, with_solver, IntegratorCell};
 use stepper::Stepper;
 
 use crate::assembly::assemble;
@@ -60,7 +61,13 @@ pub(crate) struct Phase {
     ws: Workspace,
     rhs_calls: usize,
     probe: Vec<f64>,
+    /// f at (`f0_t`, `f0_x`), kept for the Jacobian–vector products of one Jacobian (diffsol
+    /// asks for its columns one by one at one point); `f0_t` is NaN once the mode changes.
     f0: Vec<f64>,
+    f0_t: f64,
+    f0_x: Vec<f64>,
+    /// Jacobians the implicit methods built (points where their columns were differenced).
+    jacobians: usize,
 }
 
 /// Receives every output row (grid points and both sides of each event) and every mode change
@@ -175,6 +182,9 @@ impl Simulation {
             rhs_calls: 0,
             probe: vec![0.0; n],
             f0: vec![0.0; n],
+            f0_t: f64::NAN,
+            f0_x: vec![0.0; n],
+            jacobians: 0,
         }));
         let problem = integrator::problem(&sys, &phase, t0, x0.clone(), exp.tolerance)?;
         let mut cell = integrator::integrator(problem, &exp.solver)?;
@@ -223,10 +233,39 @@ impl Simulation {
             )));
         }
         let t = t.min(exp.stop_time);
+        loop {
+            let Simulation { cell, stepper, .. } = &mut *self;
+            let switch = cell.with_dependent_mut(|_, integ| {
+                let (order, implicit) = (integ.order(), integ.implicit());
+                with_solver!(integ, s => stepper.advance(s, t, order, implicit))
+            })?;
+            if !switch {
+                return Ok(());
+            }
+            self.switch_to_implicit()?;
+        }
+    }
+
+    /// Solver = "auto": the explicit method is held back by stability, so the run continues
+    /// with Esdirk34 from where it stands (between two steps), starting from the explicit
+    /// method's last step size.
+    fn switch_to_implicit(&mut self) -> Result<(), SimError> {
         let Simulation { cell, stepper, .. } = self;
-        cell.with_dependent_mut(|_, integ| {
-            let (order, implicit) = (integ.order(), integ.implicit());
-            with_solver!(integ, s => stepper.advance(s, t, order, implicit))
+        cell.with_dependent_mut(|problem, integ| {
+            let h = with_solver!(integ, s => {
+                stepper.stiffness.retired.add(s.get_statistics());
+                s.state().h
+            });
+            *integ = solver_for(problem, "esdirk34")?;
+            let watch = &mut stepper.stiffness;
+            (watch.active, watch.switch_due) = (false, false);
+            watch.switches += 1;
+            let (t, order) = (stepper.t_prev, integ.order());
+            with_solver!(integ, s => {
+                stepper.restart_at(s, t, order, true, false)?;
+                *s.state_mut().h = h;
+                Ok(())
+            })
         })
     }
 
@@ -376,6 +415,7 @@ impl Simulation {
         {
             let mut phase = self.stepper.phase.borrow_mut();
             phase.disc = state.disc.clone();
+            phase.f0_t = f64::NAN;
             phase.horizon = state.horizon;
             phase.mm = mm;
         }
@@ -408,17 +448,17 @@ impl Simulation {
 
     /// The recorded rows, the event log and the run's statistics.
     pub fn into_result(mut self) -> SimResult {
-        let (steps, rejected) = self.cell.with_dependent_mut(|_, integ| {
-            with_solver!(integ, s => {
-                let st = s.get_statistics();
-                (st.number_of_steps, st.number_of_error_test_failures)
-            })
-        });
+        let mut all = self.stepper.stiffness.retired;
+        self.cell
+            .with_dependent_mut(|_, integ| with_solver!(integ, s => all.add(s.get_statistics())));
         let st = self.stepper;
         let mut stats = st.stats;
-        stats.steps = steps;
-        stats.rejected_steps = rejected;
+        stats.steps = all.steps;
+        stats.rejected_steps = all.rejected;
+        stats.lu_setups = all.lu_setups;
+        stats.solver_switches = st.stiffness.switches;
         stats.rhs_evals = st.phase.borrow().rhs_calls;
+        stats.jacobian_evals = st.phase.borrow().jacobians;
         stats.factorizations = st.cache.factorizations;
         stats.wall_ms = self.started.elapsed().as_secs_f64() * 1e3;
         SimResult::new(st.sys, st.trajectory, st.discs, st.log, stats)

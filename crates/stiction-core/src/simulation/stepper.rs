@@ -11,8 +11,9 @@ use std::time::Instant;
 
 use diffsol::{OdeSolverMethod, OdeSolverStopReason, Vector, VectorCommon};
 
+use super::auto::StiffnessWatch;
 use super::chatter::ChatterWatch;
-use super::integrator::{integrator_error, Eqn, V};
+use super::integrator::{integrator_error, Eqn, StepBudget, V};
 use super::{Observer, Phase};
 use crate::engine::eval::{evaluate, DiscreteState};
 use crate::engine::{indicator_count, indicator_label, indicators, ModeCache};
@@ -64,8 +65,7 @@ pub(super) struct Stepper {
     pub(super) observer: Option<Box<dyn Observer>>,
     pub(super) z_prev: Vec<f64>,
     pub(super) z: Vec<f64>,
-    /// Indicators at the previous sample while scanning a step.
-    pub(super) z_scan: Vec<f64>,
+    pub(super) z_scan: Vec<f64>, // indicators at the previous sample while scanning a step
     /// Rates of the speed indicators at the current and the previous sample.
     pub(super) dz: Vec<f64>,
     pub(super) dz_scan: Vec<f64>,
@@ -73,30 +73,25 @@ pub(super) struct Stepper {
     /// step boundary; cleared at events.
     pub(super) hump_back: Option<(f64, Vec<f64>)>,
     pub(super) dz_probe: Vec<f64>,
-    /// State buffer (interpolated or current).
-    pub(super) x: Vec<f64>,
-    /// diffsol's vector for dense output, reused.
-    pub(super) dense: Option<V>,
+    pub(super) x: Vec<f64>,      // state buffer (interpolated or current)
+    pub(super) dense: Option<V>, // diffsol's vector for dense output, reused
     pub(super) grid_k: usize,
     pub(super) stats: Stats,
     /// Where processing stands: the integrator's time unless a step is pending.
     pub(super) t_prev: f64,
-    /// The time the user advanced to (≤ the integrator's).
-    pub(super) now: f64,
-    /// The integrator's stop: the next time event, or StopTime.
-    pub(super) stop: f64,
+    pub(super) now: f64,  // the time the user advanced to (≤ the integrator's)
+    pub(super) stop: f64, // the integrator's stop: the next time event, or StopTime
     pub(super) next_te: usize,
     pub(super) pending: Option<Pending>,
     pub(super) finished: bool,
     /// Time of the last recorded row (an input event there reuses it as its left row).
     pub(super) last_row: f64,
     pub(super) cancel: Arc<AtomicBool>,
-    /// When the run began (for the `timeout` limit).
-    pub(super) started: Instant,
+    pub(super) started: Instant, // when the run began (for the `timeout` limit)
     /// `advance_for`: pause between steps once this instant has passed.
     pub(super) deadline: Option<Instant>,
-    /// Mode changes per element, to tell chattering from many legitimate events.
-    pub(super) chatter: ChatterWatch,
+    pub(super) chatter: ChatterWatch, // mode changes per element: chattering or many events
+    pub(super) stiffness: StiffnessWatch, // Solver = "auto": held back by stability?
     pub(super) candidates: Vec<(usize, f64, f64)>,
 }
 
@@ -110,6 +105,7 @@ impl Stepper {
         let nz = indicator_count(&sys);
         let t0 = sys.experiment.start_time;
         let chatter = ChatterWatch::new(&sys.experiment);
+        let stiffness = StiffnessWatch::new(sys.experiment.solver == "auto", x0.len());
         let stop = sys
             .time_events
             .first()
@@ -149,6 +145,7 @@ impl Stepper {
             started: Instant::now(),
             deadline: None,
             chatter,
+            stiffness,
             candidates: Vec::new(),
         }
     }
@@ -310,8 +307,7 @@ impl Stepper {
     }
 
     /// Records the grid points up to `target` while a step is processed only that far, leaving
-    /// out one that coincides with the `event` ahead (its two event rows will stand for it, as
-    /// when the step is processed at once).
+    /// out one that coincides with the `event` ahead (its two event rows will stand for it).
     fn emit_grid_before<'a, S>(
         &mut self,
         solver: &S,
@@ -339,9 +335,8 @@ impl Stepper {
         }
     }
 
-    /// Stops a run that cannot succeed, with a reason, instead of running away: a non-finite
-    /// state (overflow, a singular mode), more events or steps than any sensible model needs, or
-    /// a cancellation.
+    /// Stops a run that cannot succeed, with a reason: a non-finite state (overflow, a singular
+    /// mode), more events or steps than any sensible model needs, or a cancellation.
     fn check_progress<'a, S>(&self, solver: &S, t: f64) -> Result<(), SimError>
     where
         S: OdeSolverMethod<'a, Eqn>,
@@ -354,7 +349,7 @@ impl Stepper {
         }
         let limits = &self.sys.experiment.limits;
         let limit = |limit: String| Err(SimError::Limit { time: t, limit });
-        let steps = solver.get_statistics().number_of_steps;
+        let steps = solver.get_statistics().number_of_steps + self.stiffness.retired.steps;
         match (limits.max_events, limits.max_steps, limits.timeout) {
             (Some(max), _, _) if self.stats.state_events > max => {
                 limit(format!("max_events = {max}"))
@@ -388,13 +383,17 @@ impl Stepper {
     /// Takes one integrator step and scans it for crossings; the step becomes pending.
     fn take_step<'a, S>(&mut self, solver: &mut S) -> Result<(), SimError>
     where
-        S: OdeSolverMethod<'a, Eqn>,
+        S: OdeSolverMethod<'a, Eqn> + StepBudget,
     {
+        solver.renew_budget();
         let reason = solver
             .step()
             .map_err(|e| integrator_error(self.t_prev, e))?;
         let t_now = solver.state().t;
         self.check_progress(solver, t_now)?;
+        let (x_now, h) = (solver.state().y.inner().as_slice(), t_now - self.t_prev);
+        self.stiffness
+            .watch(&self.sys, &self.phase, t_now, x_now, h);
         let stop = self.stop;
         // At a pending time event the signals keep their left limits (the horizon).
         let at_time_event = self.next_te < self.sys.time_events.len()
@@ -426,26 +425,30 @@ impl Stepper {
     }
 
     /// Processes steps until `target` is reached (or StopTime): grid rows, state and time
-    /// events. A step that reaches past `target` is taken whole and stays pending.
+    /// events. A step that reaches past `target` is taken whole and stays pending. Returns
+    /// `true` when it stopped between two steps for the "auto" switch to the implicit method.
     pub fn advance<'a, S>(
         &mut self,
         solver: &mut S,
         target: f64,
         order: usize,
         implicit: bool,
-    ) -> Result<(), SimError>
+    ) -> Result<bool, SimError>
     where
-        S: OdeSolverMethod<'a, Eqn>,
+        S: OdeSolverMethod<'a, Eqn> + StepBudget,
     {
         while !self.finished {
             if self.pending.is_none() {
+                if self.stiffness.switch_due {
+                    return Ok(true);
+                }
                 if self.t_prev >= target {
                     break;
                 }
                 if self.deadline.is_some_and(|d| Instant::now() >= d) {
                     // paused between two steps: resuming is the same as never stopping
                     self.now = self.now.max(self.t_prev);
-                    return Ok(());
+                    return Ok(false);
                 }
                 self.take_step(solver)?;
             }
@@ -492,6 +495,6 @@ impl Stepper {
         } else {
             target
         };
-        Ok(())
+        Ok(false)
     }
 }

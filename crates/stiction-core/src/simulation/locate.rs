@@ -11,6 +11,11 @@ use super::integrator::Eqn;
 use super::stepper::Stepper;
 use crate::engine::speed_rates;
 use crate::error::SimError;
+use crate::switching::element::NEVER;
+
+/// The step of the backward differences that give rates to indicators with no analytic one,
+/// as a fraction of the integrator step.
+const FD_STEP: f64 = 1e-6;
 
 /// A hump that reaches above zero: bracket start, (indicator, value there, value at the top),
 /// and the top's time.
@@ -46,6 +51,8 @@ impl Stepper {
         S: OdeSolverMethod<'a, Eqn>,
     {
         const SAMPLES: usize = 4;
+        let h = FD_STEP * (t_now - t_prev);
+        let finite_differences = self.wants_finite_differences();
         self.z_scan.copy_from_slice(&self.z_prev);
         // the rates at the step's start: those of the last sample (NaN right after an event)
         self.dz_scan.copy_from_slice(&self.dz);
@@ -53,6 +60,10 @@ impl Stepper {
         // the sample before `a` (the last interior one of the previous step, if no event since)
         let mut back = self.hump_back.take();
         for k in 1..=SAMPLES {
+            let t_sample = t_prev + (t_now - t_prev) * k as f64 / SAMPLES as f64;
+            if finite_differences {
+                self.indicators_before(solver, t_sample.min(t_now), h)?;
+            }
             let t = if k == SAMPLES {
                 self.x.copy_from_slice(solver.state().y.inner().as_slice());
                 t_now
@@ -65,6 +76,9 @@ impl Stepper {
             {
                 let guard = self.phase.borrow();
                 speed_rates(&self.sys, &guard.disc, &guard.ws, &mut self.dz);
+            }
+            if finite_differences {
+                self.fill_finite_difference_rates(h);
             }
             // A speed indicator that rises above zero and falls back between the two samples
             // ends the bracket at its peak, so it competes with every crossing before it (a
@@ -207,10 +221,8 @@ impl Stepper {
     where
         S: OdeSolverMethod<'a, Eqn>,
     {
-        let Some((t_peak, i)) = self.peak_between(solver, a, t)? else {
-            return Ok(t);
-        };
-        let end = if self.indicator_at(solver, t_peak, i)? > 0.0 {
+        let peak = self.peak_between(solver, a, t)?;
+        let end = if let Some((t_peak, _)) = peak {
             self.load(solver, t_peak)?;
             t_peak
         } else if last {
@@ -224,9 +236,78 @@ impl Stepper {
         Ok(end)
     }
 
-    /// The highest point between samples `a` and `b` of a speed indicator whose rate goes from
-    /// positive (at a, in `dz_scan`) to negative (at b, in `dz`) while it stays ≤ 0 at both ends:
-    /// the rate's zero, by bisection on the dense output.
+    /// Whether this step's indicators need finite-difference rates: one without an analytic
+    /// rate (a locked element's torque against its static limit, a law's relation) is armed.
+    fn wants_finite_differences(&mut self) -> bool {
+        let mut analytic = std::mem::take(&mut self.dz_probe);
+        {
+            let guard = self.phase.borrow();
+            speed_rates(&self.sys, &guard.disc, &guard.ws, &mut analytic);
+        }
+        let armed = (self.z_prev.iter().zip(&analytic))
+            .any(|(&z, &rate)| rate.is_nan() && z <= 0.0 && z != NEVER && z.is_finite());
+        self.dz_probe = analytic;
+        armed
+    }
+
+    /// The indicators at `t − h` (kept in `dz_probe`), for backward differences at `t`.
+    fn indicators_before<'a, S>(&mut self, solver: &S, t: f64, h: f64) -> Result<(), SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        self.load(solver, t - h)?;
+        self.evaluate_here(t - h, true);
+        self.dz_probe.copy_from_slice(&self.z);
+        Ok(())
+    }
+
+    /// Rates of the indicators without an analytic one, from the values at `t − h` and `t`.
+    fn fill_finite_difference_rates(&mut self, h: f64) {
+        for ((rate, &z), &before) in self.dz.iter_mut().zip(&self.z).zip(&self.dz_probe) {
+            if rate.is_nan() {
+                *rate = (z - before) / h;
+            }
+        }
+    }
+
+    /// The rate of indicator `i` at `t` inside the samples `span`: analytic for a speed, else a
+    /// one-sided difference that stays inside the span (the dense output covers no more).
+    fn rate_at<'a, S>(
+        &mut self,
+        solver: &S,
+        t: f64,
+        i: usize,
+        span: (f64, f64),
+    ) -> Result<f64, SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        self.load(solver, t)?;
+        self.evaluate_here(t, true);
+        let z_t = self.z[i];
+        let analytic = {
+            let guard = self.phase.borrow();
+            let mut dz = std::mem::take(&mut self.dz_probe);
+            speed_rates(&self.sys, &guard.disc, &guard.ws, &mut dz);
+            let r = dz[i];
+            self.dz_probe = dz;
+            r
+        };
+        if !analytic.is_nan() {
+            return Ok(analytic);
+        }
+        let h = FD_STEP * (span.1 - span.0);
+        if t - h >= span.0 {
+            Ok((z_t - self.indicator_at(solver, t - h, i)?) / h)
+        } else {
+            Ok((self.indicator_at(solver, t + h, i)? - z_t) / h)
+        }
+    }
+
+    /// The earliest peak above zero between samples `a` and `b` of an indicator whose rate goes
+    /// from positive (at a, in `dz_scan`) to negative (at b, in `dz`) while it stays ≤ 0 at both
+    /// ends: the rate's zero, by bisection on the dense output (a speed's rate is its relative
+    /// acceleration; others' rates are backward differences).
     fn peak_between<'a, S>(
         &mut self,
         solver: &S,
@@ -236,34 +317,33 @@ impl Stepper {
     where
         S: OdeSolverMethod<'a, Eqn>,
     {
-        let Some(i) = (0..self.dz.len()).find(|&i| {
-            self.dz_scan[i] > 0.0 && self.dz[i] < 0.0 && self.z_scan[i] <= 0.0 && self.z[i] <= 0.0
-        }) else {
-            return Ok(None);
-        };
-        let (mut lo, mut hi) = (a, b);
-        for _ in 0..60 {
-            if hi - lo <= 1e-9 * (b - a) {
-                break;
+        let turning: Vec<usize> = (0..self.dz.len())
+            .filter(|&i| {
+                let (za, zb) = (self.z_scan[i], self.z[i]);
+                self.dz_scan[i] > 0.0 && self.dz[i] < 0.0 && za <= 0.0 && zb <= 0.0
+            })
+            .collect();
+        let mut earliest: Option<(f64, usize)> = None;
+        for i in turning {
+            let (mut lo, mut hi) = (a, b);
+            for _ in 0..60 {
+                if hi - lo <= 1e-9 * (b - a) {
+                    break;
+                }
+                let mid = 0.5 * (lo + hi);
+                if self.rate_at(solver, mid, i, (a, b))? > 0.0 {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
             }
-            let mid = 0.5 * (lo + hi);
-            self.load(solver, mid)?;
-            self.evaluate_here(mid, false);
-            let rate = {
-                let guard = self.phase.borrow();
-                let mut dz = std::mem::take(&mut self.dz_probe);
-                speed_rates(&self.sys, &guard.disc, &guard.ws, &mut dz);
-                let r = dz[i];
-                self.dz_probe = dz;
-                r
-            };
-            if rate > 0.0 {
-                lo = mid;
-            } else {
-                hi = mid;
+            let peak = 0.5 * (lo + hi);
+            let above = self.indicator_at(solver, peak, i)? > 0.0;
+            if above && earliest.is_none_or(|(t, _)| peak < t) {
+                earliest = Some((peak, i));
             }
         }
-        Ok(Some((0.5 * (lo + hi), i)))
+        Ok(earliest)
     }
 
     /// Earliest instant in (a, b] at which one of `candidates` becomes > 0: Illinois regula falsi

@@ -103,3 +103,22 @@ def test_ctrl_c_stops_the_command_line_with_status_130_and_no_result_file(tmp_pa
     assert proc.returncode == 130, err.decode()
     assert latency < 2.0, latency
     assert not out.exists() and not list(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("start_time", [3e-69, 1e-12])
+def test_a_switch_a_hair_after_the_start_acts_from_the_start(start_time):
+    """A Step at 1e-12 s is merged into the start (no event that close to it): its new value
+    holds from t = 0, so the released clutch never drives J3 (before: it drove J3 for the whole
+    first integrator step, 1.7e-4 s, found by the property tests)."""
+    m = st.Model("release")
+    m.add("J0", st.Inertia(J=1.0, phi=0.0, w=1.0))
+    m.add("J3", st.Inertia(J=1.0, phi={"start": 0.0, "fixed": True}, w=0.0))
+    m.add("c3", st.Clutch(fn_max=1.0))
+    m.add("f3", st.Step(height=-1.0, offset=1.0, startTime=start_time))
+    m.connect("J0.flange_b", "c3.flange_a")
+    m.connect("c3.flange_b", "J3.flange_a")
+    m.connect("f3.y", "c3.f_normalized")
+    m.experiment.update(StopTime=0.1, Interval=1e-3)
+    r = m.simulate()
+    assert r["f3.y"][0] == 0.0 and r["c3.free"][0] == 1.0
+    assert np.all(r["J3.w"] == 0.0) and np.all(r["J0.w"] == 1.0)

@@ -42,8 +42,9 @@ pub fn same_instant(a: f64, b: f64) -> bool {
 
 /// Modelica's `time >= t0` with frozen time relations: a switch at `t0` has happened once the
 /// event at `t0` was handled, i.e. when `t0` lies before the horizon of unhandled events (and is
-/// not part of the horizon's own event, merged with it).
+/// not part of the horizon's own event, merged with it). A switch at the same instant as `t`
+/// has happened too: an event that close to the start is merged into the start.
 #[inline]
 pub fn reached(t: f64, t0: f64, horizon: f64) -> bool {
-    t >= t0 && t0 < horizon && !same_instant(t0, horizon)
+    (t >= t0 || same_instant(t, t0)) && t0 < horizon && !same_instant(t0, horizon)
 }

@@ -8,7 +8,9 @@
 //! `advance_to` ends, so a run advanced in pieces is bit-identical to one call.
 
 mod chatter;
+mod dense;
 mod event;
+mod grid;
 mod init;
 mod integrator;
 mod locate;
@@ -165,6 +167,7 @@ impl Simulation {
         let mut cell = integrator::integrator(problem, &exp.solver)?;
         let mut stepper = Stepper::new(sys, phase, cache, x0);
         stepper.log = log;
+        stepper.fit_steps = cell.with_dependent(|_, integ| integ.polynomial_dense_output());
         cell.with_dependent_mut(|_, integ| with_solver!(integ, s => stepper.start(s)))?;
         Ok(Simulation {
             cell,

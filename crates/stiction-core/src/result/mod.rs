@@ -70,6 +70,14 @@ impl Trajectory {
         self.t.len()
     }
 
+    /// Room for `rows` more rows (a run knows its grid: no regrowth while recording).
+    pub fn reserve(&mut self, rows: usize) {
+        self.t.reserve(rows);
+        self.horizon.reserve(rows);
+        self.disc.reserve(rows);
+        self.x.reserve(rows * self.width);
+    }
+
     fn x(&self, row: usize) -> &[f64] {
         &self.x[row * self.width..(row + 1) * self.width]
     }

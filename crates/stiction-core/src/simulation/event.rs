@@ -41,6 +41,7 @@ impl Stepper {
             };
             iterate(&self.sys, &mut self.cache, disc, &at, ws)?
         };
+        self.disc_recorded = false;
         let disc = self.phase.borrow().disc.clone();
         let mm = self.cache.get(&self.sys, &disc, t)?;
         self.phase.borrow_mut().mm = mm;

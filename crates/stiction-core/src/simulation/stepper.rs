@@ -61,6 +61,9 @@ pub(super) struct Stepper {
     pub(super) recording: bool,
     /// Every discrete state the run went through; rows refer to them by index.
     pub(super) discs: Vec<DiscreteState>,
+    /// Whether the last of `discs` is known to be the current discrete state (cleared where
+    /// it changes: events, restored states), so a row need not compare them.
+    pub(super) disc_recorded: bool,
     pub(super) log: Vec<EventRecord>,
     pub(super) observer: Option<Box<dyn Observer>>,
     pub(super) z_prev: Vec<f64>,
@@ -131,6 +134,7 @@ impl Stepper {
             cache,
             recording: true,
             discs: Vec::new(),
+            disc_recorded: false,
             log: Vec::new(),
             observer: None,
             z_prev: vec![0.0; nz],
@@ -182,6 +186,7 @@ impl Stepper {
         self.finished = c.finished;
         self.pending = None;
         self.last_row = f64::NAN;
+        self.disc_recorded = false;
     }
 
     /// Evaluates at (t, self.x) in the current discrete state; fills `z` if asked.
@@ -228,8 +233,16 @@ impl Stepper {
         if !self.recording {
             return;
         }
-        if self.discs.last() != Some(&guard.disc) {
-            self.discs.push(guard.disc.clone());
+        if !self.disc_recorded {
+            if self.discs.last() != Some(&guard.disc) {
+                self.discs.push(guard.disc.clone());
+            }
+            self.disc_recorded = true;
+        }
+        if self.trajectory.rows() == 0 {
+            // the grid and both rows of each time event; state events add a few more
+            let rows = self.sys.experiment.grid_len() + 1 + 2 * self.sys.time_events.len();
+            self.trajectory.reserve(rows);
         }
         let id = (self.discs.len() - 1) as u32;
         self.trajectory.push(t, guard.horizon, id, &self.x);

@@ -1,8 +1,9 @@
 //! The output grid's reading of one step's dense output. Tsit45's continuous extension is a
 //! polynomial of degree 4 in the step fraction θ; diffsol evaluates it through its generic
 //! matrix kernels (about a thousand instructions per call for eight states), and a long step
-//! holds tens of grid rows. So a step with many rows is sampled on diffsol's dense output at
-//! five equally spaced instants and the polynomial through them (Newton form, Lebesgue
+//! holds tens of grid rows. So a step with many rows is sampled at five equally spaced
+//! instants — its start and end states, and the three interior points the crossing scan reads
+//! on diffsol's dense output anyway — and the polynomial through them (Newton form, Lebesgue
 //! constant about 2 on the step) answers every row: the same polynomial, to round-off, at a
 //! few multiply-adds per state.
 
@@ -11,60 +12,87 @@ use crate::error::SimError;
 /// Samples per fitted step: degree 4 needs five.
 const NODES: usize = 5;
 
-/// The fitted polynomial of the step pending, if one was fitted.
+/// The polynomial of the step pending, from its samples.
 #[derive(Default)]
 pub(super) struct StepPoly {
     /// The step's start and length, so θ = (t − t0) / dt.
     t0: f64,
     dt: f64,
     theta: [f64; NODES],
-    /// Newton coefficients, `NODES` per state, state after state.
+    n: usize,
+    /// Samples, node after node (`n` values each).
+    samples: Vec<f64>,
+    /// Newton coefficients, `NODES` per state, state after state (Horner per state).
     coef: Vec<f64>,
+    have: [bool; NODES],
     fitted: bool,
 }
 
 impl StepPoly {
-    /// Forgets the fit: a new step was taken.
-    pub fn clear(&mut self) {
-        self.fitted = false;
+    /// Starts a new step [t0, t1] whose start state is `x0`; nothing is fitted yet.
+    pub fn begin(&mut self, t0: f64, t1: f64, x0: &[f64]) {
+        let n = x0.len();
+        (self.t0, self.dt, self.n, self.fitted) = (t0, t1 - t0, n, false);
+        self.samples.resize(n * NODES, 0.0);
+        self.coef.resize(n * NODES, 0.0);
+        for j in 0..NODES {
+            self.theta[j] = (self.node_time(j) - t0) / self.dt;
+        }
+        self.have = [false; NODES];
+        self.put(t0, x0);
+    }
+
+    /// The instant of sample `j`: the step's end, or `j` quarters into it (the instants at
+    /// which the crossing scan samples the step, so its samples serve here too).
+    fn node_time(&self, j: usize) -> f64 {
+        if j + 1 == NODES {
+            self.t0 + self.dt
+        } else {
+            self.t0 + self.dt * j as f64 / (NODES - 1) as f64
+        }
+    }
+
+    /// Keeps the state `x` at `t` if `t` is one of the sample instants.
+    pub fn put(&mut self, t: f64, x: &[f64]) {
+        if self.fitted || x.len() != self.n {
+            return;
+        }
+        if let Some(j) = (0..NODES).find(|&j| self.node_time(j) == t) {
+            self.samples[j * self.n..(j + 1) * self.n].copy_from_slice(x);
+            self.have[j] = true;
+        }
     }
 
     pub fn fitted(&self) -> bool {
         self.fitted
     }
 
-    /// Fits the step [t0, t1] from `sample(t, out)`, the integrator's dense output.
+    /// Fits the step: the missing samples from `sample(t, out)` (the integrator's dense output;
+    /// `end` is the state at the step's end), then divided differences.
     pub fn fit(
         &mut self,
-        t0: f64,
-        t1: f64,
-        n: usize,
+        end: &[f64],
         mut sample: impl FnMut(f64, &mut [f64]) -> Result<(), SimError>,
     ) -> Result<(), SimError> {
-        let dt = t1 - t0;
-        self.coef.resize(n * NODES, 0.0);
-        let mut y = vec![0.0; n];
+        let n = self.n;
+        self.put(self.t0 + self.dt, end);
         for j in 0..NODES {
-            let t = if j + 1 == NODES {
-                t1
-            } else {
-                t0 + dt * j as f64 / (NODES - 1) as f64
-            };
-            self.theta[j] = (t - t0) / dt;
-            sample(t, &mut y)?;
-            for (i, v) in y.iter().enumerate() {
-                self.coef[i * NODES + j] = *v;
+            if !self.have[j] {
+                let t = self.node_time(j);
+                sample(t, &mut self.samples[j * n..(j + 1) * n])?;
             }
         }
-        // divided differences in place, per state
-        for c in self.coef.chunks_exact_mut(NODES) {
+        for (i, c) in self.coef.chunks_exact_mut(NODES).enumerate() {
+            for (j, cj) in c.iter_mut().enumerate() {
+                *cj = self.samples[j * n + i];
+            }
             for level in 1..NODES {
                 for j in (level..NODES).rev() {
                     c[j] = (c[j] - c[j - 1]) / (self.theta[j] - self.theta[j - level]);
                 }
             }
         }
-        (self.t0, self.dt, self.fitted) = (t0, dt, true);
+        self.fitted = true;
         Ok(())
     }
 
@@ -98,11 +126,16 @@ mod tests {
         };
         let (t0, t1) = (0.3, 0.42);
         let mut p = StepPoly::default();
-        p.fit(t0, t1, 2, |t, out| {
+        p.begin(t0, t1, &f(t0));
+        p.put(t0 + (t1 - t0) * 2.0 / 4.0, &f(t0 + (t1 - t0) * 2.0 / 4.0));
+        let mut asked = Vec::new();
+        p.fit(&f(t1), |t, out| {
+            asked.push(t);
             out.copy_from_slice(&f(t));
             Ok(())
         })
         .unwrap();
+        assert_eq!(asked.len(), 2, "only the samples not given are asked for");
         let mut out = [0.0; 2];
         for k in 0..=100 {
             let t = t0 + (t1 - t0) * k as f64 / 100.0;
@@ -117,5 +150,7 @@ mod tests {
         }
         p.eval(t0, &mut out);
         assert_eq!(out, f(t0));
+        p.eval(t1, &mut out);
+        assert_eq!(out, f(t1));
     }
 }

@@ -7,8 +7,8 @@ use super::stepper::Stepper;
 use crate::error::SimError;
 
 /// From this many grid rows in one step its dense output is fitted once (`dense`): the fit
-/// costs five of diffsol's interpolations.
-const FIT_FROM_ROWS: usize = 6;
+/// costs no interpolation when the crossing scan went through the step, else up to three.
+const FIT_FROM_ROWS: usize = 4;
 
 impl Stepper {
     pub(super) fn grid_time(&self, k: usize) -> f64 {
@@ -56,9 +56,9 @@ impl Stepper {
             return self.interpolate(solver, t, out);
         }
         if !self.poly.fitted() {
-            let (t0, t1) = (self.t_prev, solver.state().t);
             let mut poly = std::mem::take(&mut self.poly);
-            let fitted = poly.fit(t0, t1, out.len(), |t, y| self.interpolate(solver, t, y));
+            let end = solver.state().y.inner().as_slice();
+            let fitted = poly.fit(end, |t, y| self.interpolate(solver, t, y));
             self.poly = poly;
             fitted?;
         }
@@ -68,12 +68,22 @@ impl Stepper {
 
     /// Whether the step just taken (t_prev, t_now] holds enough grid rows to fit its dense
     /// output once (an explicit method's only: its dense output is the quartic `dense` fits).
+    /// Called right after the step, while `self.x` still holds its start state.
     pub(super) fn want_poly(&mut self, t_now: f64) {
-        self.poly.clear();
         let k_end = (self.grid_k + FIT_FROM_ROWS).min(self.grid_len() + 1);
         self.poly_wanted = self.fit_steps
             && k_end - self.grid_k == FIT_FROM_ROWS
             && self.grid_time(k_end - 1) <= t_now;
+        if self.poly_wanted {
+            self.poly.begin(self.t_prev, t_now, &self.x);
+        }
+    }
+
+    /// Offers the state just loaded at t (a sample of the crossing scan) to the step's fit.
+    pub(super) fn offer_sample(&mut self, t: f64) {
+        if self.poly_wanted {
+            self.poly.put(t, &self.x);
+        }
     }
 
     /// Loads the state at t (dense output of the last step) into `self.x`.

@@ -240,8 +240,8 @@ impl Stepper {
             self.disc_recorded = true;
         }
         if self.trajectory.rows() == 0 {
-            // the grid and both rows of each time event; state events add a few more
-            let rows = self.sys.experiment.grid_len() + 1 + 2 * self.sys.time_events.len();
+            // the grid, both rows of each time event, and room for a hundred state events
+            let rows = self.sys.experiment.grid_len() + 201 + 2 * self.sys.time_events.len();
             self.trajectory.reserve(rows);
         }
         let id = (self.discs.len() - 1) as u32;

@@ -299,7 +299,7 @@ impl Recorder {
     fn record(&mut self, sys: &System, ws: &Workspace, disc: &DiscreteState) {
         if self.needs_flanges && sys.flange_torques.ports() > 0 {
             sys.flange_torques.solve(
-                &|out: &Out| value(out, sys, ws, disc, &[]),
+                |out: &Out| value(out, sys, ws, disc, &[]),
                 &mut self.flange_tau,
                 &mut self.scratch,
             );

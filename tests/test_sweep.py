@@ -163,6 +163,21 @@ def test_the_compiled_model_is_reused_until_the_model_changes_and_pickles():
     np.testing.assert_array_equal(a["J1.w"], b["J1.w"])
 
 
+def test_a_model_changed_in_place_runs_as_changed():
+    """`simulate` keeps the engine text while the model is unchanged; any in-place change
+    (a parameter dict, the experiment) must still reach the run and the result's parameters."""
+    model = st.Model.loads(COUPLED.to_toml())
+    before = model.simulate()
+    model.components["clutch1"].params["fn_max"] = 12.0
+    changed = model.simulate()
+    fresh = st.Model.loads(model.to_toml()).simulate()
+    np.testing.assert_array_equal(changed["J1.w"], fresh["J1.w"])
+    assert not np.array_equal(changed["J1.w"], before["J1.w"])
+    assert changed.parameters["clutch1.fn_max"] == 12.0 and before.parameters["clutch1.fn_max"] != 12.0
+    model.experiment["StopTime"] = 1.0
+    assert model.simulate().time[-1] == 1.0
+
+
 def test_dask_gives_the_local_table():
     distributed = pytest.importorskip("distributed")
     variants = sample(16, seed=11, dists={"clutch1.fn_max": (5.0, 40.0), "sin1.f": (1.0, 8.0)})

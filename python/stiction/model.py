@@ -53,6 +53,8 @@ class Model:
         self.base_dir = Path(base_dir)
         # The compiled form of the model text it was made from (see `compile`).
         self._compiled: tuple[tuple[str, str], CompiledModel] | None = None
+        # The engine text and the parameter values of the model as it was (see `_text_key`).
+        self._derived: tuple[str, str, dict[str, float]] | None = None
         # Derived variables: result columns computed from the run, name -> Modelica expression
         # over result variables ("gear.flange_a.tau*der(gear.flange_a.phi)").
         self.variables: dict[str, str] = {}
@@ -227,6 +229,26 @@ class Model:
     def engine_toml(self) -> str:
         """The model-file text the engine reads: parameter expressions evaluated, derived
         variables left out (they are computed from the result)."""
+        return self._text_and_values()[0]
+
+    def _text_key(self) -> str | None:
+        """A fingerprint of everything the engine text and the parameter values depend on:
+        the ``repr`` of plain data, exact for numbers, and far cheaper than writing the text
+        (a run of a small model spent most of its Python time writing it, twice). None when a
+        value's ``repr`` may not show all of it (an object, a summarized array)."""
+        comps = [(n, c.type, c.params) for n, c in self.components.items()]
+        key = repr((self.name, self.experiment, comps, self.connections, self.inputs, self.parameters))
+        return None if "<" in key or "..." in key else key
+
+    def _text_and_values(self) -> tuple[str, dict[str, float]]:
+        key = self._text_key()
+        if key is not None and self._derived is not None and self._derived[0] == key:
+            return self._derived[1], self._derived[2]
+        text, values = self._write_engine_toml(), self._parameter_values()
+        self._derived = None if key is None else (key, text, values)
+        return text, values
+
+    def _write_engine_toml(self) -> str:
         from .parameters import evaluate_parameters, resolve_params
 
         values = evaluate_parameters(self.parameters)
@@ -353,9 +375,12 @@ class Model:
 
         Any change to the model, through any API, changes its text and so compiles anew.
         """
+        return self._compile(self.engine_toml())
+
+    def _compile(self, text: str) -> CompiledModel:
         from .compiled import CompiledModel
 
-        key = (self.engine_toml(), str(self.base_dir))
+        key = (text, str(self.base_dir))
         if self._compiled is None or self._compiled[0] != key:
             self._compiled = (key, CompiledModel(key[0], self.base_dir, self.name))
         return self._compiled[1]
@@ -383,16 +408,17 @@ class Model:
         given: dict[str, Any] = {"StartTime": StartTime, "StopTime": StopTime, "Interval": Interval}
         given |= {"Tolerance": Tolerance, "Solver": Solver}
         overrides = merge_overrides(params, given)
+        text, values = self._text_and_values()
         top = evaluate_parameters(
             {**self.parameters, **{k: overrides[k] for k in self.parameters if k in overrides}}
         )
         overrides = expand_parameters(self.parameters, self.components, overrides)
-        core = self.compile()._core
+        core = self._compile(text)._core
         raw = (core.variant(overrides) if overrides else core).simulate()
         experiment = {k: float(v) for k, v in given.items() if v is not None and k != "Solver"}
-        info = RunInfo(self.engine_toml(), str(self.base_dir), experiment, Solver, self.types())
+        info = RunInfo(text, str(self.base_dir), experiment, Solver, self.types())
         result = Result.from_core(raw, name=self.name, variables=self.variables, parameters=top, info=info)
-        result.parameters = self.parameter_values()
+        result.parameters = dict(values)
         return result
 
     def types(self) -> dict[str, str]:
@@ -403,6 +429,9 @@ class Model:
         """Scalar parameters as ``component.parameter -> value`` (Booleans as 0/1), top-level
         ones by their name, as a Modelica result's data_1 holds them; start values are
         trajectories, not here."""
+        return dict(self._text_and_values()[1])
+
+    def _parameter_values(self) -> dict[str, float]:
         from .modelica.convert import START_VARIABLES
         from .parameters import evaluate_parameters, resolve_params
 

@@ -1,35 +1,49 @@
 //! Runs a model file N times and prints the median wall time: `cargo run --release --example
-//! run_model -- MODEL.toml [N]`. For profiling the core without Python in the way.
+//! run_model -- MODEL.toml [N] [--no-table]`. For profiling the core without Python in the way
+//! (`--no-table` leaves out computing every variable, to profile the run alone).
 
 use std::time::Instant;
 
 fn main() {
     let mut args = std::env::args().skip(1);
     let path = args.next().expect("usage: run_model MODEL.toml [N]");
-    let n: usize = args.next().and_then(|s| s.parse().ok()).unwrap_or(50);
+    let n: usize = args
+        .next()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(50)
+        .max(1);
+    let with_table = args.next().as_deref() != Some("--no-table");
     let text = std::fs::read_to_string(&path).expect("readable model file");
     let dir = std::path::Path::new(&path)
         .parent()
         .unwrap_or(std::path::Path::new("."));
     let spec = stiction_core::ModelSpec::from_toml(&text, dir).expect("valid model");
-    let (mut run, mut table) = (Vec::new(), Vec::new());
+    let (mut run, mut table, mut wall) = (Vec::new(), Vec::new(), Vec::new());
     let mut last = None;
     for _ in 0..n {
         let t0 = Instant::now();
         let r = stiction_core::simulate(&spec).expect("simulation");
         run.push(t0.elapsed().as_secs_f64() * 1e3);
+        wall.push(r.stats.wall_ms);
         let t1 = Instant::now();
-        std::hint::black_box(r.table());
+        if with_table {
+            std::hint::black_box(r.table());
+        }
         table.push(t1.elapsed().as_secs_f64() * 1e3);
         last = Some(r);
     }
     run.sort_by(f64::total_cmp);
     table.sort_by(f64::total_cmp);
+    wall.sort_by(f64::total_cmp);
     let r = last.expect("at least one run");
     println!(
-        "{path}: median {:.3} ms to the result, {:.3} ms more for all variables; rows {}, columns {}, {:?}",
+        "{path}: median {:.3} ms to the result (min {:.3}; simulation alone min {:.3}), \
+         {:.3} ms more for all variables (min {:.3}); rows {}, columns {}, {:?}",
         run[n / 2],
+        run[0],
+        wall[0],
         table[n / 2],
+        table[0],
         r.rows(),
         r.names.len(),
         r.stats

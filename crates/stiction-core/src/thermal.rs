@@ -3,9 +3,9 @@
 //! A node holds a capacity (its temperature is a state), a fixed temperature, or neither (its
 //! temperature is algebraic: the heat flows into it balance).
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, DVector, Dyn, LU};
 
-use crate::linalg::{BandLu, LinearSolver, Triplets, BAND_FROM};
+use crate::linalg::{BandLu, Factorization, LinearSolver, Triplets, BAND_FROM};
 
 use crate::model::InitValue;
 
@@ -48,6 +48,22 @@ pub struct Capacity {
     pub init: InitValue,
 }
 
+/// What `temperatures` keeps between evaluations: the heat balance factored for the
+/// conductances it was last called with (constant ones never change: one factorization per
+/// run instead of one per evaluation), and scratch space.
+#[derive(Default)]
+pub struct HeatCache {
+    g: Vec<f64>,
+    factors: Option<HeatFactors>,
+    rhs: Vec<f64>,
+}
+
+enum HeatFactors {
+    Dense(LU<f64, Dyn, Dyn>),
+    Band(Box<dyn Factorization>),
+    Singular,
+}
+
 #[derive(Default)]
 pub struct ThermalNet {
     pub nodes: usize,
@@ -68,6 +84,7 @@ impl ThermalNet {
         signals: &[f64],
         heat_in: &[f64],
         temps: &mut [f64],
+        cache: &mut HeatCache,
     ) {
         for (node, kind) in self.kind.iter().enumerate() {
             temps[node] = match *kind {
@@ -80,25 +97,67 @@ impl ThermalNet {
             return;
         }
         // Σ_links G·(T_other − T_i) + heat_in_i = 0 for every algebraic node i.
-        let n = self.algebraic.len();
-        let mut m = Triplets::new(n);
-        let mut rhs: Vec<f64> = self.algebraic.iter().map(|&node| heat_in[node]).collect();
-        for link in &self.links {
-            let g = link.conductance(signals);
+        let conductances = self.links.iter().map(|l| l.conductance(signals));
+        if cache.factors.is_none() || !conductances.clone().eq(cache.g.iter().copied()) {
+            cache.g.clear();
+            cache.g.extend(conductances);
+            cache.factors = Some(self.factor_balance(&cache.g));
+        }
+        let rhs = &mut cache.rhs;
+        rhs.clear();
+        rhs.extend(self.algebraic.iter().map(|&node| heat_in[node]));
+        for (link, &g) in self.links.iter().zip(&cache.g) {
             for (me, other) in [(link.a, link.b), (link.b, link.a)] {
                 if let NodeKind::Algebraic(i) = self.kind[me] {
-                    m.add(i, i, g);
-                    match self.kind[other] {
-                        NodeKind::Algebraic(j) => m.add(i, j, -g),
-                        _ => rhs[i] += g * temps[other],
+                    if !matches!(self.kind[other], NodeKind::Algebraic(_)) {
+                        rhs[i] += g * temps[other];
                     }
                 }
             }
         }
-        let solved = solve_heat_balance(&m, &mut rhs);
+        let solved = match cache.factors.as_ref().expect("factored above") {
+            HeatFactors::Dense(lu) => {
+                let mut x = DVector::from_column_slice(rhs);
+                let ok = lu.solve_mut(&mut x);
+                rhs.copy_from_slice(x.as_slice());
+                ok
+            }
+            HeatFactors::Band(f) => {
+                f.solve_in_place(rhs);
+                true
+            }
+            HeatFactors::Singular => false,
+        };
         for (k, &node) in self.algebraic.iter().enumerate() {
             temps[node] = if solved { rhs[k] } else { f64::NAN };
         }
+    }
+
+    /// The heat-balance matrix of the algebraic nodes for the conductances `g`, factored.
+    fn factor_balance(&self, g: &[f64]) -> HeatFactors {
+        let n = self.algebraic.len();
+        let mut m = Triplets::new(n);
+        for (link, &g) in self.links.iter().zip(g) {
+            for (me, other) in [(link.a, link.b), (link.b, link.a)] {
+                if let NodeKind::Algebraic(i) = self.kind[me] {
+                    m.add(i, i, g);
+                    if let NodeKind::Algebraic(j) = self.kind[other] {
+                        m.add(i, j, -g);
+                    }
+                }
+            }
+        }
+        if n >= BAND_FROM {
+            return match BandLu.factor(&m) {
+                Ok(f) => HeatFactors::Band(f),
+                Err(_) => HeatFactors::Singular,
+            };
+        }
+        let mut dense = DMatrix::<f64>::zeros(n, n);
+        for &(r, c, v) in &m.entries {
+            dense[(r, c)] += v;
+        }
+        HeatFactors::Dense(dense.lu())
     }
 
     /// Net heat flow into every node: losses plus conduction.
@@ -109,31 +168,5 @@ impl ThermalNet {
             q[link.a] -= flow;
             q[link.b] += flow;
         }
-    }
-}
-
-/// Solves in place: dense LU (nalgebra, no answer only at an exact zero pivot) for a few nodes,
-/// the banded LU for many (a network of heat links is as sparse as the drivetrain).
-fn solve_heat_balance(m: &Triplets, rhs: &mut [f64]) -> bool {
-    let n = m.size;
-    if n >= BAND_FROM {
-        return match BandLu.factor(m) {
-            Ok(f) => {
-                f.solve_in_place(rhs);
-                true
-            }
-            Err(_) => false,
-        };
-    }
-    let mut dense = DMatrix::<f64>::zeros(n, n);
-    for &(r, c, v) in &m.entries {
-        dense[(r, c)] += v;
-    }
-    match dense.lu().solve(&DVector::from_column_slice(rhs)) {
-        Some(x) => {
-            rhs.copy_from_slice(x.as_slice());
-            true
-        }
-        None => false,
     }
 }

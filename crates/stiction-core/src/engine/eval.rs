@@ -6,6 +6,7 @@
 use super::kkt::ModeMatrix;
 use crate::switching::element::{ElementValues, Kinematics, ModeKey, Solved, SwitchState};
 use crate::system::{EnergyRole, LawCtx, System};
+use crate::thermal::HeatCache;
 
 /// Discrete state between events: the switching elements' states, the frozen relations of
 /// laws, and the values of the model inputs (they change only at events, through `set_input`).
@@ -60,6 +61,7 @@ pub struct Workspace {
     pub heat_in: Vec<f64>,
     pub temps: Vec<f64>,
     pub heat_net: Vec<f64>,
+    heat_cache: HeatCache,
     /// Kinetic, potential, dissipated energy and work of the sources.
     pub energy: [f64; 4],
     /// Rates of the last two: dissipated power and source power.
@@ -86,6 +88,7 @@ impl Workspace {
             heat_in: vec![0.0; sys.thermal.nodes],
             temps: vec![0.0; sys.thermal.nodes],
             heat_net: vec![0.0; sys.thermal.nodes],
+            heat_cache: HeatCache::default(),
             energy: [0.0; 4],
             rates: (0.0, 0.0),
             rhs: Vec::new(),
@@ -261,6 +264,7 @@ fn heat_and_energy(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Works
             &ws.signals,
             &ws.heat_in,
             &mut ws.temps,
+            &mut ws.heat_cache,
         );
         sys.thermal
             .net_inflow(&ws.temps, &ws.signals, &ws.heat_in, &mut ws.heat_net);

@@ -14,6 +14,8 @@
 //! elements come before locked gears, as in the reference results: a bearing stuck together
 //! with a gear carries the load first.
 
+use std::cell::RefCell;
+
 use nalgebra::{DMatrix, DVector};
 
 use crate::error::SimError;
@@ -40,6 +42,9 @@ pub struct ModeMatrix {
     pub element_rows: Vec<ElementRows>,
     /// The mode this matrix was factored for.
     pub keys: Vec<ModeKey>,
+    /// Scratch for the rank-one correction (`solve_with_slopes`), so an evaluation allocates
+    /// nothing.
+    scratch: RefCell<Vec<f64>>,
 }
 
 impl ModeMatrix {
@@ -62,6 +67,7 @@ impl ModeMatrix {
             size: m.size,
             element_rows,
             keys: keys.to_vec(),
+            scratch: RefCell::new(Vec::new()),
         })
     }
 
@@ -74,10 +80,10 @@ impl ModeMatrix {
     /// losses depend on the speed): each such element's permanent column changes by `Δs·ℓ`, a
     /// rank-one change, so the factored matrix serves through the Woodbury identity instead of
     /// a new factorization per evaluation. `slope(k)` is element k's current slope.
-    /// Allocates only when a slope has changed.
+    /// Allocates only when the slopes of two or more elements have changed.
     pub fn solve_with_slopes(&self, sys: &System, slope: impl Fn(usize) -> f64, rhs: &mut [f64]) {
         self.solve(rhs);
-        let changed: Vec<(&Rel, usize, f64)> = sys
+        let mut changed = sys
             .switching
             .iter()
             .zip(&self.keys)
@@ -86,11 +92,41 @@ impl ModeMatrix {
             .filter_map(|(k, (e, key))| {
                 let row = self.element_rows[k].permanent?;
                 Some((e.slope_column()?, sys.nodes + row, slope(k) - key.slope))
-            })
-            .collect();
-        if changed.is_empty() {
+            });
+        let Some(first) = changed.next() else {
+            return;
+        };
+        match changed.next() {
+            // one gear (the common case): a scalar Woodbury step in the reused scratch vector,
+            // the arithmetic of the general path's 1×1 LU
+            None => self.woodbury_one(first, rhs),
+            Some(second) => {
+                let all: Vec<_> = [first, second].into_iter().chain(changed).collect();
+                self.woodbury(&all, rhs);
+            }
+        }
+    }
+
+    /// `solve_with_slopes` for a single changed column, without allocating.
+    fn woodbury_one(&self, (column, r, ds): (&Rel, usize, f64), rhs: &mut [f64]) {
+        let mut u = self.scratch.borrow_mut();
+        u.clear();
+        u.resize(self.size, 0.0);
+        for &(i, c) in &column.terms {
+            u[i] += ds * c;
+        }
+        self.solve(&mut u);
+        let s = 1.0 + u[r];
+        if s == 0.0 {
+            rhs.fill(f64::NAN);
             return;
         }
+        let w = rhs[r] / s;
+        rhs.iter_mut().zip(u.iter()).for_each(|(x, z)| *x -= w * z);
+    }
+
+    /// The Woodbury identity for several changed columns (Z = A⁻¹U, then an m×m solve).
+    fn woodbury(&self, changed: &[(&Rel, usize, f64)], rhs: &mut [f64]) {
         // Z = A⁻¹U with U's columns Δs·ℓ in the node rows.
         let z: Vec<Vec<f64>> = changed
             .iter()

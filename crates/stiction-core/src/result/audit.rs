@@ -73,7 +73,7 @@ impl SimResult {
             evaluate(sys, mm, disc, tr.t[r], tr.x(r), tr.horizon[r], &mut ws);
             let value = |out: &Out| super::value(out, sys, &ws, disc, &[]);
             sys.flange_torques
-                .solve(&value, &mut flange_tau, &mut scratch);
+                .solve(value, &mut flange_tau, &mut scratch);
             for (k, p) in parts.iter().enumerate() {
                 let (power_in, taken, dissipation) = balance(sys, &ws, disc, p, &flange_tau);
                 let a = &mut audits[k];

@@ -79,6 +79,14 @@ impl Trajectory {
         self.t.len()
     }
 
+    /// Room for `rows` more rows (a run knows its grid: no regrowth while recording).
+    pub fn reserve(&mut self, rows: usize) {
+        self.t.reserve(rows);
+        self.horizon.reserve(rows);
+        self.disc.reserve(rows);
+        self.x.reserve(rows * self.width);
+    }
+
     fn x(&self, row: usize) -> &[f64] {
         &self.x[row * self.width..(row + 1) * self.width]
     }
@@ -300,7 +308,7 @@ impl Recorder {
     fn record(&mut self, sys: &System, ws: &Workspace, disc: &DiscreteState) {
         if self.needs_flanges && sys.flange_torques.ports() > 0 {
             sys.flange_torques.solve(
-                &|out: &Out| value(out, sys, ws, disc, &[]),
+                |out: &Out| value(out, sys, ws, disc, &[]),
                 &mut self.flange_tau,
                 &mut self.scratch,
             );

@@ -42,6 +42,7 @@ impl Stepper {
             };
             iterate(&self.sys, &mut self.cache, disc, &at, ws)?
         };
+        self.disc_recorded = false;
         let disc = self.phase.borrow().disc.clone();
         let mm = self.cache.get(&self.sys, &disc, t)?;
         self.phase.borrow_mut().mm = mm;
@@ -128,6 +129,7 @@ impl Stepper {
         }
         self.t_prev = t;
         self.pending = None;
+        self.poly_wanted = false;
         if self.stop > t {
             solver
                 .set_stop_time(self.stop)

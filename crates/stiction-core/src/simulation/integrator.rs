@@ -79,6 +79,11 @@ impl Integrator<'_> {
         }
     }
 
+    /// Whether the dense output is tsit45's quartic in the step fraction (`dense` fits it).
+    pub fn polynomial_dense_output(&self) -> bool {
+        matches!(self, Integrator::Tsit45(_))
+    }
+
     pub fn implicit(&self) -> bool {
         !matches!(self, Integrator::Tsit45(_))
     }

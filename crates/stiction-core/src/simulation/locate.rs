@@ -70,6 +70,7 @@ impl Stepper {
             } else {
                 let t = t_prev + (t_now - t_prev) * k as f64 / SAMPLES as f64;
                 self.load(solver, t)?;
+                self.offer_sample(t);
                 t
             };
             self.evaluate_here(t, true);

@@ -9,7 +9,9 @@
 
 mod auto;
 mod chatter;
+mod dense;
 mod event;
+mod grid;
 mod init;
 mod integrator;
 mod locate;
@@ -190,6 +192,7 @@ impl Simulation {
         let mut cell = integrator::integrator(problem, &exp.solver)?;
         let mut stepper = Stepper::new(sys, phase, cache, x0);
         stepper.log = log;
+        stepper.fit_steps = cell.with_dependent(|_, integ| integ.polynomial_dense_output());
         cell.with_dependent_mut(|_, integ| with_solver!(integ, s => stepper.start(s)))?;
         Ok(Simulation {
             cell,
@@ -257,6 +260,7 @@ impl Simulation {
                 s.state().h
             });
             *integ = solver_for(problem, "esdirk34")?;
+            stepper.fit_steps = integ.polynomial_dense_output(); // grid rows from its own output
             let watch = &mut stepper.stiffness;
             (watch.active, watch.switch_due) = (false, false);
             watch.switches += 1;

@@ -9,10 +9,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;
 
-use diffsol::{OdeSolverMethod, OdeSolverStopReason, Vector, VectorCommon};
+use diffsol::{OdeSolverMethod, OdeSolverStopReason, VectorCommon};
 
 use super::auto::StiffnessWatch;
 use super::chatter::ChatterWatch;
+use super::dense::StepPoly;
 use super::integrator::{integrator_error, Eqn, StepBudget, V};
 use super::{Observer, Phase};
 use crate::engine::eval::{evaluate, DiscreteState};
@@ -61,6 +62,9 @@ pub(super) struct Stepper {
     pub(super) recording: bool,
     /// Every discrete state the run went through; rows refer to them by index.
     pub(super) discs: Vec<DiscreteState>,
+    /// Whether the last of `discs` is known to be the current discrete state (cleared where
+    /// it changes: events, restored states), so a row need not compare them.
+    pub(super) disc_recorded: bool,
     pub(super) log: Vec<EventRecord>,
     pub(super) observer: Option<Box<dyn Observer>>,
     pub(super) z_prev: Vec<f64>,
@@ -73,8 +77,15 @@ pub(super) struct Stepper {
     /// step boundary; cleared at events.
     pub(super) hump_back: Option<(f64, Vec<f64>)>,
     pub(super) dz_probe: Vec<f64>,
-    pub(super) x: Vec<f64>,      // state buffer (interpolated or current)
-    pub(super) dense: Option<V>, // diffsol's vector for dense output, reused
+    /// State buffer (interpolated or current).
+    pub(super) x: Vec<f64>,
+    /// diffsol's vector for dense output, reused.
+    pub(super) dense: Option<V>,
+    /// The pending step's dense output fitted once for its grid rows, whether this step
+    /// wants it, and whether the method allows it (`grid::interpolate_row`).
+    pub(super) poly: StepPoly,
+    pub(super) poly_wanted: bool,
+    pub(super) fit_steps: bool,
     pub(super) grid_k: usize,
     pub(super) stats: Stats,
     /// Where processing stands: the integrator's time unless a step is pending.
@@ -121,6 +132,7 @@ impl Stepper {
             cache,
             recording: true,
             discs: Vec::new(),
+            disc_recorded: false,
             log: Vec::new(),
             observer: None,
             z_prev: vec![0.0; nz],
@@ -132,6 +144,9 @@ impl Stepper {
             dz_probe: vec![f64::NAN; nz],
             x: x0,
             dense: None,
+            poly: StepPoly::default(),
+            poly_wanted: false,
+            fit_steps: false,
             grid_k: 1,
             stats: Stats::default(),
             t_prev: t0,
@@ -170,14 +185,7 @@ impl Stepper {
         self.finished = c.finished;
         self.pending = None;
         self.last_row = f64::NAN;
-    }
-
-    fn grid_time(&self, k: usize) -> f64 {
-        self.sys.experiment.grid_time(k)
-    }
-
-    pub(super) fn grid_len(&self) -> usize {
-        self.sys.experiment.grid_len()
+        self.disc_recorded = false;
     }
 
     /// Evaluates at (t, self.x) in the current discrete state; fills `z` if asked.
@@ -224,119 +232,24 @@ impl Stepper {
         if !self.recording {
             return;
         }
-        if self.discs.last() != Some(&guard.disc) {
-            self.discs.push(guard.disc.clone());
+        if !self.disc_recorded {
+            if self.discs.last() != Some(&guard.disc) {
+                self.discs.push(guard.disc.clone());
+            }
+            self.disc_recorded = true;
+        }
+        if self.trajectory.rows() == 0 {
+            // the grid, both rows of each time event, and room for a hundred state events
+            let rows = self.sys.experiment.grid_len() + 201 + 2 * self.sys.time_events.len();
+            self.trajectory.reserve(rows);
         }
         let id = (self.discs.len() - 1) as u32;
         self.trajectory.push(t, guard.horizon, id, &self.x);
     }
 
-    /// The state at t from the dense output of the last step, into `out`.
-    pub fn interpolate<'a, S>(
-        &mut self,
-        solver: &S,
-        t: f64,
-        out: &mut [f64],
-    ) -> Result<(), SimError>
-    where
-        S: OdeSolverMethod<'a, Eqn>,
-    {
-        let n = out.len();
-        let y = self
-            .dense
-            .get_or_insert_with(|| V::zeros(n, *solver.state().y.context()));
-        solver
-            .interpolate_inplace(t, y)
-            .map_err(|e| integrator_error(t, e))?;
-        out.copy_from_slice(y.inner().as_slice());
-        Ok(())
-    }
-
-    /// Loads the state at t (dense output of the last step) into `self.x`.
-    pub fn load<'a, S>(&mut self, solver: &S, t: f64) -> Result<(), SimError>
-    where
-        S: OdeSolverMethod<'a, Eqn>,
-    {
-        let mut x = std::mem::take(&mut self.x);
-        let r = self.interpolate(solver, t, &mut x);
-        self.x = x;
-        r
-    }
-
-    /// The state at the time the user advanced to.
-    pub fn state_now<'a, S>(&mut self, solver: &S) -> Result<Vec<f64>, SimError>
-    where
-        S: OdeSolverMethod<'a, Eqn>,
-    {
-        let mut x = solver.state().y.inner().as_slice().to_vec();
-        if self.pending.is_some() {
-            self.interpolate(solver, self.now, &mut x)?;
-        } else if !self.finished || self.now == self.t_prev {
-            x.copy_from_slice(&self.x);
-        }
-        Ok(x)
-    }
-
-    /// Records the grid points in (last recorded, limit] (or up to but excluding `limit`).
-    fn emit_grid<'a, S>(
-        &mut self,
-        solver: &S,
-        limit: f64,
-        inclusive: bool,
-        t_step_end: f64,
-    ) -> Result<(), SimError>
-    where
-        S: OdeSolverMethod<'a, Eqn>,
-    {
-        let eps = 1e-12 * limit.abs().max(1.0);
-        while self.grid_k <= self.grid_len() {
-            let tg = self.grid_time(self.grid_k);
-            let due = if inclusive {
-                tg <= limit + eps
-            } else {
-                tg < limit - eps
-            };
-            if !due {
-                break;
-            }
-            self.load(solver, tg.min(t_step_end))?;
-            self.record_here(tg);
-            self.grid_k += 1;
-        }
-        Ok(())
-    }
-
-    /// Records the grid points up to `target` while a step is processed only that far, leaving
-    /// out one that coincides with the `event` ahead (its two event rows will stand for it).
-    fn emit_grid_before<'a, S>(
-        &mut self,
-        solver: &S,
-        target: f64,
-        event: f64,
-        t_step_end: f64,
-    ) -> Result<(), SimError>
-    where
-        S: OdeSolverMethod<'a, Eqn>,
-    {
-        let eps = 1e-12 * event.abs().max(1.0);
-        let limit = if (target - event).abs() <= eps {
-            target.min(event - 2.0 * eps)
-        } else {
-            target
-        };
-        self.emit_grid(solver, limit, true, t_step_end)
-    }
-
-    /// Skips grid points that coincide with an event (the two event rows stand for them).
-    pub(super) fn skip_grid_at(&mut self, t: f64) {
-        let eps = 1e-12 * t.abs().max(1.0);
-        while self.grid_k <= self.grid_len() && (self.grid_time(self.grid_k) - t).abs() <= eps {
-            self.grid_k += 1;
-        }
-    }
-
-    /// Stops a run that cannot succeed, with a reason: a non-finite state (overflow, a singular
-    /// mode), more events or steps than any sensible model needs, or a cancellation.
+    /// Stops a run that cannot succeed, with a reason, instead of running away: a non-finite
+    /// state (overflow, a singular mode), more events or steps than any sensible model needs, or
+    /// a cancellation.
     fn check_progress<'a, S>(&self, solver: &S, t: f64) -> Result<(), SimError>
     where
         S: OdeSolverMethod<'a, Eqn>,
@@ -394,6 +307,7 @@ impl Stepper {
         let (x_now, h) = (solver.state().y.inner().as_slice(), t_now - self.t_prev);
         self.stiffness
             .watch(&self.sys, &self.phase, t_now, x_now, h);
+        self.want_poly(t_now);
         let stop = self.stop;
         // At a pending time event the signals keep their left limits (the horizon).
         let at_time_event = self.next_te < self.sys.time_events.len()

@@ -103,7 +103,7 @@ impl FlangeTorques {
 
     /// Fills `tau[port]` for every mechanical port, given a way to evaluate outputs; `rhs` is
     /// scratch space, so a result row allocates nothing.
-    pub fn solve(&self, eval: &dyn Fn(&Out) -> f64, tau: &mut [f64], rhs: &mut Vec<f64>) {
+    pub fn solve(&self, eval: impl Fn(&Out) -> f64, tau: &mut [f64], rhs: &mut Vec<f64>) {
         for (p, out) in &self.known {
             tau[*p] = eval(out);
         }
@@ -118,20 +118,20 @@ impl FlangeTorques {
             tau[p] = 0.0;
         }
         for b in &self.blocks {
-            for (k, &c) in b.cols.iter().enumerate() {
-                tau[self.unknown[c]] = (b.rows.iter().enumerate())
-                    .map(|(j, &r)| b.pinv[(k, j)] * rhs[r])
-                    .sum();
+            for (&c, pinv) in b.cols.iter().zip(b.pinv.chunks_exact(b.rows.len())) {
+                tau[self.unknown[c]] = (b.rows.iter().zip(pinv)).map(|(&r, p)| p * rhs[r]).sum();
             }
         }
     }
 }
 
-/// Equations linked through shared unknowns, with the pseudo-inverse of their sub-matrix.
+/// Equations linked through shared unknowns, with the pseudo-inverse of their sub-matrix
+/// (row-major: one row of `rows.len()` per unknown, read per result row without indexing
+/// through nalgebra).
 struct Block {
     rows: Vec<usize>,
     cols: Vec<usize>,
-    pinv: DMatrix<f64>,
+    pinv: Vec<f64>,
 }
 
 /// Splits the 0/1 matrix whose row `r` has ones in `rows[r]` into independent blocks.
@@ -154,7 +154,7 @@ fn blocks(rows: &[Vec<usize>], ncols: usize) -> Vec<Block> {
             out.push(Block {
                 rows: Vec::new(),
                 cols: Vec::new(),
-                pinv: DMatrix::zeros(0, 0),
+                pinv: Vec::new(),
             });
             out.len() - 1
         });
@@ -171,7 +171,7 @@ fn blocks(rows: &[Vec<usize>], ncols: usize) -> Vec<Block> {
     out
 }
 
-fn block_pinv(rows: &[Vec<usize>], b: &Block) -> DMatrix<f64> {
+fn block_pinv(rows: &[Vec<usize>], b: &Block) -> Vec<f64> {
     let col: HashMap<usize, usize> = b.cols.iter().enumerate().map(|(k, &c)| (c, k)).collect();
     let mut a = DMatrix::<f64>::zeros(b.rows.len(), b.cols.len());
     for (j, &r) in b.rows.iter().enumerate() {
@@ -180,8 +180,10 @@ fn block_pinv(rows: &[Vec<usize>], b: &Block) -> DMatrix<f64> {
         }
     }
     let (m, n) = (b.cols.len(), b.rows.len());
-    a.pseudo_inverse(1e-12)
-        .unwrap_or_else(|_| DMatrix::zeros(m, n))
+    let pinv = a
+        .pseudo_inverse(1e-12)
+        .unwrap_or_else(|_| DMatrix::zeros(m, n));
+    pinv.transpose().as_slice().to_vec()
 }
 
 fn find(parent: &mut [usize], mut i: usize) -> usize {

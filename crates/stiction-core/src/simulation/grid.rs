@@ -1,0 +1,175 @@
+//! The output grid: the rows inside a processed step, read on the step's dense output.
+
+use diffsol::{OdeSolverMethod, Vector, VectorCommon};
+
+use super::integrator::{integrator_error, Eqn, V};
+use super::stepper::Stepper;
+use crate::error::SimError;
+
+/// From this many grid rows in one step its dense output is fitted once (`dense`): the fit
+/// costs no interpolation when the crossing scan went through the step, else up to three.
+const FIT_FROM_ROWS: usize = 4;
+
+impl Stepper {
+    pub(super) fn grid_time(&self, k: usize) -> f64 {
+        self.sys.experiment.grid_time(k)
+    }
+
+    pub(super) fn grid_len(&self) -> usize {
+        self.sys.experiment.grid_len()
+    }
+
+    /// The state at t from the dense output of the last step, into `out`.
+    pub fn interpolate<'a, S>(
+        &mut self,
+        solver: &S,
+        t: f64,
+        out: &mut [f64],
+    ) -> Result<(), SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let n = out.len();
+        let y = self
+            .dense
+            .get_or_insert_with(|| V::zeros(n, *solver.state().y.context()));
+        solver
+            .interpolate_inplace(t, y)
+            .map_err(|e| integrator_error(t, e))?;
+        out.copy_from_slice(y.inner().as_slice());
+        Ok(())
+    }
+
+    /// The state at t inside the pending step as the output rows read it: from the step's
+    /// fitted polynomial when it holds many rows (`dense`), else from diffsol directly. Every
+    /// row and every value read between pieces go through here, so they agree bit for bit.
+    pub(super) fn interpolate_row<'a, S>(
+        &mut self,
+        solver: &S,
+        t: f64,
+        out: &mut [f64],
+    ) -> Result<(), SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        if !self.poly_wanted {
+            return self.interpolate(solver, t, out);
+        }
+        if !self.poly.fitted() {
+            let mut poly = std::mem::take(&mut self.poly);
+            let end = solver.state().y.inner().as_slice();
+            let fitted = poly.fit(end, |t, y| self.interpolate(solver, t, y));
+            self.poly = poly;
+            fitted?;
+        }
+        self.poly.eval(t, out);
+        Ok(())
+    }
+
+    /// Whether the step just taken (t_prev, t_now] holds enough grid rows to fit its dense
+    /// output once (an explicit method's only: its dense output is the quartic `dense` fits).
+    /// Called right after the step, while `self.x` still holds its start state.
+    pub(super) fn want_poly(&mut self, t_now: f64) {
+        let k_end = (self.grid_k + FIT_FROM_ROWS).min(self.grid_len() + 1);
+        self.poly_wanted = self.fit_steps
+            && k_end - self.grid_k == FIT_FROM_ROWS
+            && self.grid_time(k_end - 1) <= t_now;
+        if self.poly_wanted {
+            self.poly.begin(self.t_prev, t_now, &self.x);
+        }
+    }
+
+    /// Offers the state just loaded at t (a sample of the crossing scan) to the step's fit.
+    pub(super) fn offer_sample(&mut self, t: f64) {
+        if self.poly_wanted {
+            self.poly.put(t, &self.x);
+        }
+    }
+
+    /// Loads the state at t (dense output of the last step) into `self.x`.
+    pub fn load<'a, S>(&mut self, solver: &S, t: f64) -> Result<(), SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let mut x = std::mem::take(&mut self.x);
+        let r = self.interpolate(solver, t, &mut x);
+        self.x = x;
+        r
+    }
+
+    /// The state at the time the user advanced to.
+    pub fn state_now<'a, S>(&mut self, solver: &S) -> Result<Vec<f64>, SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let mut x = solver.state().y.inner().as_slice().to_vec();
+        if self.pending.is_some() {
+            self.interpolate_row(solver, self.now, &mut x)?;
+        } else if !self.finished || self.now == self.t_prev {
+            x.copy_from_slice(&self.x);
+        }
+        Ok(x)
+    }
+
+    /// Records the grid points in (last recorded, limit] (or up to but excluding `limit`).
+    pub(super) fn emit_grid<'a, S>(
+        &mut self,
+        solver: &S,
+        limit: f64,
+        inclusive: bool,
+        t_step_end: f64,
+    ) -> Result<(), SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let eps = 1e-12 * limit.abs().max(1.0);
+        while self.grid_k <= self.grid_len() {
+            let tg = self.grid_time(self.grid_k);
+            let due = if inclusive {
+                tg <= limit + eps
+            } else {
+                tg < limit - eps
+            };
+            if !due {
+                break;
+            }
+            let mut x = std::mem::take(&mut self.x);
+            let r = self.interpolate_row(solver, tg.min(t_step_end), &mut x);
+            self.x = x;
+            r?;
+            self.record_here(tg);
+            self.grid_k += 1;
+        }
+        Ok(())
+    }
+
+    /// Records the grid points up to `target` while a step is processed only that far, leaving
+    /// out one that coincides with the `event` ahead (its two event rows will stand for it, as
+    /// when the step is processed at once).
+    pub(super) fn emit_grid_before<'a, S>(
+        &mut self,
+        solver: &S,
+        target: f64,
+        event: f64,
+        t_step_end: f64,
+    ) -> Result<(), SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let eps = 1e-12 * event.abs().max(1.0);
+        let limit = if (target - event).abs() <= eps {
+            target.min(event - 2.0 * eps)
+        } else {
+            target
+        };
+        self.emit_grid(solver, limit, true, t_step_end)
+    }
+
+    /// Skips grid points that coincide with an event (the two event rows stand for them).
+    pub(super) fn skip_grid_at(&mut self, t: f64) {
+        let eps = 1e-12 * t.abs().max(1.0);
+        while self.grid_k <= self.grid_len() && (self.grid_time(self.grid_k) - t).abs() <= eps {
+            self.grid_k += 1;
+        }
+    }
+}

@@ -6,7 +6,10 @@ component's own equations take: an inertia ``J·w·a``, a spring or damper ``tau
 friction element or lossy gear its ``lossPower``, an ideal gear nothing. The two sides are
 computed independently (the flange torques from the torque balance of each connection), so a
 mistake in either shows. A passive element (no source, no prescribed speed) must never
-dissipate negative power: it never delivers net energy.
+deliver net energy: what it dissipated over the run is not negative. (Its power may dip below
+zero for a while where MSL's equations say so: a brake "starting backward" while another
+element drives its shaft forward keeps its backward breakaway torque until the hysteresis
+relation flips; ``min_dissipation`` shows such a dip.)
 """
 
 from __future__ import annotations
@@ -51,15 +54,17 @@ class ElementBalance:
 class EnergyAudit:
     """Every element's balance; ``worst`` is the one furthest from closing."""
 
-    def __init__(self, elements: Iterable[ElementBalance]) -> None:
+    def __init__(self, elements: Iterable[ElementBalance], span: float = 1.0) -> None:
+        """``span``: the run's length [s], which turns the power tolerances into energies."""
         self.elements = list(elements)
         self.scale = max([1.0, *(e.scale for e in self.elements)])
+        self.span = span
 
     @classmethod
-    def from_core(cls, rows: Iterable[tuple[Any, ...]]) -> EnergyAudit:
+    def from_core(cls, rows: Iterable[tuple[Any, ...]], span: float = 1.0) -> EnergyAudit:
         """From the engine's tuples (component, residual, scale, torque, passive, min
         dissipation, energy in, dissipated)."""
-        return cls(ElementBalance(*row) for row in rows)
+        return cls((ElementBalance(*row) for row in rows), span)
 
     @property
     def worst(self) -> ElementBalance | None:
@@ -72,8 +77,11 @@ class EnergyAudit:
         return tolerance * self.scale + EVENT_BAND * element.torque
 
     def delivering(self, tolerance: float = DEFAULT_TOLERANCE) -> list[ElementBalance]:
-        """Passive elements that delivered energy (dissipated less than −``allowed``)."""
-        return [e for e in self.elements if e.passive and e.min_dissipation < -self.allowed(e, tolerance)]
+        """Passive elements that delivered net energy over the run (dissipated less than
+        −``allowed`` times the run's length)."""
+        return [
+            e for e in self.elements if e.passive and e.dissipated < -self.allowed(e, tolerance) * self.span
+        ]
 
     def open(self, tolerance: float = DEFAULT_TOLERANCE) -> list[ElementBalance]:
         """Elements whose balance does not close (residual above ``allowed``)."""
@@ -97,7 +105,7 @@ class EnergyAudit:
         lines = [
             f"energy audit {state}: worst {worst.component}, {worst.residual:.3g} W of {self.scale:.3g} W",
             *(f"  {e.component} is off by {e.residual:.3g} W" for e in self.open()),
-            *(f"  {e.component} delivered {-e.min_dissipation:.3g} W" for e in self.delivering()),
+            *(f"  {e.component} delivered {-e.dissipated:.3g} J" for e in self.delivering()),
         ]
         return "\n".join(lines)
 

@@ -147,12 +147,13 @@ class Result:
         """The energy audit element by element (see ``stiction.audit``): for every component,
         the power entering at its flanges against its losses and stored energy, row by row;
         ``r.audit().worst`` is the element furthest from closing, ``r.audit().ok()`` whether
-        all close and no passive element delivers energy."""
+        all close and no passive element delivers net energy."""
         from .audit import EnergyAudit
 
         if self._source is None:
             raise ValueError("the energy audit needs a result of the engine (not one read from a file)")
-        return EnergyAudit.from_core(self._source.audit())
+        span = float(self.time[-1] - self.time[0]) if len(self) else 0.0
+        return EnergyAudit.from_core(self._source.audit(), span)
 
     @property
     def events(self) -> list[Event]:

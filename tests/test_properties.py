@@ -2,8 +2,8 @@
 30 elements) joined by clutches, one-way clutches, springs, spring-dampers, elastic backlash,
 dampers, ideal and lossy gears, with brakes, bearing friction, a torque source and random
 normal-force profiles. For every drawn model, either the run ends or it fails with a typed
-``StictionError`` — never another exception — and a finished run: closes its energy audit (the system's, and every element's with no passive element delivering net
-energy), is
+``StictionError`` — never another exception — and a finished run: closes its energy audit
+(the system's, and every element's, with no passive element delivering net energy), is
 bit-identical when run again, keeps every locked element's relative speed inside its relation
 band and its torque inside its static limit, lies in the tube of a tight-tolerance run, and —
 with nothing acting from outside — conserves angular momentum.

@@ -4,6 +4,7 @@
 //! functions, the event iteration and the result rows all read this one workspace.
 
 use super::kkt::ModeMatrix;
+use super::massless::Massless;
 use crate::switching::element::{ElementValues, Kinematics, ModeKey, Solved, SwitchState};
 use crate::system::{EnergyRole, LawCtx, System};
 
@@ -160,6 +161,23 @@ pub fn kinematics(
     }
 }
 
+/// Writes the algebraic speeds of the shafts without inertia in mode `mm` into `x` (its other
+/// entries unchanged), so that recorded rows and event states hold the speeds the system has.
+pub fn consistent_speeds(
+    sys: &System,
+    mm: &ModeMatrix,
+    disc: &DiscreteState,
+    t: f64,
+    x: &mut [f64],
+    horizon: f64,
+    ws: &mut Workspace,
+) {
+    if mm.massless.is_some() {
+        evaluate(sys, mm, disc, t, x, horizon, ws);
+        x[sys.nodes..2 * sys.nodes].copy_from_slice(&ws.w);
+    }
+}
+
 /// Evaluates everything at (t, x) in discrete state `disc`, whose mode `mm` was factored for.
 /// (A LossyGear whose losses depend on its speed changes the factored matrix by a rank-one term.)
 pub fn evaluate(
@@ -184,7 +202,35 @@ fn accelerations(sys: &System, mm: &ModeMatrix, disc: &DiscreteState, ws: &mut W
     let mut rhs = std::mem::take(&mut ws.rhs);
     rhs.clear();
     rhs.resize(mm.size, 0.0);
-    let f = &mut rhs[..n];
+    forces(sys, disc, ws, &mut rhs[..n]);
+    if let Some(ml) = &mm.massless {
+        massless_speeds(sys, ml, disc, ws, &mut rhs[..n]);
+    }
+    let elements = &ws.elements;
+    mm.solve_with_slopes(sys, |k| elements[k].slope, &mut rhs);
+    let m = sys.constraints.len();
+    ws.a.copy_from_slice(&rhs[..n]);
+    if let Some(ml) = &mm.massless {
+        ml.accelerate(&ws.w, &mut ws.a);
+    }
+    ws.constraint_tau.copy_from_slice(&rhs[n..n + m]);
+    let multiplier = |row: Option<usize>| row.map(|r| rhs[n + r]);
+    for (k, (e, st)) in sys.switching.iter().zip(&disc.switching).enumerate() {
+        let rows = &mm.element_rows[k];
+        let solved = Solved {
+            a: &ws.a,
+            permanent: multiplier(rows.permanent),
+            lock: multiplier(rows.lock),
+            held: rows.held,
+        };
+        e.solved(st, &solved, &mut ws.elements[k]);
+    }
+    ws.rhs = rhs;
+}
+
+/// The generalized forces `f` of the laws and switching elements at the speeds in `ws`.
+fn forces(sys: &System, disc: &DiscreteState, ws: &mut Workspace, f: &mut [f64]) {
+    f.fill(0.0);
     for (k, law) in sys.laws.iter().enumerate() {
         let tau = law.law.tau(&ws.law_ctx(sys, disc, k));
         ws.law_tau[k] = tau;
@@ -203,24 +249,33 @@ fn accelerations(sys: &System, mm: &ModeMatrix, disc: &DiscreteState, ws: &mut W
     {
         e.forces(st, &kin, v, f);
     }
-    let elements = &ws.elements;
-    mm.solve_with_slopes(sys, |k| elements[k].slope, &mut rhs);
-    let m = sys.constraints.len();
-    ws.a.copy_from_slice(&rhs[..n]);
-    ws.constraint_tau.copy_from_slice(&rhs[n..n + m]);
-    let multiplier = |row: Option<usize>| row.map(|r| rhs[n + r]);
-    for (k, (e, st)) in sys.switching.iter().zip(&disc.switching).enumerate() {
-        let rows = &mm.element_rows[k];
-        let solved = Solved {
-            a: &ws.a,
-            permanent: multiplier(rows.permanent),
-            lock: multiplier(rows.lock),
-            held: rows.held,
-        };
-        e.solved(st, &solved, &mut ws.elements[k]);
-    }
-    ws.rhs = rhs;
 }
+
+/// Solves the algebraic speeds of the shafts without inertia (`Nᵀf = 0`), then the forces at
+/// them. Affine laws need one correction (the second confirms it); other speed-dependent
+/// torques on such a shaft converge as a fixed point while the dampers dominate.
+fn massless_speeds(
+    sys: &System,
+    ml: &Massless,
+    disc: &DiscreteState,
+    ws: &mut Workspace,
+    f: &mut [f64],
+) {
+    for _ in 0..MASSLESS_ITERATIONS {
+        let scale = ws.w.iter().fold(1.0f64, |m, w| m.max(w.abs()));
+        let step = ml.correct(f, &mut ws.w);
+        for (k, law) in sys.laws.iter().enumerate() {
+            ws.law_w[k] = law.rel.dot(&ws.w);
+        }
+        forces(sys, disc, ws, f);
+        if step <= 1e-14 * scale {
+            break;
+        }
+    }
+}
+
+/// Bound on the fixed point of `massless_speeds`.
+const MASSLESS_ITERATIONS: usize = 8;
 
 /// Heat flows into the heat network, the energy audit and its rates.
 fn heat_and_energy(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Workspace) {

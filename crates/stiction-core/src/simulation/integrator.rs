@@ -130,6 +130,7 @@ pub fn problem(
             probe,
             f0,
             horizon,
+            ..
         } = &mut *guard;
         let horizon = *horizon;
         let vnorm = v.iter().map(|a| a * a).sum::<f64>().sqrt();

@@ -93,14 +93,18 @@ TF = MU * FN  # sliding torque (cgeo = 1)
 T_PRESS = 0.1  # before it, the clutch is open and the gear shafts rest with J2
 
 
-def _clutch_gear_line() -> st.Model:
+def _clutch_gear_line(release: float | None = None) -> st.Model:
     """torque → J1 → clutch → gear (ratio, no inertia) → spring/damper → J2; the clutch is
     pressed at T_PRESS (so the start is unambiguous: open, the gear shafts turn with J2)."""
     m = st.Model("clutch_gear")
     m.add("drive", st.ConstantTorque(tau_constant=T_DRIVE))
     m.add("J1", st.Inertia(J=J1, phi=0.0, w=W1))
     m.add("clutch", st.Clutch(fn_max=FN, peak=PEAK))
-    m.add("press", st.Step(height=1.0, startTime=T_PRESS))
+    if release is None:
+        m.add("press", st.Step(height=1.0, startTime=T_PRESS))
+    else:  # pressed from T_PRESS to `release`
+        width = 100.0 * (release - T_PRESS) / 10.0
+        m.add("press", st.Pulse(period=10.0, width=width, nperiod=1, startTime=T_PRESS))
     m.add("gear", st.IdealGear(ratio=RATIO))
     m.add("sd", st.SpringDamper(c=C2, d=D2, phi_rel=0.0))
     m.add("J2", st.Inertia(J=J2, phi=0.0, w=0.0))
@@ -180,6 +184,30 @@ def test_tiny_gear_inertia_agrees_as_a_sanity_check() -> None:
     assert r.lock_times("clutch")[0] == pytest.approx(exact.lock_times("clutch")[0], abs=1e-4)
     end = r["J2.w"][-1]
     assert end == pytest.approx(exact["J2.w"][-1], rel=1e-4)
+
+
+def test_a_released_clutch_leaves_the_gear_shafts_to_their_damper() -> None:
+    """Locked, then opened at 1.1 s: the gear shafts are massless again, and their speed jumps
+    to the one the open balance gives, c(φb − φ2) + d(wb − w2) = 0; J2 then coasts and the
+    spring relaxes as exp(−c·t/d)."""
+    t_release = 1.1
+    t_lock, _, locked = _clutch_oracle()
+    r = _clutch_gear_line(release=t_release).simulate()
+    assert r.lock_times("clutch") == [pytest.approx(t_lock, abs=1e-8)]
+    phi1, w1, phib, phi2, w2 = locked(t_release)
+    after = r.time > t_release
+    t = r.time[after] - t_release
+    stretch = (phi2 - phib) * np.exp(-C2 / D2 * t)  # sd.phi_rel
+    assert np.abs(r["sd.phi_rel"][after] - stretch).max() < 1e-6
+    assert np.abs(r["sd.w_rel"][after] + C2 / D2 * stretch).max() < 1e-5 * W1
+    assert np.abs(r["J2.w"][after] - w2).max() < 1e-6 * W1
+    assert np.abs(r["J1.w"][after] - (w1 + T_DRIVE / J1 * t)).max() < 1e-6 * W1
+    # at the release the gear's speed jumps: from J1's (over the ratio) to the open balance's
+    rows = np.flatnonzero(r.time == t_release)
+    wb = r["J2.w"][rows] - r["sd.w_rel"][rows]
+    assert wb[0] == pytest.approx(w1 / RATIO, rel=1e-7)
+    assert wb[-1] == pytest.approx(w2 - C2 * (phib - phi2) / D2, rel=1e-6)
+    assert _energy_drift(r) < 1e-7
 
 
 # --- a chain of them: the banded solve --------------------------------------------------------

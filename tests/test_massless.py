@@ -121,7 +121,7 @@ def _clutch_gear_line(release: float | None = None) -> st.Model:
 def _slip(_t: float, y: np.ndarray) -> list[float]:
     """Slipping (J1 faster): the clutch passes TF; the gear's flange_b speed solves
     ratio·TF = c(φb − φ2) + d(wb − w2)."""
-    phi1, w1, phib, phi2, w2 = y
+    _phi1, w1, phib, phi2, w2 = y
     wb = w2 + (RATIO * TF - C2 * (phib - phi2)) / D2
     tau_sd = RATIO * TF
     return [w1, (T_DRIVE - TF) / J1, wb, w2, tau_sd / J2]
@@ -136,7 +136,7 @@ _slip_ends.terminal = True  # type: ignore[attr-defined]
 
 def _locked(_t: float, y: np.ndarray) -> list[float]:
     """Locked: the gear turns with J1 (wb = w1/ratio); J1 passes τ_sd/ratio to it."""
-    phi1, w1, phib, phi2, w2 = y
+    _phi1, w1, phib, phi2, w2 = y
     tau_sd = C2 * (phib - phi2) + D2 * (w1 / RATIO - w2)
     return [w1, (T_DRIVE - tau_sd / RATIO) / J1, w1 / RATIO, w2, tau_sd / J2]
 
@@ -194,7 +194,7 @@ def test_a_released_clutch_leaves_the_gear_shafts_to_their_damper() -> None:
     t_lock, _, locked = _clutch_oracle()
     r = _clutch_gear_line(release=t_release).simulate()
     assert r.lock_times("clutch") == [pytest.approx(t_lock, abs=1e-8)]
-    phi1, w1, phib, phi2, w2 = locked(t_release)
+    _phi1, w1, phib, phi2, w2 = locked(t_release)
     after = r.time > t_release
     t = r.time[after] - t_release
     stretch = (phi2 - phib) * np.exp(-C2 / D2 * t)  # sd.phi_rel
@@ -207,6 +207,55 @@ def test_a_released_clutch_leaves_the_gear_shafts_to_their_damper() -> None:
     wb = r["J2.w"][rows] - r["sd.w_rel"][rows]
     assert wb[0] == pytest.approx(w1 / RATIO, rel=1e-7)
     assert wb[-1] == pytest.approx(w2 - C2 * (phib - phi2) / D2, rel=1e-6)
+    assert _energy_drift(r) < 1e-7
+
+
+MU_TABLE = [[0.0, 0.6], [5.0, 0.4], [20.0, 0.3]]
+
+
+def test_a_speed_dependent_friction_table_on_the_massless_shaft() -> None:
+    """The clutch's mu falls with the slip speed, so the balance of the gear shafts is not
+    affine in their speed (solved by Newton steps): the oracle solves
+    c(φb − φ2) + d(wb − w2) = ratio·fn·mu(w1 − ratio·wb) by brentq at every evaluation."""
+    from scipy.optimize import brentq
+
+    def mu(w: float) -> float:
+        return float(np.interp(abs(w), [p[0] for p in MU_TABLE], [p[1] for p in MU_TABLE]))
+
+    def gear_speed(y: np.ndarray) -> float:
+        _phi1, w1, phib, phi2, w2 = y
+
+        def balance(wb: float) -> float:
+            return C2 * (phib - phi2) + D2 * (wb - w2) - RATIO * FN * mu(w1 - RATIO * wb)
+
+        return brentq(balance, -1e3, 1e3, xtol=1e-14, rtol=1e-15)  # monotone: d > ratio²·fn·|mu'|
+
+    def slip(_t: float, y: np.ndarray) -> list[float]:
+        w1, w2 = y[1], y[4]
+        tf = FN * mu(w1 - RATIO * gear_speed(y))
+        return [w1, (T_DRIVE - tf) / J1, gear_speed(y), w2, RATIO * tf / J2]
+
+    def ends(_t: float, y: np.ndarray) -> float:
+        return y[1] - RATIO * gear_speed(y)
+
+    ends.terminal = True  # type: ignore[attr-defined]
+    w1 = W1 + T_DRIVE / J1 * T_PRESS
+    y0 = [W1 * T_PRESS + 0.5 * T_DRIVE / J1 * T_PRESS**2, w1, 0.0, 0.0, 0.0]
+    oracle = solve_ivp(
+        slip, (T_PRESS, 1.0), y0, events=ends, method="DOP853", rtol=1e-11, atol=1e-11, dense_output=True
+    )
+    t_lock = float(oracle.t_events[0][0])
+
+    m = _clutch_gear_line()
+    m.components["clutch"].params["mu_pos"] = MU_TABLE
+    r = m.simulate()
+    assert r.lock_times("clutch") == [pytest.approx(t_lock, abs=1e-7)]
+    sliding = (r.time > T_PRESS) & (r.time < t_lock)
+    y = oracle.sol(r.time[sliding])
+    for name, k in (("J1.w", 1), ("J2.w", 4), ("sd.flange_a.phi", 2)):
+        assert np.abs(r[name][sliding] - y[k]).max() < 1e-6 * W1, name
+    wb = np.array([gear_speed(yk) for yk in y.T])
+    assert np.abs((r["J2.w"] - r["sd.w_rel"])[sliding] - wb).max() < 1e-6 * W1
     assert _energy_drift(r) < 1e-7
 
 

@@ -3,6 +3,8 @@
 //! `tau0_max`, …), heat flows and the state derivatives. The integrator, the zero-crossing
 //! functions, the event iteration and the result rows all read this one workspace.
 
+use nalgebra::{DMatrix, DVector};
+
 use super::kkt::ModeMatrix;
 use super::massless::Massless;
 use crate::switching::element::{ElementValues, Kinematics, ModeKey, Solved, SwitchState};
@@ -251,9 +253,10 @@ fn forces(sys: &System, disc: &DiscreteState, ws: &mut Workspace, f: &mut [f64])
     }
 }
 
-/// Solves the algebraic speeds of the shafts without inertia (`Nᵀf = 0`), then the forces at
-/// them. Affine laws need one correction (the second confirms it); other speed-dependent
-/// torques on such a shaft converge as a fixed point while the dampers dominate.
+/// Solves the algebraic speeds of the shafts without inertia (`Nᵀf = 0`), leaving the forces at
+/// them in `f`. Affine laws need one step (the second confirms it); when other speed-dependent
+/// torques act along `N` (a friction table), Newton steps follow, each with the slope measured
+/// by finite differences.
 fn massless_speeds(
     sys: &System,
     ml: &Massless,
@@ -261,21 +264,64 @@ fn massless_speeds(
     ws: &mut Workspace,
     f: &mut [f64],
 ) {
-    for _ in 0..MASSLESS_ITERATIONS {
+    let mut slope: Option<DMatrix<f64>> = None;
+    for iteration in 0..MASSLESS_ITERATIONS {
         let scale = ws.w.iter().fold(1.0f64, |m, w| m.max(w.abs()));
-        let step = ml.correct(f, &mut ws.w);
-        for (k, law) in sys.laws.iter().enumerate() {
-            ws.law_w[k] = law.rel.dot(&ws.w);
-        }
-        forces(sys, disc, ws, f);
-        if step <= 1e-14 * scale {
+        let r = ml.residual(f);
+        let step = match &slope {
+            Some(m) => m
+                .clone()
+                .lu()
+                .solve(&r)
+                .unwrap_or_else(|| ml.affine_step(&r)),
+            None => ml.affine_step(&r),
+        };
+        ml.add(&step, &mut ws.w);
+        refresh(sys, disc, ws, f);
+        if step.amax() <= 1e-14 * scale {
             break;
+        }
+        if iteration >= 1 {
+            // not affine: Newton, the slope measured anew (a table's kink changes it)
+            slope = Some(measured_slope(sys, ml, disc, ws, f, scale));
         }
     }
 }
 
-/// Bound on the fixed point of `massless_speeds`.
-const MASSLESS_ITERATIONS: usize = 8;
+/// `−∂(Nᵀf)/∂s` at the speeds in `ws`, by forward differences along each direction.
+fn measured_slope(
+    sys: &System,
+    ml: &Massless,
+    disc: &DiscreteState,
+    ws: &mut Workspace,
+    f: &mut [f64],
+    scale: f64,
+) -> DMatrix<f64> {
+    let k = ml.dim();
+    let r0 = ml.residual(f);
+    let h = 1e-7 * scale;
+    let mut m = DMatrix::zeros(k, k);
+    for j in 0..k {
+        let e = DVector::from_fn(k, |i, _| if i == j { h } else { 0.0 });
+        ml.add(&e, &mut ws.w);
+        refresh(sys, disc, ws, f);
+        m.set_column(j, &((&r0 - ml.residual(f)) / h));
+        ml.add(&-e, &mut ws.w);
+    }
+    refresh(sys, disc, ws, f);
+    m
+}
+
+/// The laws' relative speeds and the forces after the speeds in `ws` changed.
+fn refresh(sys: &System, disc: &DiscreteState, ws: &mut Workspace, f: &mut [f64]) {
+    for (k, law) in sys.laws.iter().enumerate() {
+        ws.law_w[k] = law.rel.dot(&ws.w);
+    }
+    forces(sys, disc, ws, f);
+}
+
+/// Bound on the steps of `massless_speeds`.
+const MASSLESS_ITERATIONS: usize = 16;
 
 /// Heat flows into the heat network, the energy audit and its rates.
 fn heat_and_energy(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Workspace) {

@@ -67,14 +67,20 @@ impl Massless {
         }))
     }
 
-    /// The speed change along `N` that makes `Nᵀ·f = 0`, with `f` the forces at the current
-    /// speeds: `w += N·(NᵀDN)⁻¹·Nᵀf` (exact when the forces are affine in the speeds).
-    /// Returns the size of the change.
-    pub fn correct(&self, f: &[f64], w: &mut [f64]) -> f64 {
-        let r = DVector::from_iterator(self.basis.len(), self.basis.iter().map(|v| v.dot(f)));
-        let s = &self.inv * r;
-        self.add(&s, w);
-        s.amax()
+    /// `Nᵀ·f`: the torque balances of the massless directions (zero once the speeds are solved).
+    pub fn residual(&self, f: &[f64]) -> DVector<f64> {
+        DVector::from_iterator(self.basis.len(), self.basis.iter().map(|v| v.dot(f)))
+    }
+
+    /// The step `s` along `N` (`w += N·s`) that zeroes the residual `r` if the forces are
+    /// affine in the speeds: `(NᵀDN)⁻¹·r`.
+    pub fn affine_step(&self, r: &DVector<f64>) -> DVector<f64> {
+        &self.inv * r
+    }
+
+    /// The number of massless directions.
+    pub fn dim(&self) -> usize {
+        self.basis.len()
     }
 
     /// The accelerations along `N`: the derivative of `Nᵀ·f = 0` gives
@@ -89,7 +95,8 @@ impl Massless {
         self.add(&beta, a);
     }
 
-    fn add(&self, s: &DVector<f64>, x: &mut [f64]) {
+    /// `x += N·s`.
+    pub fn add(&self, s: &DVector<f64>, x: &mut [f64]) {
         for (v, &sj) in self.basis.iter().zip(s.iter()) {
             for &(i, c) in &v.terms {
                 x[i] += c * sj;
@@ -110,7 +117,7 @@ fn support(basis: &[Rel]) -> Vec<usize> {
 }
 
 /// A basis of `{v : v = 0 on massive nodes, G·v = 0}`. Massless nodes no row touches are unit
-/// vectors (exact); a row left with one free massless node holds that node (peeled off, so a
+/// vectors (exact); a row left with one free massless node holds that node (`peel`, so a
 /// drivetrain's gears to inertias cost nothing); the null space of the rest of G comes from
 /// an eigen-decomposition of its (small) Gram matrix.
 fn free_directions(sys: &System, rows: &[&Rel]) -> Vec<Rel> {
@@ -118,26 +125,7 @@ fn free_directions(sys: &System, rows: &[&Rel]) -> Vec<Rel> {
     if !free.contains(&true) {
         return Vec::new();
     }
-    let mut live: Vec<&Rel> = (rows.iter().copied())
-        .filter(|r| r.terms.iter().any(|&(i, _)| free[i]))
-        .collect();
-    loop {
-        let before = live.len();
-        live.retain(|r| {
-            let mut nodes = r.terms.iter().filter(|&&(i, c)| free[i] && c != 0.0);
-            match (nodes.next(), nodes.next()) {
-                (Some(&(i, _)), None) => {
-                    free[i] = false;
-                    false
-                }
-                (None, _) => false,
-                _ => true,
-            }
-        });
-        if live.len() == before {
-            break;
-        }
-    }
+    let live = peel(rows, &mut free);
     let mut touched = vec![false; sys.nodes];
     live.iter()
         .for_each(|r| r.terms.iter().for_each(|&(i, _)| touched[i] = true));
@@ -152,6 +140,38 @@ fn free_directions(sys: &System, rows: &[&Rel]) -> Vec<Rel> {
     }
     basis.extend(null_space(&live, &cols, sys.nodes));
     basis
+}
+
+/// Takes the free nodes that a row holds alone off `free` until none is left (a worklist, linear
+/// in the rows' terms); returns the rows that still move two or more free nodes.
+fn peel<'a>(rows: &[&'a Rel], free: &mut [bool]) -> Vec<&'a Rel> {
+    let mut count: Vec<usize> = (rows.iter())
+        .map(|r| r.terms.iter().filter(|&&(i, _)| free[i]).count())
+        .collect();
+    let mut rows_of: Vec<Vec<usize>> = vec![Vec::new(); free.len()];
+    for (k, r) in rows.iter().enumerate() {
+        r.terms
+            .iter()
+            .filter(|&&(i, _)| free[i])
+            .for_each(|&(i, _)| rows_of[i].push(k));
+    }
+    let mut queue: Vec<usize> = (0..rows.len()).filter(|&k| count[k] == 1).collect();
+    while let Some(k) = queue.pop() {
+        let Some(&(i, _)) = rows[k].terms.iter().find(|&&(i, _)| free[i]) else {
+            continue; // its last free node was taken by another row
+        };
+        free[i] = false;
+        for &k2 in &rows_of[i] {
+            count[k2] -= 1;
+            if count[k2] == 1 {
+                queue.push(k2);
+            }
+        }
+    }
+    (rows.iter().zip(&count))
+        .filter(|(_, &c)| c >= 2)
+        .map(|(r, _)| *r)
+        .collect()
 }
 
 /// The null space of `rows` restricted to the nodes `cols`, each vector scaled to a largest

@@ -254,7 +254,7 @@ fn forces(sys: &System, disc: &DiscreteState, ws: &mut Workspace, f: &mut [f64])
 }
 
 /// Solves the algebraic speeds of the shafts without inertia (`Nᵀf = 0`), leaving the forces at
-/// them in `f`. Affine laws need one step (the second confirms it); when other speed-dependent
+/// them in `f`. Affine laws need one step (the next residual confirms it); when other speed-dependent
 /// torques act along `N` (a friction table), Newton steps follow, each with the slope measured
 /// by finite differences.
 fn massless_speeds(
@@ -265,6 +265,7 @@ fn massless_speeds(
     f: &mut [f64],
 ) {
     let mut slope: Option<DMatrix<f64>> = None;
+    let (mut first, mut last) = (f64::INFINITY, f64::INFINITY);
     for iteration in 0..MASSLESS_ITERATIONS {
         let scale = ws.w.iter().fold(1.0f64, |m, w| m.max(w.abs()));
         let r = ml.residual(f);
@@ -276,15 +277,26 @@ fn massless_speeds(
                 .unwrap_or_else(|| ml.affine_step(&r)),
             None => ml.affine_step(&r),
         };
+        let size = step.amax();
+        // solved, or Newton at its round-off floor (tiny steps that no longer shrink): `f` is
+        // at these speeds already
+        if size <= 1e-14 * scale || (size >= 0.5 * last && size <= 1e-9 * first) {
+            break;
+        }
         ml.add(&step, &mut ws.w);
         refresh(sys, disc, ws, f);
-        if step.amax() <= 1e-14 * scale {
+        // affine (the second step is round-off of the first): done
+        if iteration == 1 && size <= 1e-9 * first {
             break;
         }
         if iteration >= 1 {
             // not affine: Newton, the slope measured anew (a table's kink changes it)
             slope = Some(measured_slope(sys, ml, disc, ws, f, scale));
         }
+        if iteration == 0 {
+            first = size;
+        }
+        last = size;
     }
 }
 

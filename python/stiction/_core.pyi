@@ -74,8 +74,9 @@ def experiment(
 def initialization(model_toml: str, base_dir: str = ".") -> list[tuple[str, float, str, float]]:
     """(variable, start, "fixed" | "guessed" | "computed", initial value) per start value."""
 
-def check(model_toml: str, base_dir: str = ".") -> None:
-    """Validate a model without running it; raises ModelError."""
+def check(model_toml: str, base_dir: str = ".", motion: bool = True) -> None:
+    """Validate a model without running it (with ``motion``: also that every shaft's motion is
+    determined); raises ModelError."""
 
 def catalogue() -> list[TypeInfo]:
     """Every component type: MSL class, parameters, ports (name, kind, enabling Boolean), variables."""

@@ -42,6 +42,16 @@ impl Rel {
         self.terms.iter().map(|&(i, c)| c * v[i]).sum()
     }
 
+    /// `Σ cᵢ·dᵢ` over the nodes both rows move.
+    pub fn dot_rel(&self, other: &Rel) -> f64 {
+        (self.terms.iter())
+            .filter_map(|&(i, c)| {
+                let (_, d) = other.terms.iter().find(|(j, _)| *j == i)?;
+                Some(c * d)
+            })
+            .sum()
+    }
+
     #[inline]
     pub fn angle(&self, phi: &[f64]) -> f64 {
         self.dot(phi) + self.offset

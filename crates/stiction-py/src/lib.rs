@@ -256,14 +256,19 @@ fn simulate(
     Ok(RawResult(sim.into_result()))
 }
 
-/// Validates a model (parameters, ports, connections, initial values) without simulating.
+/// Validates a model (parameters, ports, connections, initial values and, with `motion`, that
+/// every shaft's motion is determined) without simulating.
 #[pyfunction]
-#[pyo3(signature = (model_toml, base_dir = "."))]
-fn check(model_toml: &str, base_dir: &str) -> PyResult<()> {
+#[pyo3(signature = (model_toml, base_dir = ".", motion = true))]
+fn check(model_toml: &str, base_dir: &str, motion: bool) -> PyResult<()> {
     let spec = parse(model_toml, base_dir, &HashMap::new(), None)?;
     guarded(|| {
         let sys = stiction_core::assembly::assemble(&spec)?;
-        stiction_core::simulation::initial_state(&sys)?;
+        if motion {
+            stiction_core::simulation::check_model(&sys)?;
+        } else {
+            stiction_core::simulation::initial_state(&sys)?;
+        }
         Ok(())
     })
 }

@@ -27,6 +27,9 @@ impl ForceLaw for SpringDamperLaw {
     fn loss_power(&self, x: &LawCtx, _tau: f64) -> f64 {
         self.d * x.w_rel * x.w_rel
     }
+    fn linear(&self) -> Option<(f64, f64)> {
+        Some((self.c, self.d))
+    }
 }
 
 struct Compliant {

@@ -3,7 +3,10 @@
 //! `tau0_max`, …), heat flows and the state derivatives. The integrator, the zero-crossing
 //! functions, the event iteration and the result rows all read this one workspace.
 
+use nalgebra::{DMatrix, DVector};
+
 use super::kkt::ModeMatrix;
+use super::massless::Massless;
 use crate::switching::element::{ElementValues, Kinematics, ModeKey, Solved, SwitchState};
 use crate::system::{EnergyRole, LawCtx, System};
 use crate::thermal::HeatCache;
@@ -163,6 +166,23 @@ pub fn kinematics(
     }
 }
 
+/// Writes the algebraic speeds of the shafts without inertia in mode `mm` into `x` (its other
+/// entries unchanged), so that recorded rows and event states hold the speeds the system has.
+pub fn consistent_speeds(
+    sys: &System,
+    mm: &ModeMatrix,
+    disc: &DiscreteState,
+    t: f64,
+    x: &mut [f64],
+    horizon: f64,
+    ws: &mut Workspace,
+) {
+    if mm.massless.is_some() {
+        evaluate(sys, mm, disc, t, x, horizon, ws);
+        x[sys.nodes..2 * sys.nodes].copy_from_slice(&ws.w);
+    }
+}
+
 /// Evaluates everything at (t, x) in discrete state `disc`, whose mode `mm` was factored for.
 /// (A LossyGear whose losses depend on its speed changes the factored matrix by a rank-one term.)
 pub fn evaluate(
@@ -187,7 +207,35 @@ fn accelerations(sys: &System, mm: &ModeMatrix, disc: &DiscreteState, ws: &mut W
     let mut rhs = std::mem::take(&mut ws.rhs);
     rhs.clear();
     rhs.resize(mm.size, 0.0);
-    let f = &mut rhs[..n];
+    forces(sys, disc, ws, &mut rhs[..n]);
+    if let Some(ml) = &mm.massless {
+        massless_speeds(sys, ml, disc, ws, &mut rhs[..n]);
+    }
+    let elements = &ws.elements;
+    mm.solve_with_slopes(sys, |k| elements[k].slope, &mut rhs);
+    let m = sys.constraints.len();
+    ws.a.copy_from_slice(&rhs[..n]);
+    if let Some(ml) = &mm.massless {
+        ml.accelerate(&ws.w, &mut ws.a);
+    }
+    ws.constraint_tau.copy_from_slice(&rhs[n..n + m]);
+    let multiplier = |row: Option<usize>| row.map(|r| rhs[n + r]);
+    for (k, (e, st)) in sys.switching.iter().zip(&disc.switching).enumerate() {
+        let rows = &mm.element_rows[k];
+        let solved = Solved {
+            a: &ws.a,
+            permanent: multiplier(rows.permanent),
+            lock: multiplier(rows.lock),
+            held: rows.held,
+        };
+        e.solved(st, &solved, &mut ws.elements[k]);
+    }
+    ws.rhs = rhs;
+}
+
+/// The generalized forces `f` of the laws and switching elements at the speeds in `ws`.
+fn forces(sys: &System, disc: &DiscreteState, ws: &mut Workspace, f: &mut [f64]) {
+    f.fill(0.0);
     for (k, law) in sys.laws.iter().enumerate() {
         let tau = law.law.tau(&ws.law_ctx(sys, disc, k));
         ws.law_tau[k] = tau;
@@ -206,24 +254,89 @@ fn accelerations(sys: &System, mm: &ModeMatrix, disc: &DiscreteState, ws: &mut W
     {
         e.forces(st, &kin, v, f);
     }
-    let elements = &ws.elements;
-    mm.solve_with_slopes(sys, |k| elements[k].slope, &mut rhs);
-    let m = sys.constraints.len();
-    ws.a.copy_from_slice(&rhs[..n]);
-    ws.constraint_tau.copy_from_slice(&rhs[n..n + m]);
-    let multiplier = |row: Option<usize>| row.map(|r| rhs[n + r]);
-    for (k, (e, st)) in sys.switching.iter().zip(&disc.switching).enumerate() {
-        let rows = &mm.element_rows[k];
-        let solved = Solved {
-            a: &ws.a,
-            permanent: multiplier(rows.permanent),
-            lock: multiplier(rows.lock),
-            held: rows.held,
-        };
-        e.solved(st, &solved, &mut ws.elements[k]);
-    }
-    ws.rhs = rhs;
 }
+
+/// Solves the algebraic speeds of the shafts without inertia (`Nᵀf = 0`), leaving the forces at
+/// them in `f`. Affine laws need one step (the next residual confirms it); when other speed-dependent
+/// torques act along `N` (a friction table), Newton steps follow, each with the slope measured
+/// by finite differences.
+fn massless_speeds(
+    sys: &System,
+    ml: &Massless,
+    disc: &DiscreteState,
+    ws: &mut Workspace,
+    f: &mut [f64],
+) {
+    let mut slope: Option<DMatrix<f64>> = None;
+    let (mut first, mut last) = (f64::INFINITY, f64::INFINITY);
+    for iteration in 0..MASSLESS_ITERATIONS {
+        let scale = ws.w.iter().fold(1.0f64, |m, w| m.max(w.abs()));
+        let r = ml.residual(f);
+        let step = match &slope {
+            Some(m) => m
+                .clone()
+                .lu()
+                .solve(&r)
+                .unwrap_or_else(|| ml.affine_step(&r)),
+            None => ml.affine_step(&r),
+        };
+        let size = step.amax();
+        // solved, or Newton at its round-off floor (tiny steps that no longer shrink): `f` is
+        // at these speeds already
+        if size <= 1e-14 * scale || (size >= 0.5 * last && size <= 1e-9 * first) {
+            break;
+        }
+        ml.add(&step, &mut ws.w);
+        refresh(sys, disc, ws, f);
+        // affine (the second step is round-off of the first): done
+        if iteration == 1 && size <= 1e-9 * first {
+            break;
+        }
+        if iteration >= 1 {
+            // not affine: Newton, the slope measured anew (a table's kink changes it)
+            slope = Some(measured_slope(sys, ml, disc, ws, f, scale));
+        }
+        if iteration == 0 {
+            first = size;
+        }
+        last = size;
+    }
+}
+
+/// `−∂(Nᵀf)/∂s` at the speeds in `ws`, by forward differences along each direction.
+fn measured_slope(
+    sys: &System,
+    ml: &Massless,
+    disc: &DiscreteState,
+    ws: &mut Workspace,
+    f: &mut [f64],
+    scale: f64,
+) -> DMatrix<f64> {
+    let k = ml.dim();
+    let r0 = ml.residual(f);
+    let h = 1e-7 * scale;
+    let mut m = DMatrix::zeros(k, k);
+    for j in 0..k {
+        let e = DVector::from_fn(k, |i, _| if i == j { h } else { 0.0 });
+        ml.add(&e, &mut ws.w);
+        refresh(sys, disc, ws, f);
+        m.set_column(j, &((&r0 - ml.residual(f)) / h));
+        ml.add(&-e, &mut ws.w);
+    }
+    refresh(sys, disc, ws, f);
+    m
+}
+
+/// The laws' relative speeds and the forces after the speeds in `ws` changed.
+fn refresh(sys: &System, disc: &DiscreteState, ws: &mut Workspace, f: &mut [f64]) {
+    for (k, law) in sys.laws.iter().enumerate() {
+        ws.law_w[k] = law.rel.dot(&ws.w);
+    }
+    forces(sys, disc, ws, f);
+}
+
+/// Bound on the steps of `massless_speeds`.
+const MASSLESS_ITERATIONS: usize = 16;
 
 /// Heat flows into the heat network, the energy audit and its rates.
 fn heat_and_energy(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Workspace) {

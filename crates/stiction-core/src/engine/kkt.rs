@@ -18,6 +18,7 @@ use std::cell::RefCell;
 
 use nalgebra::{DMatrix, DVector};
 
+use super::massless::Massless;
 use crate::error::SimError;
 use crate::linalg::{Factorization, LinearSolver, RowBasis, Triplets};
 use crate::switching::element::{Column, ModeKey};
@@ -45,6 +46,8 @@ pub struct ModeMatrix {
     /// Scratch for the rank-one correction (`solve_with_slopes`), so an evaluation allocates
     /// nothing.
     scratch: RefCell<Vec<f64>>,
+    /// Shafts without inertia whose speeds are algebraic in this mode (rows `Nᵀa = 0` last).
+    pub massless: Option<Massless>,
 }
 
 impl ModeMatrix {
@@ -56,11 +59,19 @@ impl ModeMatrix {
         time: f64,
         solver: &dyn LinearSolver,
     ) -> Result<Self, SimError> {
-        let (rows, element_rows) = mode_rows(sys, keys);
+        let (mut rows, element_rows) = mode_rows(sys, keys);
+        let g: Vec<&Rel> = rows.iter().map(|(rel, _)| *rel).collect();
+        let massless = Massless::of(sys, &g).map_err(|nodes| SimError::SingularMode {
+            time,
+            detail: singular_detail(sys, keys, &nodes),
+        })?;
+        if let Some(ml) = &massless {
+            rows.extend(ml.basis.iter().map(|v| (v, Column::Same)));
+        }
         let m = kkt_matrix(sys, &rows);
         let factors = solver.factor(&m).map_err(|_| SimError::SingularMode {
             time,
-            detail: singular_detail(sys, keys),
+            detail: singular_detail(sys, keys, &massless_nodes(sys)),
         })?;
         Ok(Self {
             factors,
@@ -68,6 +79,7 @@ impl ModeMatrix {
             element_rows,
             keys: keys.to_vec(),
             scratch: RefCell::new(Vec::new()),
+            massless,
         })
     }
 
@@ -222,11 +234,35 @@ fn kkt_matrix(sys: &System, rows: &[(&Rel, Column)]) -> Triplets {
     m
 }
 
-fn singular_detail(sys: &System, keys: &[ModeKey]) -> String {
-    let massless: Vec<String> = (0..sys.nodes)
-        .filter(|&i| sys.mass[i] == 0.0)
-        .map(|i| format!("[{}]", sys.node_label(i)))
+fn massless_nodes(sys: &System) -> Vec<usize> {
+    (0..sys.nodes).filter(|&i| sys.mass[i] == 0.0).collect()
+}
+
+/// The shafts as the messages name them: `[J1.flange_b, spring.flange_a], …`.
+pub fn shaft_names(sys: &System, nodes: &[usize]) -> String {
+    let names: Vec<String> = (nodes.iter())
+        .map(|&i| format!("[{}]", sys.node_label(i)))
         .collect();
+    names.join(", ")
+}
+
+/// Whether some shaft's motion is determined by nothing — no inertia, no damper, no row — even
+/// with every switching element locked (the most any mode holds). Such a model fails in every
+/// mode; `check` reports it before a run.
+pub fn undetermined_shafts(sys: &System) -> Option<Vec<usize>> {
+    let keys: Vec<ModeKey> = (sys.switching.iter())
+        .map(|_| ModeKey {
+            locked: true,
+            slope: 0.0,
+        })
+        .collect();
+    let (rows, _) = mode_rows(sys, &keys);
+    let g: Vec<&Rel> = rows.iter().map(|(rel, _)| *rel).collect();
+    Massless::of(sys, &g).err()
+}
+
+fn singular_detail(sys: &System, keys: &[ModeKey], nodes: &[usize]) -> String {
+    let massless = nodes;
     let locked: Vec<&str> = sys
         .switching
         .iter()
@@ -237,8 +273,8 @@ fn singular_detail(sys: &System, keys: &[ModeKey]) -> String {
     let mut msg = String::new();
     if !massless.is_empty() {
         msg += &format!(
-            "; shafts without inertia: {} — give each an Inertia or hold it with a constraint",
-            massless.join(", ")
+            "; shafts without inertia: {} — give each an Inertia or a Damper, or hold it with a constraint",
+            shaft_names(sys, massless)
         );
     }
     if !locked.is_empty() {

@@ -7,6 +7,7 @@ mod crossings;
 pub mod eval;
 mod iteration;
 pub mod kkt;
+pub mod massless;
 
 pub use crossings::{indicator_count, indicator_label, indicators, speed_rates};
 pub use iteration::{iterate, EventPoint, ModeCache, ModeChange};

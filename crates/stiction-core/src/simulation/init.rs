@@ -3,9 +3,23 @@
 //! freedom they leave is filled with start-value guesses, in model order, as Modelica tools do.
 
 use crate::engine::eval::Layout;
+use crate::engine::kkt::{shaft_names, undetermined_shafts};
 use crate::error::ModelError;
 use crate::linalg::{LinearSolver, RowBasis, SizedLu, Triplets};
 use crate::system::{InitEq, System};
+
+/// What can be known of a model before a run: its start values solve, and every shaft's motion
+/// is determined by something (an inertia, a damper, a constraint) in some mode.
+pub fn check_model(sys: &System) -> Result<(), ModelError> {
+    initial_state(sys)?;
+    match undetermined_shafts(sys) {
+        None => Ok(()),
+        Some(nodes) => Err(ModelError::File(format!(
+            "the motion of shafts without inertia is not determined: {} — give each an Inertia or a Damper, or hold it with a constraint",
+            shaft_names(sys, &nodes)
+        ))),
+    }
+}
 
 pub fn initial_state(sys: &System) -> Result<Vec<f64>, ModelError> {
     Ok(initial_state_and_guesses(sys)?.x)

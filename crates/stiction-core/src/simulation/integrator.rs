@@ -165,6 +165,7 @@ pub fn problem(
             f0_x,
             jacobians,
             horizon,
+            ..
         } = &mut *guard;
         let horizon = *horizon;
         let vnorm = v.iter().map(|a| a * a).sum::<f64>().sqrt();

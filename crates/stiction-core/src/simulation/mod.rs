@@ -25,14 +25,14 @@ use std::time::Instant;
 
 use diffsol::OdeSolverMethod;
 
-pub use init::{initial_state, initial_state_and_guesses, InitialState};
+pub use init::{check_model, initial_state, initial_state_and_guesses, InitialState};
 pub use stepper::Cursor;
 
 use integrator::{solver_for, with_solver, IntegratorCell};
 use stepper::Stepper;
 
 use crate::assembly::assemble;
-use crate::engine::eval::{evaluate, DiscreteState, Workspace};
+use crate::engine::eval::{consistent_speeds, evaluate, DiscreteState, Workspace};
 use crate::engine::kkt::ModeMatrix;
 use crate::engine::{iterate, EventPoint, ModeCache};
 use crate::error::{ModelError, SimError};
@@ -70,6 +70,18 @@ pub(crate) struct Phase {
     f0_x: Vec<f64>,
     /// Jacobians the implicit methods built (points where their columns were differenced).
     jacobians: usize,
+    /// For `project`, so that `ws` keeps what the stepper evaluated last.
+    scratch: Option<Workspace>,
+}
+
+impl Phase {
+    /// Writes the algebraic speeds of the shafts without inertia of the current mode into `x`.
+    fn project(&mut self, sys: &System, t: f64, x: &mut [f64]) {
+        if self.mm.massless.is_some() {
+            let ws = self.scratch.get_or_insert_with(|| Workspace::new(sys));
+            consistent_speeds(sys, &self.mm, &self.disc, t, x, self.horizon, ws);
+        }
+    }
 }
 
 /// Receives every output row (grid points and both sides of each event) and every mode change
@@ -175,6 +187,8 @@ impl Simulation {
         }
         let log = initialization_log(&sys, &disc, t0);
         let mm = cache.get(&sys, &disc, t0)?;
+        let mut x0 = x0;
+        consistent_speeds(&sys, &mm, &disc, t0, &mut x0, first_horizon, &mut ws);
         let n = sys.state_len();
         let phase = Rc::new(RefCell::new(Phase {
             horizon: first_horizon,
@@ -187,6 +201,7 @@ impl Simulation {
             f0_t: f64::NAN,
             f0_x: vec![0.0; n],
             jacobians: 0,
+            scratch: None,
         }));
         let problem = integrator::problem(&sys, &phase, t0, x0.clone(), exp.tolerance)?;
         let mut cell = integrator::integrator(problem, &exp.solver)?;

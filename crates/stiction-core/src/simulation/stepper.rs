@@ -217,9 +217,10 @@ impl Stepper {
         }
     }
 
-    /// Records a row at (t, self.x) in the current discrete state.
+    /// Records a row at (t, self.x) in the current discrete state (its consistent speeds).
     pub fn record_here(&mut self, t: f64) {
         self.last_row = t;
+        self.phase.borrow_mut().project(&self.sys, t, &mut self.x);
         let guard = self.phase.borrow();
         if let Some(observer) = self.observer.as_mut() {
             observer.row(&RowView {

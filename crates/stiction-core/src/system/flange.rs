@@ -28,10 +28,23 @@ impl FlangeBuilder {
     }
 
     /// `cut_root[port]` is the connection set of each mechanical port (None for other ports).
-    pub fn finish(self, cut_root: &[Option<usize>]) -> FlangeTorques {
+    pub fn finish(mut self, cut_root: &[Option<usize>]) -> FlangeTorques {
         let mech: Vec<usize> = (0..cut_root.len())
             .filter(|&i| cut_root[i].is_some())
             .collect();
+        let mut sets: HashMap<usize, Vec<usize>> = HashMap::new();
+        for &p in &mech {
+            sets.entry(cut_root[p].expect("mechanical"))
+                .or_default()
+                .push(p);
+        }
+        // A flange alone in its connection set has torque 0 by definition: exactly 0, not the
+        // round-off of a least-squares solution through its component's sum.
+        for members in sets.values() {
+            if let [p] = members[..] {
+                self.known.entry(p).or_insert(Out::Const(0.0));
+            }
+        }
         let unknown: Vec<usize> = mech
             .iter()
             .copied()
@@ -41,12 +54,6 @@ impl FlangeBuilder {
         let mut rows: Vec<Vec<usize>> = Vec::new(); // unknown columns of each equation
         let mut eq_known: Vec<Vec<usize>> = Vec::new();
         let mut eq_total: Vec<Option<Out>> = Vec::new();
-        let mut sets: HashMap<usize, Vec<usize>> = HashMap::new();
-        for &p in &mech {
-            sets.entry(cut_root[p].expect("mechanical"))
-                .or_default()
-                .push(p);
-        }
         let mut roots: Vec<usize> = sets.keys().copied().collect();
         roots.sort();
         for root in roots {
@@ -68,7 +75,13 @@ impl FlangeBuilder {
         for (ports, total) in self.groups {
             if let Some(total) = total {
                 rows.push(ports.iter().filter_map(|p| col.get(p).copied()).collect());
-                eq_known.push(Vec::new());
+                eq_known.push(
+                    ports
+                        .iter()
+                        .copied()
+                        .filter(|p| !col.contains_key(p))
+                        .collect(),
+                );
                 eq_total.push(Some(total));
             }
         }
@@ -109,9 +122,10 @@ impl FlangeTorques {
         }
         rhs.resize(self.eq_total.len(), 0.0);
         for (r, (known, total)) in self.eq_known.iter().zip(&self.eq_total).enumerate() {
+            let known: f64 = known.iter().map(|&p| tau[p]).sum();
             rhs[r] = match total {
-                Some(out) => eval(out),
-                None => -known.iter().map(|&p| tau[p]).sum::<f64>(),
+                Some(out) => eval(out) - known,
+                None => -known,
             };
         }
         for &p in &self.unknown {

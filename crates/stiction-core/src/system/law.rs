@@ -43,6 +43,11 @@ pub trait ForceLaw: Send + Sync {
     fn dissipation(&self, c: &LawCtx, tau: f64) -> f64 {
         self.loss_power(c, tau)
     }
+    /// `(c, d)` when the torque is `c·phi_rel + d·w_rel + g(t)` (a spring, a damper): the
+    /// stiffness and damping that determine the speed of a shaft without inertia.
+    fn linear(&self) -> Option<(f64, f64)> {
+        None
+    }
     fn relation_count(&self) -> usize {
         0
     }

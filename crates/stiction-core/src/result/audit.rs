@@ -7,12 +7,8 @@
 //! independently. A passive element (no source law, no working constraint) must never dissipate
 //! negative power: it never delivers net energy.
 
-use std::rc::Rc;
-
 use super::SimResult;
-use crate::engine::eval::{evaluate, DiscreteState, Workspace};
-use crate::engine::kkt::ModeMatrix;
-use crate::engine::ModeCache;
+use crate::engine::eval::{DiscreteState, Workspace};
 use crate::rel::Rel;
 use crate::system::{EnergyRole, Out, System};
 
@@ -56,33 +52,18 @@ impl SimResult {
         let mut audits: Vec<ElementAudit> = parts.iter().map(|p| empty(&p.name)).collect();
         let mut last: Vec<Option<(f64, f64, f64)>> = vec![None; parts.len()];
         let tr = &self.trajectory;
-        let mut ws = Workspace::new(sys);
-        let mut cache = ModeCache::default();
-        let mut modes: Vec<Option<Rc<ModeMatrix>>> = vec![None; self.discs.len()];
         let mut flange_tau = vec![0.0; sys.flange_torques.ports()];
         let mut scratch = Vec::new();
-        for r in 0..tr.rows() {
-            let id = tr.disc[r] as usize;
-            let disc = &self.discs[id];
-            if modes[id].is_none() {
-                modes[id] = cache.get(sys, disc, tr.t[r]).ok();
-            }
-            let Some(mm) = modes[id].as_ref() else {
-                continue;
+        self.visit_rows(|r, row| {
+            let Some((ws, disc)) = row else {
+                return;
             };
-            evaluate(sys, mm, disc, tr.t[r], tr.x(r), tr.horizon[r], &mut ws);
-            let value = |out: &Out| super::value(out, sys, &ws, disc, &[]);
+            let value = |out: &Out| super::value(out, sys, ws, disc, &[]);
             sys.flange_torques
                 .solve(value, &mut flange_tau, &mut scratch);
             for (k, p) in parts.iter().enumerate() {
-                let (power_in, taken, dissipation) = balance(sys, &ws, disc, p, &flange_tau);
+                let (power_in, taken, dissipation) = balance(sys, ws, disc, p, &flange_tau);
                 let a = &mut audits[k];
-                if (power_in - taken).abs() > 1e-7 && std::env::var("AUDIT_DEBUG").is_ok() {
-                    eprintln!(
-                        "DEBUG {} t={} in={power_in} taken={taken} diss={dissipation} disc={:?}",
-                        p.name, tr.t[r], disc.switching
-                    );
-                }
                 a.residual = a.residual.max((power_in - taken).abs());
                 a.scale = a.scale.max(power_in.abs()).max(taken.abs());
                 a.torque = (p.ports.iter()).fold(a.torque, |m, (i, _)| m.max(flange_tau[*i].abs()));
@@ -94,7 +75,7 @@ impl SimResult {
                 }
                 last[k] = Some((tr.t[r], power_in, dissipation));
             }
-        }
+        });
         for (a, p) in audits.iter_mut().zip(&parts) {
             a.passive = is_passive(sys, p);
         }

@@ -164,6 +164,24 @@ impl SimResult {
         let sys = &*self.system;
         let tr = &self.trajectory;
         let mut recorder = Recorder::new(sys, tr.rows());
+        let width = self.names.len();
+        self.visit_rows(|r, row| match row {
+            Some((ws, disc)) => recorder.record(sys, ws, disc),
+            None => {
+                recorder.data.push(tr.t[r]);
+                recorder
+                    .data
+                    .extend(std::iter::repeat_n(f64::NAN, width - 1));
+            }
+        });
+        recorder.data
+    }
+
+    /// Evaluates the system at every recorded row (each mode factored once) and hands row `r`'s
+    /// workspace and discrete state to `visit`, or None where the mode cannot be factored.
+    fn visit_rows(&self, mut visit: impl FnMut(usize, Option<(&Workspace, &DiscreteState)>)) {
+        let sys = &*self.system;
+        let tr = &self.trajectory;
         let mut ws = Workspace::new(sys);
         let mut cache = ModeCache::default();
         let mut modes: Vec<Option<Rc<ModeMatrix>>> = vec![None; self.discs.len()];
@@ -174,17 +192,14 @@ impl SimResult {
                 // The run factored this mode already; it cannot be singular here.
                 modes[id] = cache.get(sys, disc, tr.t[r]).ok();
             }
-            let Some(mm) = modes[id].as_ref() else {
-                recorder.data.push(tr.t[r]);
-                recorder
-                    .data
-                    .extend(std::iter::repeat_n(f64::NAN, self.names.len() - 1));
-                continue;
-            };
-            evaluate(sys, mm, disc, tr.t[r], tr.x(r), tr.horizon[r], &mut ws);
-            recorder.record(sys, &ws, disc);
+            match modes[id].as_ref() {
+                Some(mm) => {
+                    evaluate(sys, mm, disc, tr.t[r], tr.x(r), tr.horizon[r], &mut ws);
+                    visit(r, Some((&ws, disc)));
+                }
+                None => visit(r, None),
+            }
         }
-        recorder.data
     }
 }
 

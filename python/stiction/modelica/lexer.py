@@ -13,22 +13,68 @@ import bisect
 import functools
 import itertools
 import re
-from typing import NamedTuple
+from collections.abc import Iterator
+from typing import Any, NamedTuple
 
 from ..errors import ModelError
 
 __all__ = ["KEYWORDS", "ModelicaError", "Pos", "Token", "tokenize"]
 
 
-class Pos(NamedTuple):
-    """A place in a source: file label, line and column (both from 1)."""
+class Pos:
+    """A place in a source: file label, line and column (both from 1). Every name in a syntax
+    tree carries one, and almost none is ever shown: a token's line and column are worked out
+    when first read (``Pos.at``), not when the tree is built."""
 
-    source: str
-    line: int
-    col: int
+    __slots__ = ("_lines", "_offset", "_where")
+
+    def __init__(self, source: str, line: int = 1, col: int = 1) -> None:
+        self._lines: _Lines | None = None
+        self._offset = 0
+        self._where: tuple[str, int, int] | None = (source, line, col)
+
+    @classmethod
+    def at(cls, lines: _Lines, offset: int) -> Pos:
+        """The place of character ``offset`` of the text ``lines`` indexes."""
+        pos = cls.__new__(cls)
+        pos._lines, pos._offset, pos._where = lines, offset, None
+        return pos
+
+    def _resolved(self) -> tuple[str, int, int]:
+        if self._where is None:
+            assert self._lines is not None
+            self._where = self._lines.where(self._offset)
+        return self._where
+
+    @property
+    def source(self) -> str:
+        """The file label."""
+        return self._resolved()[0]
+
+    @property
+    def line(self) -> int:
+        """The line, from 1."""
+        return self._resolved()[1]
+
+    @property
+    def col(self) -> int:
+        """The column, from 1."""
+        return self._resolved()[2]
+
+    def __iter__(self) -> Iterator[Any]:
+        return iter(self._resolved())
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Pos) and self._resolved() == other._resolved()
+
+    def __hash__(self) -> int:
+        return hash(self._resolved())
+
+    def __repr__(self) -> str:
+        return "Pos(source={!r}, line={}, col={})".format(*self._resolved())
 
     def __str__(self) -> str:
-        return f"{self.source}:{self.line}:{self.col}"
+        return "{}:{}:{}".format(*self._resolved())
 
 
 class ModelicaError(ModelError):
@@ -48,8 +94,11 @@ class _Lines:
         self.starts = [0, *(m.end() for m in re.finditer("\n", text))]
 
     def pos(self, offset: int) -> Pos:
+        return Pos.at(self, offset)
+
+    def where(self, offset: int) -> tuple[str, int, int]:
         line = bisect.bisect_right(self.starts, offset)
-        return Pos(self.source, line, offset - self.starts[line - 1] + 1)
+        return self.source, line, offset - self.starts[line - 1] + 1
 
 
 class Token(NamedTuple):
@@ -63,7 +112,7 @@ class Token(NamedTuple):
     @property
     def pos(self) -> Pos:
         """Where the token starts."""
-        return self.lines.pos(self.offset)
+        return Pos.at(self.lines, self.offset)
 
 
 KEYWORDS = frozenset(

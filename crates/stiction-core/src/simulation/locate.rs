@@ -1,25 +1,20 @@
-//! Locating zero crossings inside one integrator step, on diffsol's dense output: the step is
-//! sampled at three interior points and its end; a crossing is bracketed and found by Illinois
-//! regula falsi that always returns the instant just *after* it (the event iteration then sees
+//! Locating zero crossings inside one integrator step, on diffsol's dense output, once the scan
+//! (`scan.rs`) has bracketed one: found by Illinois regula falsi that always returns the instant just *after* it (the event iteration then sees
 //! the relation changed, as Modelica requires). diffsol's own root finder is not used: it reports
 //! any sign change to a tolerance we do not control, while MSL semantics need the directional,
 //! frozen-relation crossings of `events::crossings`.
 
-use diffsol::{OdeSolverMethod, VectorCommon};
+use diffsol::OdeSolverMethod;
 
 use super::integrator::Eqn;
+use super::scan::FD_STEP;
 use super::stepper::Stepper;
 use crate::engine::speed_rates;
 use crate::error::SimError;
-use crate::switching::element::NEVER;
-
-/// The step of the backward differences that give rates to indicators with no analytic one,
-/// as a fraction of the integrator step.
-const FD_STEP: f64 = 1e-6;
 
 /// A hump that reaches above zero: bracket start, (indicator, value there, value at the top),
 /// and the top's time.
-type Hump = (f64, (usize, f64, f64), f64);
+pub(super) type Hump = (f64, (usize, f64, f64), f64);
 
 impl Stepper {
     /// The indicator `i` at time t on the dense output of the last step.
@@ -32,102 +27,40 @@ impl Stepper {
     where
         S: OdeSolverMethod<'a, Eqn>,
     {
-        self.load(solver, t)?;
-        self.evaluate_here(t, true);
+        self.indicators_at(solver, t)?;
         Ok(self.z[i])
     }
 
-    /// Looks for a crossing in the last step at three interior points of the dense output and
-    /// at its end — a relation that flips and flips back within one step (a freewheel touching
-    /// lock for a millisecond) is still seen. Leaves the indicators at the step end in `z`.
-    pub(super) fn scan_step<'a, S>(
-        &mut self,
-        solver: &S,
-        t_prev: f64,
-        t_now: f64,
-        candidates: &mut Vec<(usize, f64, f64)>,
-    ) -> Result<Option<(f64, usize)>, SimError>
+    /// Every indicator at time t on the dense output of the last step, in `z` (a probe away
+    /// from the samples the scan keeps).
+    pub(super) fn indicators_at<'a, S>(&mut self, solver: &S, t: f64) -> Result<(), SimError>
     where
         S: OdeSolverMethod<'a, Eqn>,
     {
-        const SAMPLES: usize = 4;
-        let h = FD_STEP * (t_now - t_prev);
-        let finite_differences = self.wants_finite_differences();
-        self.z_scan.copy_from_slice(&self.z_prev);
-        // the rates at the step's start: those of the last sample (NaN right after an event)
-        self.dz_scan.copy_from_slice(&self.dz);
-        let mut a = t_prev;
-        // the sample before `a` (the last interior one of the previous step, if no event since)
-        let mut back = self.hump_back.take();
-        for k in 1..=SAMPLES {
-            let t_sample = t_prev + (t_now - t_prev) * k as f64 / SAMPLES as f64;
-            if finite_differences {
-                self.indicators_before(solver, t_sample.min(t_now), h)?;
-            }
-            let t = if k == SAMPLES {
-                self.x.copy_from_slice(solver.state().y.inner().as_slice());
-                t_now
-            } else {
-                let t = t_prev + (t_now - t_prev) * k as f64 / SAMPLES as f64;
-                self.load(solver, t)?;
-                self.offer_sample(t);
-                t
-            };
-            self.evaluate_here(t, true);
-            {
-                let guard = self.phase.borrow();
-                speed_rates(&self.sys, &guard.disc, &guard.ws, &mut self.dz);
-            }
-            if finite_differences {
-                self.fill_finite_difference_rates(h);
-            }
-            // A speed indicator that rises above zero and falls back between the two samples
-            // ends the bracket at its peak, so it competes with every crossing before it (a
-            // later crossing of another indicator must not hide it).
-            let end = self.end_at_peak(solver, a, t, k == SAMPLES)?;
-            candidates.clear();
-            for (i, (&za, &zb)) in self.z_scan.iter().zip(&self.z).enumerate() {
-                if za <= 0.0 && zb > 0.0 {
-                    candidates.push((i, za, zb));
-                }
-            }
-            if !candidates.is_empty() {
-                return self.locate(solver, a, end, candidates).map(Some);
-            }
-            if let Some((t_back, z_back)) = &back {
-                if let Some(found) = self.hump(solver, (*t_back, z_back.clone()), t_prev, t)? {
-                    candidates.clear();
-                    candidates.push(found.1);
-                    return self.locate(solver, found.0, found.2, candidates).map(Some);
-                }
-            }
-            back = Some((a, self.z_scan.clone()));
-            self.z_scan.copy_from_slice(&self.z);
-            self.dz_scan.copy_from_slice(&self.dz);
-            a = t;
-        }
-        self.hump_back = back;
-        Ok(None)
+        self.probed = true;
+        self.load(solver, t)?;
+        self.evaluate_here(t, true);
+        Ok(())
     }
 
-    /// An indicator that rises and falls back between samples (`back`, the last, `b`) without showing a
-    /// sign change at any of them — a locked clutch's torque passing its falling static limit
+    /// An indicator that rises and falls back between samples (`t_back` with its indicators in
+    /// `z_back`, the last in `z_scan`, `b` in `z`) without showing a sign change at any of them — a locked clutch's torque passing its falling static limit
     /// for a few milliseconds inside one long step. Where three samples make a hump whose top
     /// may reach zero (a parabola through them says so), its maximum is found on the dense
     /// output (golden section); if it is above zero, the crossing lies before it:
     /// `(bracket start, (i, z there, z at the top), top)`, searched within this step (from
-    /// `step_start` at the earliest). Leaves the sample at `b` loaded.
-    fn hump<'a, S>(
+    /// `step_start` at the earliest). Probes overwrite `z`.
+    pub(super) fn hump<'a, S>(
         &mut self,
         solver: &S,
-        back: (f64, Vec<f64>),
+        t_back: f64,
         step_start: f64,
         b: f64,
     ) -> Result<Option<Hump>, SimError>
     where
         S: OdeSolverMethod<'a, Eqn>,
     {
-        let (t_back, z0) = back;
+        let z0 = &self.z_back;
         // the dense output covers this step only: a hump from the last step is searched from here
         let t0 = t_back.max(step_start);
         let may_cross = |zl: f64, zm: f64, zr: f64| {
@@ -154,7 +87,6 @@ impl Stepper {
                 found = Some((t0, (i, z_start, z_top), t_top));
             }
         }
-        self.reload_sample(solver, b)?;
         Ok(found)
     }
 
@@ -193,84 +125,6 @@ impl Stepper {
         Ok((top.1 > 0.0).then_some(top))
     }
 
-    /// The sample at `t` again (after probing elsewhere on the step).
-    fn reload_sample<'a, S>(&mut self, solver: &S, t: f64) -> Result<(), SimError>
-    where
-        S: OdeSolverMethod<'a, Eqn>,
-    {
-        if t == solver.state().t {
-            self.x.copy_from_slice(solver.state().y.inner().as_slice());
-        } else {
-            self.load(solver, t)?;
-        }
-        self.evaluate_here(t, true);
-        let guard = self.phase.borrow();
-        speed_rates(&self.sys, &guard.disc, &guard.ws, &mut self.dz);
-        Ok(())
-    }
-
-    /// `t`, or the peak of a speed indicator that rises above zero and falls back between the
-    /// samples `a` and `t`; the indicators are left evaluated there (the sample at `t` is the
-    /// step's end when `last`).
-    fn end_at_peak<'a, S>(
-        &mut self,
-        solver: &S,
-        a: f64,
-        t: f64,
-        last: bool,
-    ) -> Result<f64, SimError>
-    where
-        S: OdeSolverMethod<'a, Eqn>,
-    {
-        let peak = self.peak_between(solver, a, t)?;
-        let end = if let Some((t_peak, _)) = peak {
-            self.load(solver, t_peak)?;
-            t_peak
-        } else if last {
-            self.x.copy_from_slice(solver.state().y.inner().as_slice());
-            t
-        } else {
-            self.load(solver, t)?;
-            t
-        };
-        self.evaluate_here(end, true);
-        Ok(end)
-    }
-
-    /// Whether this step's indicators need finite-difference rates: one without an analytic
-    /// rate (a locked element's torque against its static limit, a law's relation) is armed.
-    fn wants_finite_differences(&mut self) -> bool {
-        let mut analytic = std::mem::take(&mut self.dz_probe);
-        {
-            let guard = self.phase.borrow();
-            speed_rates(&self.sys, &guard.disc, &guard.ws, &mut analytic);
-        }
-        let armed = (self.z_prev.iter().zip(&analytic))
-            .any(|(&z, &rate)| rate.is_nan() && z <= 0.0 && z != NEVER && z.is_finite());
-        self.dz_probe = analytic;
-        armed
-    }
-
-    /// The indicators at `t − h` (kept in `dz_probe`), for backward differences at `t`.
-    fn indicators_before<'a, S>(&mut self, solver: &S, t: f64, h: f64) -> Result<(), SimError>
-    where
-        S: OdeSolverMethod<'a, Eqn>,
-    {
-        self.load(solver, t - h)?;
-        self.evaluate_here(t - h, true);
-        self.dz_probe.copy_from_slice(&self.z);
-        Ok(())
-    }
-
-    /// Rates of the indicators without an analytic one, from the values at `t − h` and `t`.
-    fn fill_finite_difference_rates(&mut self, h: f64) {
-        for ((rate, &z), &before) in self.dz.iter_mut().zip(&self.z).zip(&self.dz_probe) {
-            if rate.is_nan() {
-                *rate = (z - before) / h;
-            }
-        }
-    }
-
     /// The rate of indicator `i` at `t` inside the samples `span`: analytic for a speed, else a
     /// one-sided difference that stays inside the span (the dense output covers no more).
     fn rate_at<'a, S>(
@@ -283,9 +137,7 @@ impl Stepper {
     where
         S: OdeSolverMethod<'a, Eqn>,
     {
-        self.load(solver, t)?;
-        self.evaluate_here(t, true);
-        let z_t = self.z[i];
+        let z_t = self.indicator_at(solver, t, i)?;
         let analytic = {
             let guard = self.phase.borrow();
             let mut dz = std::mem::take(&mut self.dz_probe);
@@ -308,8 +160,10 @@ impl Stepper {
     /// The earliest peak above zero between samples `a` and `b` of an indicator whose rate goes
     /// from positive (at a, in `dz_scan`) to negative (at b, in `dz`) while it stays ≤ 0 at both
     /// ends: the rate's zero, by bisection on the dense output (a speed's rate is its relative
-    /// acceleration; others' rates are backward differences).
-    fn peak_between<'a, S>(
+    /// acceleration; others' rates are backward differences). A peak the tangents at both ends
+    /// keep below zero is not searched: the tangents bound a concave hump from above, and
+    /// `TANGENT_MARGIN` allows for a hump that is not quite concave.
+    pub(super) fn peak_between<'a, S>(
         &mut self,
         solver: &S,
         a: f64,
@@ -318,10 +172,17 @@ impl Stepper {
     where
         S: OdeSolverMethod<'a, Eqn>,
     {
+        const TANGENT_MARGIN: f64 = 2.0;
+        let reach = TANGENT_MARGIN * (b - a);
         let turning: Vec<usize> = (0..self.dz.len())
             .filter(|&i| {
-                let (za, zb) = (self.z_scan[i], self.z[i]);
-                self.dz_scan[i] > 0.0 && self.dz[i] < 0.0 && za <= 0.0 && zb <= 0.0
+                let (za, zb, dza, dzb) = (self.z_scan[i], self.z[i], self.dz_scan[i], self.dz[i]);
+                dza > 0.0
+                    && dzb < 0.0
+                    && za <= 0.0
+                    && zb <= 0.0
+                    && za + dza * reach > 0.0
+                    && zb - dzb * reach > 0.0
             })
             .collect();
         let mut earliest: Option<(f64, usize)> = None;
@@ -349,7 +210,7 @@ impl Stepper {
 
     /// Earliest instant in (a, b] at which one of `candidates` becomes > 0: Illinois regula falsi
     /// on each, keeping the bracket so the returned time lies just after the crossing.
-    fn locate<'a, S>(
+    pub(super) fn locate<'a, S>(
         &mut self,
         solver: &S,
         a: f64,

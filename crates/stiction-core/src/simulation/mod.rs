@@ -15,6 +15,7 @@ mod grid;
 mod init;
 mod integrator;
 mod locate;
+mod scan;
 mod stepper;
 
 use std::cell::RefCell;

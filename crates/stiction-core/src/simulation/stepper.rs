@@ -15,6 +15,7 @@ use super::auto::StiffnessWatch;
 use super::chatter::ChatterWatch;
 use super::dense::StepPoly;
 use super::integrator::{integrator_error, Eqn, StepBudget, V};
+use super::scan::StepSamples;
 use super::{Observer, Phase};
 use crate::engine::eval::{evaluate, DiscreteState};
 use crate::engine::{indicator_count, indicator_label, indicators, ModeCache};
@@ -73,10 +74,14 @@ pub(super) struct Stepper {
     /// Rates of the speed indicators at the current and the previous sample.
     pub(super) dz: Vec<f64>,
     pub(super) dz_scan: Vec<f64>,
-    /// The last interior sample of the previous step (time, indicators), for humps across the
-    /// step boundary; cleared at events.
-    pub(super) hump_back: Option<(f64, Vec<f64>)>,
+    /// The time of the last interior sample of the previous step (its indicators in `z_back`),
+    /// for humps across the step boundary; cleared at events.
+    pub(super) hump_back: Option<f64>,
+    pub(super) z_back: Vec<f64>,
     pub(super) dz_probe: Vec<f64>,
+    /// The current step's samples, and whether a search probed elsewhere since they were taken.
+    pub(super) samples: StepSamples,
+    pub(super) probed: bool,
     /// State buffer (interpolated or current).
     pub(super) x: Vec<f64>,
     /// diffsol's vector for dense output, reused.
@@ -141,7 +146,10 @@ impl Stepper {
             dz: vec![f64::NAN; nz],
             dz_scan: vec![f64::NAN; nz],
             hump_back: None,
+            z_back: vec![0.0; nz],
             dz_probe: vec![f64::NAN; nz],
+            samples: StepSamples::default(),
+            probed: false,
             x: x0,
             dense: None,
             poly: StepPoly::default(),

@@ -7,7 +7,7 @@ EXAMPLE ?= examples/msl/CoupledClutches.toml
 # what the demo plots: speeds on one axes, the clutch modes on another
 DEMO_SIGNALS ?= J1.w+J2.w+J3.w+J4.w,clutch1.mode+clutch2.mode+clutch3.mode
 
-.PHONY: setup demo test test-rust test-python lint docs bench bench-io bench-fmu bench-scaling bench-sweep bench-stiff soak clean
+.PHONY: setup demo test test-rust test-python lint docs bench bench-io bench-fmu bench-scaling bench-sweep bench-stiff bench-interrupt soak clean
 
 setup:
 	@test -x $(PY) || python3 -m venv $(VENV)
@@ -76,3 +76,8 @@ bench-sweep: setup
 # Solvers on stiff drivetrains (issue 13): tsit45, bdf, esdirk34, auto on examples/stiff and HeatLosses.
 bench-stiff: setup
 	$(VENV)/bin/stiction bench --stiff
+
+# Ctrl-C latency (issue 13): a run, a cancel from another thread, a sweep and the CLI, each
+# interrupted mid-run; prints min / median / max milliseconds (goal 0.2 s)
+bench-interrupt: setup
+	$(PY) scripts/bench_interrupt.py

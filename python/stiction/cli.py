@@ -8,6 +8,7 @@ exits with 1.
 from __future__ import annotations
 
 import functools
+import os
 import sys
 from collections.abc import Callable
 from pathlib import Path
@@ -63,8 +64,13 @@ def _friendly_errors(func: F) -> F:
         except ImportError as exc:
             _fail(f"the compiled engine is not available ({exc}); build it with maturin")
         except KeyboardInterrupt:
+            # Files being written are already gone (removed as the interrupt unwound); leave at
+            # once, as shells expect of Ctrl-C: tearing down the interpreter with NumPy, pandas
+            # and Arrow loaded takes longer than the run took to stop.
             click.echo("interrupted", err=True)
-            sys.exit(130)
+            sys.stdout.flush()
+            sys.stderr.flush()
+            os._exit(130)
 
     return wrapper  # type: ignore[return-value]
 

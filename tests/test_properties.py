@@ -171,7 +171,9 @@ def test_random_drivetrains_keep_their_invariants(model: st.Model) -> None:
     total = r[AUDIT[0]] + r[AUDIT[1]] + r[AUDIT[2]] - r[AUDIT[3]]
     scale = max(1.0, *(float(np.abs(r[n]).max()) for n in AUDIT))
     drift = float(np.abs(total - total[0]).max()) / scale
-    assert drift < 1e-4, f"energy audit off by {drift:.2e} of {scale:.3g} J"
+    # the integrated energies drift with the solver's error: `make soak` found a drivetrain of
+    # four clutches and a 100 rad/s spring off by 1.0e-4 at Tolerance 1e-6, 2.2e-7 at 1e-8
+    assert drift < 3e-4, f"energy audit off by {drift:.2e} of {scale:.3g} J"
     audit = r.audit()  # element by element: every balance closes, no passive element delivers
     assert audit.ok(), str(audit)
     again = model.simulate()

@@ -195,11 +195,6 @@ def test_angular_momentum_is_conserved_when_nothing_outside_acts(model: st.Model
     assert drift <= 1e-9 * scale, f"Σ J·w drifts by {drift:.2e} (scale {scale:.3g})"
 
 
-@pytest.mark.xfail(
-    reason="MSL corner found here: a brake starting one way while a gear drives its shaft the other way "
-    "keeps its start torque, then locks at the slip it gained (PartialFriction with w_small = 1e10)",
-    strict=False,
-)
 @FEWER
 @given(drivetrains())
 def test_a_stuck_element_keeps_its_relative_speed_inside_the_relation_band(model: st.Model) -> None:
@@ -231,11 +226,6 @@ def test_a_tight_tolerance_lies_in_the_tube_of_the_default_one(model: st.Model) 
     assert report.passed, report.failed
 
 
-@pytest.mark.xfail(
-    reason="MSL corner found here: a brake starting one way while a gear drives its shaft the other way "
-    "keeps its start torque, then locks at the slip it gained (PartialFriction with w_small = 1e10)",
-    strict=False,
-)
 @BUDGET
 @given(drivetrains())
 def test_locked_clutches_and_brakes_hold_no_more_than_their_static_friction(model: st.Model) -> None:

@@ -77,7 +77,8 @@ impl FrictionElem {
         (mu, mu * self.cgeo * fn_)
     }
 
-    /// (F1, F2), or the OneWayClutch's start condition (it never starts backward).
+    /// (F1, F2), or the OneWayClutch's start condition (it never starts backward); a start
+    /// held by its hysteresis ends when the element turns the other way (`logic::start_flags`).
     fn friction_start_flags(&self, pre: Discrete, r: Relations, initial: bool) -> (bool, bool) {
         if self.one_way.is_none() {
             return logic::start_flags(pre, r, initial);
@@ -85,7 +86,7 @@ impl FrictionElem {
         let pre_stuck = pre.mode == logic::STUCK;
         let forward = (pre_stuck
             && (r.get(R::SA_ABOVE_MAX)
-                || (pre.start_forward && r.get(R::SA_ABOVE))
+                || (pre.start_forward && r.get(R::SA_ABOVE) && !r.get(R::W_NEG))
                 || r.get(R::W_ABOVE_SMALL)))
             || (initial && r.get(R::W_POS));
         (forward, false)
@@ -255,9 +256,12 @@ impl SwitchingElement for FrictionElem {
         } else if st.pre.mode == logic::BACKWARD {
             (flip(R::W_NEG, -v.w), NEVER)
         } else if st.pre.mode == logic::STUCK && st.pre.start_forward {
-            (flip(R::W_POS, v.w), flip(R::SA_ABOVE, v.sa - v.tau0))
+            // the start ends when sa falls below tau0 or the element turns backward
+            let end = flip(R::SA_ABOVE, v.sa - v.tau0).max(flip(R::W_NEG, -v.w));
+            (flip(R::W_POS, v.w), end)
         } else if st.pre.mode == logic::STUCK && st.pre.start_backward {
-            (flip(R::W_NEG, -v.w), flip(R::SA_BELOW, -v.sa - v.tau0))
+            let end = flip(R::SA_BELOW, -v.sa - v.tau0).max(flip(R::W_POS, v.w));
+            (flip(R::W_NEG, -v.w), end)
         } else {
             (NEVER, NEVER)
         };
@@ -283,7 +287,7 @@ impl SwitchingElement for FrictionElem {
             1 if st.pre.mode == logic::BACKWARD => "backward slip speed reached 0",
             1 if st.pre.start_forward => "started sliding forward (w > 0)",
             1 => "started sliding backward (w < 0)",
-            _ => "start torque fell below the sliding torque (hysteresis)",
+            _ => "the start ended: its torque fell below the sliding torque, or it turned the other way",
         }
     }
 }

@@ -73,14 +73,19 @@ pub fn relations(previous: Relations, q: &Quantities, initial: bool) -> Relation
     previous.update(&relation_functions(q), initial)
 }
 
-/// (F1) and (F2).
+/// (F1) and (F2), with one departure from MSL: a start held by its hysteresis (`sa` between
+/// `tau0` and `tau0_max`) ends when the element moves the other way. MSL keeps it, its
+/// friction torque then drives the motion instead of opposing it, and when the start ends the
+/// element "locks" at the slip it gained and creeps at it (found by the property tests: a brake
+/// starting backward while a lossy gear drove its shaft forward, stuck at 5e-3 rad/s). Ended
+/// there, it locks where its speed leaves zero, inside the relation band.
 pub fn start_flags(pre: Discrete, r: Relations, initial: bool) -> (bool, bool) {
-    let forward = (pre.mode == STUCK
-        && (r.get(R::SA_ABOVE_MAX) || (pre.start_forward && r.get(R::SA_ABOVE))))
+    let keeps_forward = pre.start_forward && r.get(R::SA_ABOVE) && !r.get(R::W_NEG);
+    let keeps_backward = pre.start_backward && r.get(R::SA_BELOW) && !r.get(R::W_POS);
+    let forward = (pre.mode == STUCK && (r.get(R::SA_ABOVE_MAX) || keeps_forward))
         || (pre.mode == BACKWARD && r.get(R::W_ABOVE_SMALL))
         || (initial && r.get(R::W_POS));
-    let backward = (pre.mode == STUCK
-        && (r.get(R::SA_BELOW_MAX) || (pre.start_backward && r.get(R::SA_BELOW))))
+    let backward = (pre.mode == STUCK && (r.get(R::SA_BELOW_MAX) || keeps_backward))
         || (pre.mode == FORWARD && r.get(R::W_BELOW_SMALL))
         || (initial && r.get(R::W_NEG));
     (forward, backward)
@@ -177,6 +182,43 @@ mod tests {
         assert_eq!(start_flags(starting, rel(10.5, 0.0), false), (true, false));
         assert_eq!(start_flags(starting, rel(9.5, 0.0), false), (false, false));
         assert_eq!(start_flags(stuck, rel(-11.5, 0.0), false), (false, true));
+    }
+
+    #[test]
+    fn a_start_held_by_its_hysteresis_ends_when_the_element_moves_the_other_way() {
+        let starting_backward = Discrete {
+            mode: STUCK,
+            start_forward: false,
+            start_backward: true,
+        };
+        // sa between -tau0_max and -tau0: the start holds while the element has not moved ...
+        assert_eq!(
+            start_flags(starting_backward, rel(-10.5, 0.0), false),
+            (false, true)
+        );
+        // ... and ends once it turns forward, so the element locks (MSL would keep starting)
+        assert_eq!(
+            start_flags(starting_backward, rel(-10.5, 1e-9), false),
+            (false, false)
+        );
+        // beyond tau0_max it starts again whatever the speed: the torque now opposes the motion
+        assert_eq!(
+            start_flags(starting_backward, rel(-11.5, 1e-9), false),
+            (false, true)
+        );
+        let starting_forward = Discrete {
+            start_forward: true,
+            start_backward: false,
+            ..starting_backward
+        };
+        assert_eq!(
+            start_flags(starting_forward, rel(10.5, -1e-9), false),
+            (false, false)
+        );
+        assert_eq!(
+            start_flags(starting_forward, rel(10.5, 1e-9), false),
+            (true, false)
+        );
     }
 
     #[test]

@@ -122,3 +122,23 @@ def test_a_switch_a_hair_after_the_start_acts_from_the_start(start_time):
     r = m.simulate()
     assert r["f3.y"][0] == 0.0 and r["c3.free"][0] == 1.0
     assert np.all(r["J3.w"] == 0.0) and np.all(r["J0.w"] == 1.0)
+
+
+def test_a_switch_a_hair_before_the_stop_time_does_not_act_early():
+    """Found by the property tests: a Step at StopTime - 1e-16 is merged into StopTime (no
+    event of its own). It released a locked brake in a state event 1e-10 s before it, with
+    the brake's left row already showing no static limit; now nothing happens before the end."""
+    text = """
+name = "ReleasedAtTheEnd"
+connect = [["drive.flange", "J.flange_a"], ["J.flange_b", "brake.flange_a"], ["press.y", "brake.f_normalized"]]
+[experiment]
+StopTime = 1.0
+[components]
+J = { type = "Inertia", J = 1.0, w = { start = 0.0, fixed = true } }
+drive = { type = "ConstantTorque", tau_constant = 1.0 }
+brake = { type = "Brake", fn_max = 10.0 }
+press = { type = "Step", height = -1.0, offset = 1.0, startTime = 0.9999999999999999 }
+"""
+    r = st.Model.loads(text).simulate()
+    assert [e.cause for e in r.events if e.cause != "initialization"] == []
+    assert (r["brake.locked"] == 1.0).all() and (r["brake.tau0_max"] > 0).all()

@@ -43,7 +43,8 @@ pub fn same_instant(a: f64, b: f64) -> bool {
 /// Modelica's `time >= t0` with frozen time relations: a switch at `t0` has happened once the
 /// event at `t0` was handled, i.e. when `t0` lies before the horizon of unhandled events (and is
 /// not part of the horizon's own event, merged with it). A switch at the same instant as `t`
-/// has happened too: an event that close to the start is merged into the start.
+/// has happened too: an event that close to the start is merged into the start. (One that
+/// close to StopTime is merged into it: the horizon is StopTime once no time event is left.)
 #[inline]
 pub fn reached(t: f64, t0: f64, horizon: f64) -> bool {
     (t >= t0 || same_instant(t, t0)) && t0 < horizon && !same_instant(t0, horizon)

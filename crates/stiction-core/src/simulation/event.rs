@@ -156,7 +156,10 @@ impl Stepper {
         }
         let t_event = self.stop;
         self.next_te += 1;
-        let horizon = events.get(self.next_te).copied().unwrap_or(f64::INFINITY);
+        let horizon = events
+            .get(self.next_te)
+            .copied()
+            .unwrap_or(self.sys.experiment.stop_time);
         let next_stop = events
             .get(self.next_te)
             .copied()

@@ -176,7 +176,9 @@ impl Simulation {
         let mut cache = ModeCache::default();
         let mut disc = DiscreteState::initial(&sys);
         let mut ws = Workspace::new(&sys);
-        let first_horizon = sys.time_events.first().copied().unwrap_or(f64::INFINITY);
+        // Past the last time event the horizon is StopTime: a switch merged into it (too close
+        // to separate, so it has no event of its own) must not act early, 1e-10 s before it.
+        let first_horizon = (sys.time_events.first().copied()).unwrap_or(sys.experiment.stop_time);
         for initial in [true, false] {
             let at = EventPoint {
                 t: t0,

@@ -187,6 +187,14 @@ def _batches(frame: pandas.DataFrame, todo: np.ndarray, size: int, model: Any) -
         yield _Batch(rows, _expanded(model, columns) if expand else columns)
 
 
+def _batch_size(workers: int | None, client: Any) -> int:
+    """Variants per batch. Each batch ends with threads idle while the last runs finish, so
+    local batches are long (256 runs per thread); Dask tasks are shorter (64 runs per core
+    here) so that the cluster's workers stay evenly loaded to the end."""
+    cores = os.cpu_count() or 1
+    return 64 * cores if client is not None else 256 * (workers or cores)
+
+
 def run_batch(
     compiled: CompiledModel,
     variants: dict[str, list[Any]] | list[dict[str, Any]],
@@ -237,7 +245,7 @@ def sweep(
     if store:
         store.load(table)
     todo = np.flatnonzero(~table.done)
-    size = batch_size or 64 * (workers or os.cpu_count() or 1)
+    size = batch_size or _batch_size(workers, client)
     bar = _progress(len(frame), len(frame) - len(todo), progress)
     try:
         batches = _batches(frame, todo, size, model)

@@ -126,11 +126,11 @@ def test_an_interrupted_sweep_resumes_without_running_a_variant_twice(tmp_path, 
     run = sweep_module.run_batch
     ran: list[float] = []
 
-    def counting(compiled, records, *args):
-        ran.extend(r["clutch1.fn_max"] for r in records)
+    def counting(compiled, columns, *args):
+        ran.extend(columns["clutch1.fn_max"])
         if len(ran) > 12:
             raise KeyboardInterrupt
-        return run(compiled, records, *args)
+        return run(compiled, columns, *args)
 
     monkeypatch.setattr(sweep_module, "run_batch", counting)
     with pytest.raises(KeyboardInterrupt):
@@ -140,7 +140,7 @@ def test_an_interrupted_sweep_resumes_without_running_a_variant_twice(tmp_path, 
     monkeypatch.setattr(
         sweep_module,
         "run_batch",
-        lambda c, r, *a: (ran.extend(x["clutch1.fn_max"] for x in r), run(c, r, *a))[1],
+        lambda c, columns, *a: (ran.extend(columns["clutch1.fn_max"]), run(c, columns, *a))[1],
     )
     resumed = sweep(COUPLED, variants, metrics, outputs=["J4.w"], out=tmp_path, batch_size=4, progress=False)
     assert len(ran) == 30 - done_before and len(set(ran)) == len(ran)

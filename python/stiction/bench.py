@@ -70,48 +70,72 @@ def bench(model: Model, repeat: int = 50, warmup: int = 3) -> BenchRow:
 
 @dataclass(frozen=True)
 class SweepBench:
-    """Wall-clock time of one sweep and what a single run of the model costs."""
+    """Wall-clock time of one sweep, the core's own time for its runs, and a single run."""
 
     variants: int
     workers: int
     seconds: float
     single_run_ms: float
+    core_seconds: float
+    where: str = "local"
 
     @property
     def per_variant_ms(self) -> float:
         """Wall time per variant (all workers together)."""
         return 1e3 * self.seconds / self.variants
 
+    @property
+    def overhead(self) -> float:
+        """Time outside the core's runs as a fraction of them: wall × workers against the sum
+        of each variant's ``wall_s`` (measured in the core around building and running it)."""
+        return (self.seconds * self.workers - self.core_seconds) / self.core_seconds
 
-def bench_sweep(model: Model, variants: int, workers: int | None) -> SweepBench:
+    @property
+    def overhead_us(self) -> float:
+        """Time outside the core's runs per variant, in microseconds of one worker."""
+        return 1e6 * (self.seconds * self.workers - self.core_seconds) / self.variants
+
+
+def bench_sweep(model: Model, variants: int, workers: int | None, client: Any = None) -> SweepBench:
     """Sweep ``variants`` Monte Carlo variants of ``model`` (clutch/brake ``fn_max`` of the
-    first friction element found, ±50 %) with two metrics and no trajectories."""
+    first friction element found, ±50 %) with two metrics and no trajectories.
+
+    With ``client`` (a ``distributed.Client``) the sweep runs on its cluster, ``workers``
+    being its total threads; one small sweep first (untimed) lets the workers import
+    stiction, as the local warm-up does. Starting the cluster is not timed."""
     import os
 
     from .sweeps import sample, sweep
 
     compiled = model.compile()
-    name = next(
-        (f"{n}.fn_max" for n, c in model.components.items() if "fn_max" in c.params),
-        None,
-    )
-    dists = (
-        {
-            name: (
-                0.5 * float(model.components[name.split(".")[0]].params["fn_max"]),
-                1.5 * float(model.components[name.split(".")[0]].params["fn_max"]),
-            )
-        }
-        if name
-        else {}
-    )
-    table = sample(variants, seed=1, dists=dists or {"StopTime": (0.9, 1.0)})
-    first_var = compiled.simulate().names[1]
-    metrics = [f"max({first_var})", "events()"]
+    table = sample(variants, seed=1, dists=_fn_max_range(model) or {"StopTime": (0.9, 1.0)})
+    metrics = [f"max({compiled.simulate().names[1]})", "events()"]
     single = min(_timed(lambda: compiled.simulate()) for _ in range(20))
-    sweep(compiled, table.iloc[: min(64, variants)], metrics, workers=workers, progress=False)  # warm up
-    seconds = _timed(lambda: sweep(compiled, table, metrics, workers=workers, progress=False)) / 1e3
-    return SweepBench(variants, workers or os.cpu_count() or 1, seconds, single)
+    options: dict[str, Any] = {"workers": workers, "client": client, "progress": False}
+    sweep(compiled, table.iloc[: min(64, variants)], metrics, **options)  # warm up
+    start = time.perf_counter()
+    result = sweep(compiled, table, metrics, **options)
+    seconds = time.perf_counter() - start
+    threads = workers or os.cpu_count() or 1
+    if client is not None:
+        threads = sum(w["nthreads"] for w in client.scheduler_info()["workers"].values())
+    return SweepBench(
+        variants,
+        threads,
+        seconds,
+        single,
+        float(result.table["wall_s"].sum()),
+        "dask" if client is not None else "local",
+    )
+
+
+def _fn_max_range(model: Model) -> dict[str, tuple[float, float]]:
+    """``fn_max`` of the first friction element, ±50 % (empty when there is none)."""
+    for name, component in model.components.items():
+        if "fn_max" in component.params:
+            value = float(component.params["fn_max"])
+            return {f"{name}.fn_max": (0.5 * value, 1.5 * value)}
+    return {}
 
 
 def _timed(run: Any) -> float:

@@ -355,6 +355,11 @@ def compare_cmd(
     help="Time a sweep of this many variants instead (1 worker and every core).",
 )
 @click.option(
+    "--dask",
+    is_flag=True,
+    help="With --sweep: the same sweep on a Dask LocalCluster of 2 processes × 1 thread too.",
+)
+@click.option(
     "--scale",
     "scale_sizes",
     default=None,
@@ -372,6 +377,7 @@ def bench(
     repeat: int,
     warmup: int,
     sweep_variants: int | None,
+    dask: bool,
     scale_sizes: str | None,
     stiff: bool,
 ) -> None:
@@ -389,7 +395,7 @@ def bench(
     if not model_files and not all(f.is_file() for f in files):
         _fail(f"no MODEL files given and the default examples are not in {EXAMPLES_DIR}")
     if sweep_variants is not None:
-        _bench_sweeps(list(model_files) or [EXAMPLES_DIR / "CoupledClutches.toml"], sweep_variants)
+        _bench_sweeps(list(model_files) or [EXAMPLES_DIR / "CoupledClutches.toml"], sweep_variants, dask)
         return
     click.echo(
         f"{'model':<24} {'median ms':>10} {'min ms':>10} {'+all vars ms':>13} "
@@ -443,21 +449,43 @@ def _bench_stiff(files: list[Path]) -> None:
             )
 
 
-def _bench_sweeps(files: list[Path], variants: int) -> None:
+def _bench_sweeps(files: list[Path], variants: int, dask: bool) -> None:
+    """Local sweeps on 1 worker and every core (and on Dask), with the time outside the
+    core's runs: wall × workers against the sum of the variants' ``wall_s``."""
     from .bench import bench_sweep
     from .model import Model
 
     click.echo(
-        f"{'model':<24} {'variants':>9} {'workers':>8} {'total s':>9} {'ms/variant':>11} {'single run ms':>14}"
+        f"{'model':<20} {'where':<6} {'variants':>8} {'workers':>7} {'total s':>8} {'ms/variant':>10} "
+        f"{'overhead %':>10} {'us/variant':>10} {'single run ms':>13}"
     )
     for path in files:
         model = Model.load(path)
-        for workers in (1, None):
-            row = bench_sweep(model, variants, workers)
+        rows = [bench_sweep(model, variants, workers) for workers in (1, None)]
+        if dask:
+            rows.append(_bench_dask(model, variants))
+        for row in rows:
             click.echo(
-                f"{model.name:<24} {row.variants:>9} {row.workers:>8} {row.seconds:>9.2f} "
-                f"{row.per_variant_ms:>11.3f} {row.single_run_ms:>14.3f}"
+                f"{model.name:<20} {row.where:<6} {row.variants:>8} {row.workers:>7} {row.seconds:>8.2f} "
+                f"{row.per_variant_ms:>10.3f} {100 * row.overhead:>10.2f} {row.overhead_us:>10.1f} "
+                f"{row.single_run_ms:>13.3f}"
             )
+        if dask:
+            click.echo(f"dask / local (every core): {rows[2].seconds / rows[1].seconds:.2f}x")
+
+
+def _bench_dask(model: Any, variants: int) -> Any:
+    """The sweep on a LocalCluster of 2 processes × 1 thread (what ``LocalCluster()`` picks on
+    a 2-core machine); starting the cluster is not timed."""
+    from distributed import Client, LocalCluster
+
+    from .bench import bench_sweep
+
+    with (
+        LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster,
+        Client(cluster) as client,
+    ):
+        return bench_sweep(model, variants, None, client=client)
 
 
 from . import cli_sweep as _cli_sweep  # noqa: F401  (registers `stiction sweep`)

@@ -149,33 +149,66 @@ def _table_for_arrow(table: pandas.DataFrame) -> pandas.DataFrame:
     return table
 
 
-def _records(variants: Any) -> tuple[pandas.DataFrame, list[dict[str, Any]]]:
+def _frame(variants: Any) -> pandas.DataFrame:
     import pandas as pd
 
     frame = variants if isinstance(variants, pd.DataFrame) else pd.DataFrame(dict(variants))
-    frame = frame.reset_index(drop=True)
-    records = [{k: _plain(v) for k, v in row.items()} for row in frame.to_dict("records")]
-    return frame, records
+    return frame.reset_index(drop=True)
 
 
-def _plain(value: Any) -> Any:
-    return value.tolist() if hasattr(value, "tolist") else value
+def _columns(frame: pandas.DataFrame, rows: np.ndarray) -> dict[str, list[Any]]:
+    """The overrides of some variants as plain columns (one list per name), built per batch
+    so that no per-variant Python object outlives its batch."""
+    return {str(name): frame[name].to_numpy()[rows].tolist() for name in frame.columns}
 
 
-def _batches(todo: Sequence[int], size: int) -> Iterator[list[int]]:
+def _expanded(model: Model, columns: dict[str, list[Any]]) -> list[dict[str, Any]]:
+    """Variants of top-level parameters (``T2``) as the component values they imply."""
+    names = list(columns)
+    return [
+        expand_parameters(model.parameters, model.components, dict(zip(names, row, strict=True)))
+        for row in zip(*columns.values(), strict=True)
+    ]
+
+
+class _Batch:
+    """The variants of one unit of work: their indices and their overrides."""
+
+    def __init__(self, rows: np.ndarray, variants: dict[str, list[Any]] | list[dict[str, Any]]) -> None:
+        self.rows = rows
+        self.variants = variants
+
+
+def _batches(frame: pandas.DataFrame, todo: np.ndarray, size: int, model: Any) -> Iterator[_Batch]:
+    expand = isinstance(model, Model) and bool(model.parameters)
     for start in range(0, len(todo), size):
-        yield list(todo[start : start + size])
+        rows = todo[start : start + size]
+        columns = _columns(frame, rows)
+        yield _Batch(rows, _expanded(model, columns) if expand else columns)
+
+
+def _batch_size(workers: int | None, client: Any) -> int:
+    """Variants per batch. Each batch ends with threads idle while the last runs finish, so
+    local batches are long (256 runs per thread); Dask tasks are shorter (64 runs per core
+    here) so that the cluster's workers stay evenly loaded to the end."""
+    cores = os.cpu_count() or 1
+    return 64 * cores if client is not None else 256 * (workers or cores)
 
 
 def run_batch(
     compiled: CompiledModel,
-    records: list[dict[str, Any]],
+    variants: dict[str, list[Any]] | list[dict[str, Any]],
     metrics: list[str],
     outputs: list[str],
     workers: int | None = None,
 ) -> tuple[np.ndarray, list[np.ndarray], list[str | None], np.ndarray]:
-    """Run some variants in the core (the unit of work locally and on a Dask worker)."""
-    return compiled._core.sweep(records, metrics, outputs, workers)
+    """Run some variants in the core (the unit of work locally and on a Dask worker).
+
+    ``variants``: columns (``{name: [value per variant]}``) or a list of ``{name: value}``.
+    Returns metrics (variants × metrics), trajectories (one variants × grid array per
+    output), each variant's error or None, and its wall time in the core.
+    """
+    return compiled._core.sweep(variants, metrics, outputs, workers)
 
 
 def sweep(
@@ -195,91 +228,116 @@ def sweep(
     ``variants``: a DataFrame or a dict of equal-length columns, one per override name
     (a top-level parameter of ``model``, e.g. ``T2``, recomputes what depends on it).
     ``outputs``: variables kept as trajectories on the output grid. ``workers``: threads
-    per process (None: every core; 1: serial). ``client``: a ``distributed.Client``.
-    ``out``: a folder for Parquet parts (resumable). ``progress``: a tqdm bar.
+    per process (None: every core locally, one per Dask task; 1: serial). ``client``: a
+    ``distributed.Client``. ``out``: a folder for Parquet parts (resumable). ``progress``:
+    a tqdm bar.
     """
     compiled = model.compile() if isinstance(model, Model) else model
     metrics, outputs = [str(m) for m in metrics], [str(o) for o in outputs]
-    frame, records = _records(variants)
-    if isinstance(model, Model) and model.parameters:
-        records = [expand_parameters(model.parameters, model.components, r) for r in records]
+    frame = _frame(variants)
     if outputs and any(k in ("StartTime", "StopTime", "Interval") for k in frame.columns):
         raise ModelError(
             "trajectories need one output grid: do not vary StartTime, StopTime or Interval with outputs="
         )
     compiled._core.check_plan(metrics, outputs)
+    table = _Table(len(frame), metrics, outputs, len(compiled._core.grid()))
     store = _PartStore(out, compiled, frame, metrics, outputs) if out is not None else None
-    done = store.done() if store else {}
-    todo = [i for i in range(len(records)) if i not in done]
-    size = batch_size or 64 * (workers or os.cpu_count() or 1)
-    bar = _progress(len(records), len(records) - len(todo), progress)
+    if store:
+        store.load(table)
+    todo = np.flatnonzero(~table.done)
+    size = batch_size or _batch_size(workers, client)
+    bar = _progress(len(frame), len(frame) - len(todo), progress)
     try:
-        for first, part in _run(compiled, records, todo, size, metrics, outputs, workers, client):
+        batches = _batches(frame, todo, size, model)
+        for rows, part in _run(compiled, batches, metrics, outputs, workers, client):
             if store:
-                store.write(first, part)
-            done.update(_rows(first, part))
-            bar.update(len(part[2]))
+                store.write(rows, part)
+            table.fill(rows, part)
+            bar.update(len(rows))
     finally:
         bar.close()
-    return _result(compiled, frame, metrics, outputs, done)
+    return table.result(compiled, frame)
 
 
 def _run(
     compiled: CompiledModel,
-    records: list[dict[str, Any]],
-    todo: list[int],
-    size: int,
+    batches: Iterator[_Batch],
     metrics: list[str],
     outputs: list[str],
     workers: int | None,
     client: Any,
-) -> Iterator[tuple[list[int], Any]]:
+) -> Iterator[tuple[np.ndarray, Any]]:
     """Batches as they finish: (variant indices, what ``run_batch`` returned)."""
-    batches = list(_batches(todo, size))
     if client is None:
         for batch in batches:
-            yield batch, run_batch(compiled, [records[i] for i in batch], metrics, outputs, workers)
+            yield batch.rows, run_batch(compiled, batch.variants, metrics, outputs, workers)
         return
+    yield from _run_on_dask(client, compiled, batches, metrics, outputs, workers)
+
+
+def _run_on_dask(
+    client: Any,
+    compiled: CompiledModel,
+    batches: Iterator[_Batch],
+    metrics: list[str],
+    outputs: list[str],
+    workers: int | None,
+) -> Iterator[tuple[np.ndarray, Any]]:
+    """Each batch a task. The model travels once to every worker (``scatter``), not with
+    each task (where each would compile it again); a task's rayon threads default to one,
+    since Dask's own workers and threads are the parallelism."""
     from distributed import as_completed
 
+    shared = client.scatter(compiled, broadcast=True, hash=False)
     futures = {
-        client.submit(run_batch, compiled, [records[i] for i in b], metrics, outputs, workers, pure=False): b
+        client.submit(run_batch, shared, b.variants, metrics, outputs, workers or 1, pure=False): b.rows
         for b in batches
     }
     for future in as_completed(futures):
         yield futures[future], future.result()
+        future.release()
 
 
-def _rows(indices: list[int], part: Any) -> dict[int, tuple[Any, ...]]:
-    values, trajectories, status, wall = part
-    return {
-        i: (values[k], [t[k] for t in trajectories], status[k], float(wall[k])) for k, i in enumerate(indices)
-    }
+class _Table:
+    """The sweep's results, preallocated: one NumPy column per metric (and ``wall_s``),
+    filled batch by batch and handed to pandas without a copy."""
 
+    def __init__(self, n: int, metrics: list[str], outputs: list[str], points: int) -> None:
+        self.metrics, self.outputs = metrics, outputs
+        self.values = {name: np.full(n, np.nan) for name in metrics}
+        self.trajectories = {name: np.full((n, points), np.nan) for name in outputs}
+        self.errors = np.full(n, None, dtype=object)
+        self.wall = np.zeros(n)
+        self.done = np.zeros(n, dtype=bool)
 
-def _result(
-    compiled: CompiledModel,
-    frame: pandas.DataFrame,
-    metrics: list[str],
-    outputs: list[str],
-    done: dict[int, tuple[Any, ...]],
-) -> SweepResult:
-    table = frame.copy()
-    n = len(frame)
-    missing = [i for i in range(n) if i not in done]
-    if missing:
-        raise RuntimeError(f"internal: {len(missing)} variants have no result")
-    rows = [done[i] for i in range(n)]
-    for m, name in enumerate(metrics):
-        table[name] = [float(r[0][m]) for r in rows]
-    table["status"] = ["ok" if r[2] is None else str(r[2]) for r in rows]
-    table["wall_s"] = [r[3] for r in rows]
-    time = np.asarray(compiled._core.grid(), dtype=float)
-    trajectories = {
-        name: np.array([r[1][o] for r in rows], dtype=float).reshape(n, len(time))
-        for o, name in enumerate(outputs)
-    }
-    return SweepResult(table, trajectories, time)
+    def fill(self, rows: np.ndarray, part: Any) -> None:
+        """Enter one finished batch: ``rows`` are its variants' indices."""
+        values, trajectories, errors, wall = part
+        rows = np.asarray(rows, dtype=np.intp)
+        for m, column in enumerate(self.values.values()):
+            column[rows] = values[:, m]
+        for name, trajectory in zip(self.outputs, trajectories, strict=True):
+            self.trajectories[name][rows] = trajectory
+        self.errors[rows] = list(errors)
+        self.wall[rows] = wall
+        self.done[rows] = True
+
+    def result(self, compiled: CompiledModel, frame: pandas.DataFrame) -> SweepResult:
+        """The ``SweepResult``: the overrides, the metrics, ``status`` and ``wall_s``."""
+        import pandas as pd
+
+        if not self.done.all():
+            raise RuntimeError(f"internal: {int((~self.done).sum())} variants have no result")
+        # one shared "ok", set elementwise (a NumPy string per row would be a Python object
+        # per variant)
+        self.errors[self.errors == None] = "ok"
+        results = pd.DataFrame(
+            {**self.values, "status": pd.Series(self.errors, dtype="str"), "wall_s": self.wall},
+            copy=False,
+        )
+        table = pd.concat([frame, results], axis=1)
+        time = np.asarray(compiled._core.grid(), dtype=float)
+        return SweepResult(table, self.trajectories, time)
 
 
 def _progress(total: int, initial: int, enabled: bool) -> Any:
@@ -319,20 +377,22 @@ class _PartStore:
             )
         path.write_text(json.dumps(manifest, indent=1))
 
-    def done(self) -> dict[int, tuple[Any, ...]]:
-        """The rows of the parts written so far."""
+    def load(self, table: _Table) -> None:
+        """Enter the rows of the parts written so far into ``table``."""
         import pyarrow.parquet as pq
 
-        rows: dict[int, tuple[Any, ...]] = {}
         for part in sorted(self.dir.glob("part-*.parquet")):
-            t = pq.read_table(part).to_pydict()
-            for k, i in enumerate(t["variant"]):
-                values = np.array([t[m][k] for m in self.metrics], dtype=float)
-                trajs = [np.asarray(t[f"trajectory:{o}"][k], dtype=float) for o in self.outputs]
-                rows[int(i)] = (values, trajs, t["error"][k], float(t["wall_s"][k]))
-        return rows
+            t = pq.read_table(part)
+            rows = t.column("variant").to_numpy()
+            values = np.column_stack([t.column(m).to_numpy() for m in self.metrics]).reshape(len(rows), -1)
+            trajectories = [
+                np.array(t.column(f"trajectory:{o}").to_pylist(), dtype=float) for o in self.outputs
+            ]
+            table.fill(
+                rows, (values, trajectories, t.column("error").to_pylist(), t.column("wall_s").to_numpy())
+            )
 
-    def write(self, indices: list[int], part: Any) -> None:
+    def write(self, indices: np.ndarray, part: Any) -> None:
         """Write one finished batch (atomically: a part is whole or absent)."""
         import pyarrow as pa
         import pyarrow.parquet as pq
@@ -345,7 +405,7 @@ class _PartStore:
         columns["wall_s"] = wall
         for o, name in enumerate(self.outputs):
             columns[f"trajectory:{name}"] = [list(row) for row in trajectories[o]]
-        path = self.dir / f"part-{indices[0]:09d}.parquet"
+        path = self.dir / f"part-{int(indices[0]):09d}.parquet"
         tmp = path.with_suffix(".tmp")
         pq.write_table(pa.table(columns), tmp)
         tmp.replace(path)

@@ -1,6 +1,7 @@
 //! `_core.CompiledModel`: a model compiled once, its variants (parameters, start values,
 //! experiment settings by MSL name) and sweeps over them, run in the core with the GIL released.
 
+use std::sync::{Condvar, Mutex, PoisonError};
 use std::time::Duration;
 
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
@@ -64,6 +65,41 @@ fn overrides(dict: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<Override>> {
         .collect()
 }
 
+/// A sweep's variants: columns (`{name: [value per variant]}`, as `stiction.sweep` sends a
+/// batch) or a list of `{name: value}` (variants of top-level parameters, whose names vary).
+fn variants_of(variants: &Bound<'_, PyAny>) -> PyResult<Vec<Vec<Override>>> {
+    let Ok(columns) = variants.cast::<PyDict>() else {
+        return variants
+            .try_iter()?
+            .map(|v| overrides(Some(v?.cast::<PyDict>()?)))
+            .collect();
+    };
+    let mut rows: Vec<Vec<Override>> = Vec::new();
+    for (name, values) in columns.iter() {
+        let name: String = name.extract()?;
+        let values = values.cast::<PyList>()?;
+        if rows.is_empty() {
+            rows = (0..values.len())
+                .map(|_| Vec::with_capacity(columns.len()))
+                .collect();
+        }
+        if values.len() != rows.len() {
+            return Err(py_error(
+                "ModelError",
+                format!(
+                    "override column '{name}' has {} values, not {}",
+                    values.len(),
+                    rows.len()
+                ),
+            ));
+        }
+        for (row, value) in rows.iter_mut().zip(values.iter()) {
+            row.push((name.clone(), to_toml(&value)?));
+        }
+    }
+    Ok(rows)
+}
+
 /// A compiled model. Pickles as its model text (see the Python wrapper).
 #[pyclass(frozen, module = "stiction._core", name = "CompiledModel")]
 pub struct PyCompiled(CompiledModel);
@@ -125,21 +161,19 @@ impl PyCompiled {
         Ok(())
     }
 
-    /// Runs `variants` (a list of `{name: value}`) on `workers` threads (all cores: None).
+    /// Runs `variants` (columns `{name: [values]}` or a list of `{name: value}`) on
+    /// `workers` threads (all cores: None).
     #[pyo3(signature = (variants, metrics, outputs, workers = None))]
     fn sweep<'py>(
         &self,
         py: Python<'py>,
-        variants: Vec<Bound<'py, PyDict>>,
+        variants: &Bound<'py, PyAny>,
         metrics: Vec<String>,
         outputs: Vec<String>,
         workers: Option<usize>,
     ) -> PyResult<SweepArrays<'py>> {
         let plan = Plan::new(&self.0, &metrics, &outputs).map_err(model_err)?;
-        let variants = variants
-            .iter()
-            .map(|v| overrides(Some(v)))
-            .collect::<PyResult<Vec<_>>>()?;
+        let variants = variants_of(variants)?;
         let outcomes = sweep_interruptibly(py, |cancel| {
             run_variants(&self.0, &variants, &plan, workers, cancel)
         })?;
@@ -168,17 +202,26 @@ impl PyCompiled {
 
 /// Runs a sweep on a thread of its own while this one, every 50 ms, checks for signals with
 /// the GIL: Ctrl-C cancels the runs under way (they stop at their next step) and raises
-/// `KeyboardInterrupt` once they have stopped.
+/// `KeyboardInterrupt` once they have stopped. The sweep's thread says when it is done, so
+/// no batch waits out a polling interval.
 fn sweep_interruptibly<F>(py: Python<'_>, sweep: F) -> PyResult<Vec<Outcome>>
 where
     F: FnOnce(&CancelHandle) -> Vec<Outcome> + Send,
 {
     let cancel = CancelHandle::new();
+    let done = (Mutex::new(false), Condvar::new());
     std::thread::scope(|scope| {
-        let worker = scope.spawn(|| guarded(|| Ok(sweep(&cancel))));
+        let worker = scope.spawn(|| {
+            let outcomes = guarded(|| Ok(sweep(&cancel)));
+            *done.0.lock().unwrap_or_else(PoisonError::into_inner) = true;
+            done.1.notify_all();
+            outcomes
+        });
         let mut interrupted = None;
-        while !worker.is_finished() {
-            py.detach(|| wait_until_finished(&worker, Duration::from_millis(50)));
+        loop {
+            if py.detach(|| wait_for(&done, Duration::from_millis(50))) {
+                break;
+            }
             if interrupted.is_none() {
                 if let Err(signal) = py.check_signals() {
                     cancel.cancel();
@@ -200,9 +243,11 @@ where
     })
 }
 
-fn wait_until_finished<T>(worker: &std::thread::ScopedJoinHandle<'_, T>, at_most: Duration) {
-    let started = std::time::Instant::now();
-    while !worker.is_finished() && started.elapsed() < at_most {
-        std::thread::sleep(Duration::from_millis(2));
-    }
+/// Waits until `done` is set or `at_most` has passed; whether it is set.
+fn wait_for(done: &(Mutex<bool>, Condvar), at_most: Duration) -> bool {
+    let guard = done.0.lock().unwrap_or_else(PoisonError::into_inner);
+    let (guard, _) = (done.1)
+        .wait_timeout_while(guard, at_most, |finished| !*finished)
+        .unwrap_or_else(PoisonError::into_inner);
+    *guard
 }

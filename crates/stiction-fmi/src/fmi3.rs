@@ -1,7 +1,7 @@
 //! The FMI 3.0 Co-Simulation C API over the same `Instance` as FMI 2.0. Steps run to their end
 //! (no early return, no event mode: the friction events are handled inside the step). Every
 //! function an importer binds exists; those for Model Exchange, Scheduled Execution, clocks,
-//! derivatives, serialized states and the integer, Boolean, string and binary types return
+//! derivatives and the integer, Boolean, string and binary types return
 //! `fmi3Error` with a logged message.
 #![allow(non_snake_case, clippy::missing_safety_doc)] // FMI's names; FMI 3.0 is the contract
 
@@ -179,6 +179,39 @@ pub unsafe extern "C" fn fmi3FreeFMUState(c: Inst, state: *mut *mut c_void) -> S
 }
 
 #[no_mangle]
+pub unsafe extern "C" fn fmi3SerializedFMUStateSize(
+    c: Inst,
+    s: *mut c_void,
+    n: *mut usize,
+) -> Status {
+    with(c, "fmi3SerializedFMUStateSize", |i| {
+        host::serialized_size(i, s, n)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SerializeFMUState(
+    c: Inst,
+    s: *mut c_void,
+    b: *mut u8,
+    n: usize,
+) -> Status {
+    with(c, "fmi3SerializeFMUState", |i| host::serialize(i, s, b, n))
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3DeserializeFMUState(
+    c: Inst,
+    b: *const u8,
+    n: usize,
+    s: *mut *mut c_void,
+) -> Status {
+    with(c, "fmi3DeserializeFMUState", |i| {
+        host::deserialize(i, b, n, s)
+    })
+}
+
+#[no_mangle]
 pub unsafe extern "C" fn fmi3InstantiateModelExchange(
     _name: *const c_char,
     _token: *const c_char,
@@ -243,9 +276,6 @@ unsupported! {
     fmi3GetDirectionalDerivative(Vr, usize, Vr, usize, In<f64>, usize, Out<f64>, usize);
     fmi3GetAdjointDerivative(Vr, usize, Vr, usize, In<f64>, usize, Out<f64>, usize);
     fmi3GetOutputDerivatives(Vr, usize, In<i32>, Out<f64>, usize);
-    fmi3SerializedFMUStateSize(*mut c_void, Out<usize>);
-    fmi3SerializeFMUState(*mut c_void, Out<u8>, usize);
-    fmi3DeserializeFMUState(In<u8>, usize, Out<*mut c_void>);
     fmi3ActivateModelPartition(u32, f64);
     fmi3GetFloat32(Vr, usize, Out<f32>, usize);
     fmi3SetFloat32(Vr, usize, In<f32>, usize);

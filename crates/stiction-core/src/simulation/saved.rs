@@ -66,7 +66,7 @@ impl Simulation {
         if state.x.len() != sys.state_len() || !state.disc.fits(&sys) {
             return Err(SimError::Usage("the state belongs to another model".into()));
         }
-        self.use_method(state.solver.implicit)?;
+        self.renew_integrator(state.solver.implicit)?;
         let t = state.cursor.now;
         let mm = self.stepper.cache.get(&sys, &state.disc, t)?;
         {
@@ -98,23 +98,28 @@ impl Simulation {
         })
     }
 
-    /// Makes the method the saved state's: an "auto" run changes to it (either way); another
-    /// run's method is fixed, so a state of the other kind belongs to another model.
-    fn use_method(&mut self, implicit: bool) -> Result<(), SimError> {
+    /// A new integrator of the saved state's method: an "auto" run changes method (either
+    /// way) if it must; another run's method is fixed, so a state of the other kind belongs to
+    /// another model. New even where the method is the same: an implicit method keeps its
+    /// factored iteration matrix across a restart, and a restored run must not depend on it.
+    fn renew_integrator(&mut self, implicit: bool) -> Result<(), SimError> {
         let Simulation { cell, stepper, .. } = self;
-        if cell.with_dependent(|_, integ| integ.implicit()) == implicit {
-            return Ok(());
-        }
-        if stepper.sys.experiment.solver != "auto" {
+        let auto = stepper.sys.experiment.solver == "auto";
+        if !auto && cell.with_dependent(|_, integ| integ.implicit()) != implicit {
             return Err(SimError::Usage(
                 "the state was saved with another integration method".into(),
             ));
         }
+        let method = match (auto, implicit) {
+            (true, true) => "esdirk34",
+            (true, false) => "tsit45",
+            (false, _) => stepper.sys.experiment.solver.as_str(),
+        };
         cell.with_dependent_mut(|problem, integ| {
             with_solver!(integ, s => stepper.stiffness.retired.add(s.get_statistics()));
-            *integ = solver_for(problem, if implicit { "esdirk34" } else { "tsit45" })?;
+            *integ = solver_for(problem, method)?;
             stepper.fit_steps = integ.polynomial_dense_output();
-            stepper.stiffness.active = !implicit;
+            stepper.stiffness.active = auto && !implicit;
             Ok(())
         })
     }

@@ -13,6 +13,7 @@ import pytest
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import FMU2Slave
 from fmpy.validation import validate_fmu
+from test_fmu_state import fmi2_callbacks
 
 import stiction as st
 
@@ -60,7 +61,8 @@ def test_a_start_value_is_fixed_after_initialization(tmp_path: Path) -> None:
     slave = FMU2Slave(
         guid=md.guid, unzipDirectory=fmpy.extract(fmu), modelIdentifier=md.coSimulation.modelIdentifier
     )
-    slave.instantiate()
+    messages: list[str] = []
+    slave.instantiate(callbacks=fmi2_callbacks(messages))
     slave.setReal([vr["J2.phi"]], [0.5])  # before initialization: taken
     slave.setupExperiment(startTime=0.0, stopTime=1.5)
     slave.enterInitializationMode()
@@ -68,6 +70,7 @@ def test_a_start_value_is_fixed_after_initialization(tmp_path: Path) -> None:
     assert slave.getReal([vr["J2.phi"]]) == [0.5]
     with pytest.raises(FMICallException):
         slave.setReal([vr["J1.w"]], [3.0])
+    assert "setting the start value of J1.w is not allowed in state Step" in messages[-1]
     slave.doStep(0.0, 0.1)  # still usable
     slave.terminate()
     slave.freeInstance()

@@ -41,6 +41,20 @@ def force(t: float) -> float:
     return float(np.clip(t - 0.5, 0.0, 1.0))
 
 
+# FMPy's logger proxy forwards every FMI 2.0 message to the logger registered last: the
+# loggers it was given must outlive the test run, or a later message calls a freed one
+_LOGGERS: list[fmi2CallbackFunctions] = []
+
+
+def fmi2_callbacks(messages: list[str]) -> fmi2CallbackFunctions:
+    """FMI 2.0 callbacks whose logger appends each message to ``messages`` (kept alive)."""
+    callbacks = fmi2CallbackFunctions()
+    callbacks.logger = fmi2CallbackLoggerTYPE(lambda *a: messages.append(a[4].decode()))
+    addLoggerProxy(byref(callbacks))
+    _LOGGERS.append(callbacks)
+    return callbacks
+
+
 class Runner:
     """One FMPy slave of either FMI version, with a logger that keeps the messages."""
 
@@ -52,9 +66,7 @@ class Runner:
         args = {"guid": md.guid, "unzipDirectory": fmpy.extract(fmu)}
         args["modelIdentifier"] = md.coSimulation.modelIdentifier
         if version == 2:
-            self.callbacks = fmi2CallbackFunctions()
-            self.callbacks.logger = fmi2CallbackLoggerTYPE(lambda *a: self.messages.append(a[4].decode()))
-            addLoggerProxy(byref(self.callbacks))
+            self.callbacks = fmi2_callbacks(self.messages)
             self.slave = FMU2Slave(**args)
             self.slave.instantiate(callbacks=self.callbacks)
         else:

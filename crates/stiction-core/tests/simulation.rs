@@ -323,3 +323,26 @@ fn a_saved_state_continues_the_same_wherever_it_is_restored() {
         );
     }
 }
+
+#[test]
+fn a_run_that_stops_at_its_state_events_is_the_same_run() {
+    let whole = stiction_core::simulate(&spec(COUPLED)).unwrap();
+    let mut sim = Simulation::from_spec(&spec(COUPLED)).unwrap();
+    sim.set_stop_at_events(true);
+    let mut stops = Vec::new();
+    while sim.time() < 1.5 {
+        sim.advance_to(1.5).unwrap();
+        stops.push(sim.time());
+    }
+    // each stop but the end is at a logged mode change, or a hair before one (a start flag)
+    for t in &stops[..stops.len() - 1] {
+        let at_event = whole.events.iter().any(|e| (e.time - t).abs() < 1e-9);
+        assert!(at_event, "{t} is not at an event");
+    }
+    assert!(stops.len() >= 8, "{stops:?}");
+    let names = sim.names();
+    let end = whole.rows() - 1;
+    for (k, v) in sim.values().unwrap().iter().enumerate() {
+        assert_eq!(*v, whole.column(&names[k]).unwrap()[end], "{}", names[k]);
+    }
+}

@@ -1,5 +1,6 @@
-//! The FMI 3.0 Co-Simulation C API over the same `Instance` as FMI 2.0. Steps run to their end
-//! (no early return, no event mode: the friction events are handled inside the step). Every
+//! The FMI 3.0 Co-Simulation C API over the same `Instance` as FMI 2.0. Steps run to their end,
+//! or, if the host allows early return, to the first friction event in them (no event mode:
+//! the events are handled inside the step either way). Every
 //! function an importer binds exists; those for Model Exchange, Scheduled Execution, clocks,
 //! derivatives and the integer, Boolean, string and binary types return
 //! `fmi3Error` with a logged message.
@@ -45,7 +46,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
     _visible: bool,
     logging_on: bool,
     _event_mode_used: bool,
-    _early_return_allowed: bool,
+    early_return_allowed: bool,
     _required_intermediate: Vr,
     _n_required: usize,
     env: *mut c_void,
@@ -56,7 +57,9 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
     let (token, resources) = (text(token), text(resources));
     let log = Log::Fmi3 { env, logger };
     host::instantiate(cname, log, logging_on, || {
-        Instance::load(&resources, &token)
+        let mut instance = Instance::load(&resources, &token)?;
+        instance.early_return = early_return_allowed;
+        Ok(instance)
     })
 }
 
@@ -158,6 +161,10 @@ pub unsafe extern "C" fn fmi3DoStep(
         }
         if let (Some(out), Some(now)) = (last_successful_time.as_mut(), i.time()) {
             *out = now;
+            // stopped at a friction event before the step's end (only if the host allows it)
+            if let Some(early) = early_return.as_mut() {
+                *early = i.returned_early;
+            }
         }
         outcome
     })

@@ -67,6 +67,10 @@ pub struct Instance {
     sim: Option<Simulation>,
     /// What a serialized state must carry to be restored here (`serial::fingerprint`).
     pub fingerprint: String,
+    /// FMI 3.0 `earlyReturnAllowed`: `doStep` stops at the first friction event in the step.
+    pub early_return: bool,
+    /// Whether the last `doStep` stopped at such an event before its end.
+    pub returned_early: bool,
 }
 
 /// A parameter or start value as the model file writes it: a start value that is a guess keeps
@@ -147,6 +151,8 @@ impl Instance {
             tolerance: None,
             sim: None,
             fingerprint: crate::serial::fingerprint(guid),
+            early_return: false,
+            returned_early: false,
         })
     }
 
@@ -206,6 +212,7 @@ impl Instance {
         if self.sim.is_none() {
             let mut sim = Simulation::new(self.variant()?.system()).map_err(|e| e.to_string())?;
             sim.set_recording(false);
+            sim.set_stop_at_events(self.early_return);
             for v in self.vars.iter().filter(|v| v.kind == Kind::Input) {
                 sim.set_input(&v.name, v.value).map_err(|e| e.to_string())?;
             }
@@ -296,7 +303,10 @@ impl Instance {
                 "doStep: currentCommunicationPoint {t} is not the FMU's time {now}"
             ));
         }
-        let outcome = sim.advance_to(now.max(t + h)).map_err(|e| e.to_string());
+        let target = now.max(t + h);
+        let outcome = sim.advance_to(target).map_err(|e| e.to_string());
+        let stop = sim.system().experiment.stop_time;
+        self.returned_early = outcome.is_ok() && sim.time() < target.min(stop);
         if outcome.is_err() {
             self.mode = Mode::Failed;
         }

@@ -397,6 +397,12 @@ impl Simulation {
         }
     }
 
+    /// Whether `advance_to` returns right after a state event (a friction element changing
+    /// mode), with `time()` there, before its target; advanced on, the run is the same.
+    pub fn set_stop_at_events(&mut self, on: bool) {
+        self.stepper.stop_at_events = on;
+    }
+
     /// Whether rows are kept for `into_result` (a sweep computing metrics keeps none).
     pub fn set_recording(&mut self, recording: bool) {
         self.stepper.recording = recording;
@@ -408,6 +414,7 @@ impl Simulation {
         fresh.stepper.observer = self.stepper.observer.take();
         fresh.stepper.notify_start_row();
         fresh.stepper.recording = self.stepper.recording;
+        fresh.stepper.stop_at_events = self.stepper.stop_at_events;
         fresh.stepper.cancel = self.stepper.cancel.clone();
         fresh.stepper.cancel.store(false, Ordering::Relaxed);
         *self = fresh;

@@ -252,6 +252,9 @@ def test_a_c_host_runs_the_fmu_without_python(flywheel_fmu: Path, tmp_path: Path
     sim.set_input("brake.f_normalized", 1.0)
     sim.advance_to(3.0)
     assert float(report["value"]) == pytest.approx(sim["flywheel.w"], abs=1e-9)
+    # the state saved halfway, restored here and from its bytes in a new instance: bit for bit
+    assert report["restored_new"] == report["restored_same"]
+    assert float(report["restored_new"]) == pytest.approx(sim["flywheel.w"], abs=1e-6)
     # 300 reset/initialize and 300 instantiate/free cycles: memory does not keep growing
     assert int(report["rss_after_kb"]) - int(report["rss_before_kb"]) < 2000
 

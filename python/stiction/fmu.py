@@ -5,7 +5,10 @@ build of the engine: no Python in the importer's process) in ``binaries/<platfor
 ``resources/``, the model file and the table that maps value references to names. Inputs are
 the model's declared inputs; outputs are the chosen variables; parameters are the numeric
 parameters of the components with their MSL names, set before the end of initialization
-(``variability="fixed"``: the engine compiles them into the run).
+(``variability="fixed"``: the engine compiles them into the run). The start values of the
+states (``J1.w``) are the FMI way: the state's variable (an output if chosen, else a local one)
+has ``initial="exact"`` (fixed) or ``"approx"`` (a guess) and its start, settable before the
+end of initialization.
 """
 
 from __future__ import annotations
@@ -17,7 +20,7 @@ import sys
 import tomllib
 import uuid
 import zipfile
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -45,10 +48,12 @@ class FmuVariable:
     """One scalar variable of the FMU, in value-reference order."""
 
     name: str
-    kind: str  # input, output, parameter or independent (time, FMI 3.0)
+    kind: str  # input, output, parameter, independent (time, FMI 3.0), start or guess
     start: float
     unit: str = ""
     description: str = ""
+    #: a state with a start value (kind start: fixed, guess: not): also an FMU output?
+    output: bool = False
 
 
 def runtime_library() -> Path:
@@ -97,6 +102,29 @@ def _parameters(model: Model, components: dict[str, dict]) -> list[FmuVariable]:
     return found
 
 
+def _start_values(components: dict[str, dict]) -> dict[str, FmuVariable]:
+    """The start value of every Real state (an Inertia's phi and w, a HeatCapacitor's T), by
+    the state's name: ``start`` where the model fixes it (a bare number, ``fixed = true``),
+    ``guess`` where it is a guess for the initialization (``fixed = false``, or not given)."""
+    from .catalogue import catalogue
+
+    known = catalogue()
+    found = {}
+    for name, spec in components.items():
+        for p in known[spec["type"]].parameters:
+            if p.kind != "start value":
+                continue
+            value = spec.get(p.name, {})
+            value = value if isinstance(value, dict) else {"start": value, "fixed": True}
+            start = value.get("start", p.default)
+            if _is_number(start):
+                kind = "start" if value.get("fixed", False) else "guess"
+                found[f"{name}.{p.name}"] = FmuVariable(
+                    f"{name}.{p.name}", kind, float(start), p.unit, p.description
+                )
+    return found
+
+
 def default_outputs(model: Model) -> list[str]:
     """The states: every Inertia's phi and w, every HeatCapacitor's T."""
     return [f"{n}.{v}" for n, c in model.components.items() for v in STATES.get(c.type, ())]
@@ -121,8 +149,14 @@ def interface(model: Model, outputs: list[str] | None = None, fmi_version: int =
     components = tomllib.loads(model.engine_toml()).get("components", {})
     inputs = [FmuVariable(port, "input", start) for port, start in model.inputs.items()]
     chosen = _outputs(model, list(outputs) if outputs is not None else default_outputs(model))
+    variables = set(model.simulation().values())
+    starts = {n: v for n, v in _start_values(components).items() if n in variables}
+    # a chosen state is the output that carries its start value; the others are local variables
+    chosen = [
+        replace(starts.pop(v.name), unit=v.unit, output=True) if v.name in starts else v for v in chosen
+    ]
     time = [FmuVariable("time", "independent", 0.0, "s", "Simulation time")] if fmi_version == 3 else []
-    return inputs + chosen + _parameters(model, components) + time
+    return inputs + chosen + _parameters(model, components) + list(starts.values()) + time
 
 
 def _identifier(name: str) -> str:

@@ -2,7 +2,8 @@
 
 Inputs are continuous with their start value; outputs are calculated (``*.mode`` discrete);
 parameters are ``fixed`` with ``initial="exact"``: they are compiled into the run at the end
-of initialization. No event indicators, no derivatives, no serialized states.
+of initialization. A state with a start value (output or local) has ``initial="exact"`` where
+the start value is fixed, ``"approx"`` where it is a guess, settable until initialization ends. No event indicators, no derivatives; states can be saved and serialized.
 """
 
 from __future__ import annotations
@@ -26,6 +27,11 @@ ATTRIBUTES = {
 
 
 def _attributes(v: FmuVariable) -> str:
+    if v.kind in ("start", "guess"):
+        causality = "output" if v.output else "local"
+        initial = "exact" if v.kind == "start" else "approx"
+        attrs = f'causality="{causality}" variability="continuous" initial="{initial}"'
+        return attrs + (f" description={quoteattr(v.description)}" if v.description else "")
     attrs = ATTRIBUTES[v.kind]
     if v.kind == "output" and v.name.endswith(".mode"):
         attrs = attrs.replace("continuous", "discrete")
@@ -34,7 +40,16 @@ def _attributes(v: FmuVariable) -> str:
 
 def _value(v: FmuVariable) -> list[str]:
     unit = [f"unit={quoteattr(v.unit)}"] if v.unit else []
-    return unit + ([f'start="{v.start!r}"'] if v.kind in ("input", "parameter") else [])
+    return unit + ([f'start="{v.start!r}"'] if v.kind in ("input", "parameter", "start", "guess") else [])
+
+
+def _is_output(v: FmuVariable) -> bool:
+    return v.kind == "output" or (v.kind in ("start", "guess") and v.output)
+
+
+def _initial_unknown(v: FmuVariable) -> bool:
+    """Outputs computed in initialization (not those whose start value is exact)."""
+    return _is_output(v) and v.kind != "start"
 
 
 def _header(exp: Mapping[str, Any], variables: Sequence[FmuVariable]) -> tuple[str, str, str]:
@@ -55,15 +70,16 @@ def fmi2(name: str, exp: Mapping[str, Any], variables: Sequence[FmuVariable], id
         f"      <Real {' '.join(_value(v))}/>\n    </ScalarVariable>"
         for k, v in enumerate(variables)
     )
-    outs = "\n".join(
-        f'      <Unknown index="{k + 1}"/>' for k, v in enumerate(variables) if v.kind == "output"
-    )
+    outs = "\n".join(f'      <Unknown index="{k + 1}"/>' for k, v in enumerate(variables) if _is_output(v))
+    unknowns = [f'      <Unknown index="{k + 1}"/>' for k, v in enumerate(variables) if _initial_unknown(v)]
+    # the schema wants at least one Unknown in the element (every output may be exact)
+    initial = "    <InitialUnknowns>\n" + "\n".join(unknowns) + "\n    </InitialUnknowns>" if unknowns else ""
     return f"""<?xml version="1.0" encoding="UTF-8"?>
 <fmiModelDescription fmiVersion="2.0" modelName={quoteattr(name)} guid="{guid}"
   generationTool="stiction {__version__}" generationDateAndTime="{now}"
   variableNamingConvention="structured" numberOfEventIndicators="0">
   <CoSimulation modelIdentifier="{ident}" canHandleVariableCommunicationStepSize="true"
-    canGetAndSetFMUstate="true" canSerializeFMUstate="false" canNotUseMemoryManagementFunctions="true"/>
+    canGetAndSetFMUstate="true" canSerializeFMUstate="true" canNotUseMemoryManagementFunctions="true"/>
   <UnitDefinitions>
 {units}
   </UnitDefinitions>
@@ -75,9 +91,7 @@ def fmi2(name: str, exp: Mapping[str, Any], variables: Sequence[FmuVariable], id
     <Outputs>
 {outs}
     </Outputs>
-    <InitialUnknowns>
-{outs}
-    </InitialUnknowns>
+{initial}
   </ModelStructure>
 </fmiModelDescription>
 """
@@ -90,17 +104,20 @@ def fmi3(name: str, exp: Mapping[str, Any], variables: Sequence[FmuVariable], id
         f'    <Float64 name={quoteattr(v.name)} valueReference="{k}" {_attributes(v)} {" ".join(_value(v))}/>'
         for k, v in enumerate(variables)
     )
-    outs = [k for k, v in enumerate(variables) if v.kind == "output"]
     structure = "\n".join(
-        [f'    <Output valueReference="{k}"/>' for k in outs]
-        + [f'    <InitialUnknown valueReference="{k}"/>' for k in outs]
+        [f'    <Output valueReference="{k}"/>' for k, v in enumerate(variables) if _is_output(v)]
+        + [
+            f'    <InitialUnknown valueReference="{k}"/>'
+            for k, v in enumerate(variables)
+            if _initial_unknown(v)
+        ]
     )
     return f"""<?xml version="1.0" encoding="UTF-8"?>
 <fmiModelDescription fmiVersion="3.0" modelName={quoteattr(name)} instantiationToken="{token}"
   generationTool="stiction {__version__}" generationDateAndTime="{now}"
   variableNamingConvention="structured">
   <CoSimulation modelIdentifier="{ident}" canHandleVariableCommunicationStepSize="true"
-    canGetAndSetFMUState="true" canSerializeFMUState="false"/>
+    canGetAndSetFMUState="true" canSerializeFMUState="true"/>
   <UnitDefinitions>
 {units}
   </UnitDefinitions>

@@ -1,7 +1,9 @@
 /* A minimal FMI 2.0 Co-Simulation host with no Python in the process: loads an extracted
  * stiction FMU's library, runs it to StopTime in steps of H and prints the value of one output
  * at the end, the mean wall time of a doStep, and the resident memory after CYCLES extra
- * instantiate/free and reset cycles (to show it does not grow).
+ * instantiate/free and reset cycles (to show it does not grow). The state saved halfway is
+ * serialized, then restored in the same instance and, from its bytes, in a new one: both
+ * continue to StopTime and print their value there (they must agree bit for bit).
  * usage: harness UNZIPDIR LIBRARY GUID VR_OUT STOP H CYCLES [VR_IN VALUE] */
 #include <dlfcn.h>
 #include <stdarg.h>
@@ -53,6 +55,12 @@ typedef int (*fmi2GetReal_t)(C, const unsigned *, size_t, double *);
 typedef int (*fmi2SetReal_t)(C, const unsigned *, size_t, const double *);
 typedef int (*fmi2Terminate_t)(C);
 typedef int (*fmi2Reset_t)(C);
+typedef int (*fmi2GetFMUstate_t)(C, void **);
+typedef int (*fmi2SetFMUstate_t)(C, void *);
+typedef int (*fmi2FreeFMUstate_t)(C, void **);
+typedef int (*fmi2SerializedFMUstateSize_t)(C, void *, size_t *);
+typedef int (*fmi2SerializeFMUstate_t)(C, void *, char *, size_t);
+typedef int (*fmi2DeSerializeFMUstate_t)(C, const char *, size_t, void **);
 
 int main(int argc, char **argv) {
     if (argc < 8) return 2;
@@ -63,6 +71,8 @@ int main(int argc, char **argv) {
     SYM(fmi2Instantiate) SYM(fmi2FreeInstance) SYM(fmi2SetupExperiment)
     SYM(fmi2EnterInitializationMode) SYM(fmi2ExitInitializationMode) SYM(fmi2DoStep)
     SYM(fmi2GetReal) SYM(fmi2SetReal) SYM(fmi2Terminate) SYM(fmi2Reset)
+    SYM(fmi2GetFMUstate) SYM(fmi2SetFMUstate) SYM(fmi2FreeFMUstate)
+    SYM(fmi2SerializedFMUstateSize) SYM(fmi2SerializeFMUstate) SYM(fmi2DeSerializeFMUstate)
     const char *guid = argv[3];
     unsigned vr = (unsigned)atoi(argv[4]);
     double stop = atof(argv[5]), h = atof(argv[6]);
@@ -81,10 +91,34 @@ int main(int argc, char **argv) {
     bad |= fmi2ExitInitializationMode(c);
     long steps = (long)(stop / h + 0.5);
     double t0 = now();
-    for (long k = 0; k < steps && !bad; k++) bad |= fmi2DoStep(c, k * h, h, 1);
+    long mid = steps / 2;
+    for (long k = 0; k < mid && !bad; k++) bad |= fmi2DoStep(c, k * h, h, 1);
+    void *state = NULL;
+    bad |= fmi2GetFMUstate(c, &state);
+    for (long k = mid; k < steps && !bad; k++) bad |= fmi2DoStep(c, k * h, h, 1);
     double elapsed = now() - t0;
     double y = 0.0;
     bad |= fmi2GetReal(c, &vr, 1, &y);
+    /* the saved state: its bytes, then continued here and in a new instance */
+    size_t size = 0;
+    bad |= fmi2SerializedFMUstateSize(c, state, &size);
+    char *bytes = malloc(size);
+    bad |= fmi2SerializeFMUstate(c, state, bytes, size);
+    double y_same = 0.0, y_new = 0.0;
+    bad |= fmi2SetFMUstate(c, state);
+    for (long k = mid; k < steps && !bad; k++) bad |= fmi2DoStep(c, k * h, h, 1);
+    bad |= fmi2GetReal(c, &vr, 1, &y_same);
+    bad |= fmi2FreeFMUstate(c, &state);
+    C fresh = fmi2Instantiate("fresh", 1, guid, uri, &cb, 0, 0);
+    void *copy = NULL;
+    if (!fresh) bad = 1;
+    if (!bad) bad |= fmi2DeSerializeFMUstate(fresh, bytes, size, &copy);
+    if (!bad) bad |= fmi2SetFMUstate(fresh, copy);
+    for (long k = mid; k < steps && !bad; k++) bad |= fmi2DoStep(fresh, k * h, h, 1);
+    if (!bad) bad |= fmi2GetReal(fresh, &vr, 1, &y_new);
+    if (fresh) fmi2FreeFMUstate(fresh, &copy);
+    fmi2FreeInstance(fresh);
+    free(bytes);
     bad |= fmi2Terminate(c);
     long rss0 = rss_kb();
     for (int k = 0; k < cycles && !bad; k++) {
@@ -98,7 +132,8 @@ int main(int argc, char **argv) {
     }
     long rss1 = rss_kb();
     fmi2FreeInstance(c);
-    printf("status %d\nvalue %.17g\nseconds %.9g\nsteps %ld\nrss_before_kb %ld\nrss_after_kb %ld\n",
-           bad, y, elapsed, steps, rss0, rss1);
+    printf("status %d\nvalue %.17g\nseconds %.9g\nsteps %ld\nrss_before_kb %ld\nrss_after_kb %ld\n"
+           "restored_same %.17g\nrestored_new %.17g\nstate_bytes %zu\n",
+           bad, y, elapsed, steps, rss0, rss1, y_same, y_new, size);
     return bad ? 1 : 0;
 }

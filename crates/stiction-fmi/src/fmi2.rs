@@ -1,7 +1,7 @@
 //! The FMI 2.0 Co-Simulation C API over `Instance`. Every entry point runs inside
 //! `catch_unwind`: an error or a panic is logged through the host's logger and returned as
 //! `fmi2Error`, never unwound into the host. Calls this runtime does not support (Model
-//! Exchange, directional derivatives, input derivatives, serialized states, asynchronous
+//! Exchange, directional derivatives, input derivatives, asynchronous
 //! steps) exist, since importers bind every symbol, and return `fmi2Error` with a message.
 #![allow(non_snake_case, clippy::missing_safety_doc)] // FMI's names; FMI 2.0 is the contract
 
@@ -225,30 +225,36 @@ unsafe fn unsupported(c: Component, call: &str) -> Status {
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
     c: Component,
-    _s: FmuState,
-    _n: *mut usize,
+    s: FmuState,
+    n: *mut usize,
 ) -> Status {
-    unsupported(c, "fmi2SerializedFMUstateSize")
+    with(c, "fmi2SerializedFMUstateSize", |i| {
+        host::serialized_size(i, s, n)
+    })
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SerializeFMUstate(
     c: Component,
-    _s: FmuState,
-    _b: *mut Byte,
-    _n: usize,
+    s: FmuState,
+    b: *mut Byte,
+    n: usize,
 ) -> Status {
-    unsupported(c, "fmi2SerializeFMUstate")
+    with(c, "fmi2SerializeFMUstate", |i| {
+        host::serialize(i, s, b as *mut u8, n)
+    })
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
     c: Component,
-    _b: *const Byte,
-    _n: usize,
-    _s: *mut FmuState,
+    b: *const Byte,
+    n: usize,
+    s: *mut FmuState,
 ) -> Status {
-    unsupported(c, "fmi2DeSerializeFMUstate")
+    with(c, "fmi2DeSerializeFMUstate", |i| {
+        host::deserialize(i, b as *const u8, n, s)
+    })
 }
 
 #[no_mangle]

@@ -1,7 +1,8 @@
-//! The FMI 3.0 Co-Simulation C API over the same `Instance` as FMI 2.0. Steps run to their end
-//! (no early return, no event mode: the friction events are handled inside the step). Every
+//! The FMI 3.0 Co-Simulation C API over the same `Instance` as FMI 2.0. Steps run to their end,
+//! or, if the host allows early return, to the first friction event in them (no event mode:
+//! the events are handled inside the step either way). Every
 //! function an importer binds exists; those for Model Exchange, Scheduled Execution, clocks,
-//! derivatives, serialized states and the integer, Boolean, string and binary types return
+//! derivatives and the integer, Boolean, string and binary types return
 //! `fmi3Error` with a logged message.
 #![allow(non_snake_case, clippy::missing_safety_doc)] // FMI's names; FMI 3.0 is the contract
 
@@ -45,7 +46,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
     _visible: bool,
     logging_on: bool,
     _event_mode_used: bool,
-    _early_return_allowed: bool,
+    early_return_allowed: bool,
     _required_intermediate: Vr,
     _n_required: usize,
     env: *mut c_void,
@@ -56,7 +57,9 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
     let (token, resources) = (text(token), text(resources));
     let log = Log::Fmi3 { env, logger };
     host::instantiate(cname, log, logging_on, || {
-        Instance::load(&resources, &token)
+        let mut instance = Instance::load(&resources, &token)?;
+        instance.early_return = early_return_allowed;
+        Ok(instance)
     })
 }
 
@@ -158,6 +161,10 @@ pub unsafe extern "C" fn fmi3DoStep(
         }
         if let (Some(out), Some(now)) = (last_successful_time.as_mut(), i.time()) {
             *out = now;
+            // stopped at a friction event before the step's end (only if the host allows it)
+            if let Some(early) = early_return.as_mut() {
+                *early = i.returned_early;
+            }
         }
         outcome
     })
@@ -176,6 +183,39 @@ pub unsafe extern "C" fn fmi3SetFMUState(c: Inst, state: *mut c_void) -> Status 
 #[no_mangle]
 pub unsafe extern "C" fn fmi3FreeFMUState(c: Inst, state: *mut *mut c_void) -> Status {
     with(c, "fmi3FreeFMUState", |_| host::free_state(state))
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SerializedFMUStateSize(
+    c: Inst,
+    s: *mut c_void,
+    n: *mut usize,
+) -> Status {
+    with(c, "fmi3SerializedFMUStateSize", |i| {
+        host::serialized_size(i, s, n)
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SerializeFMUState(
+    c: Inst,
+    s: *mut c_void,
+    b: *mut u8,
+    n: usize,
+) -> Status {
+    with(c, "fmi3SerializeFMUState", |i| host::serialize(i, s, b, n))
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3DeserializeFMUState(
+    c: Inst,
+    b: *const u8,
+    n: usize,
+    s: *mut *mut c_void,
+) -> Status {
+    with(c, "fmi3DeserializeFMUState", |i| {
+        host::deserialize(i, b, n, s)
+    })
 }
 
 #[no_mangle]
@@ -243,9 +283,6 @@ unsupported! {
     fmi3GetDirectionalDerivative(Vr, usize, Vr, usize, In<f64>, usize, Out<f64>, usize);
     fmi3GetAdjointDerivative(Vr, usize, Vr, usize, In<f64>, usize, Out<f64>, usize);
     fmi3GetOutputDerivatives(Vr, usize, In<i32>, Out<f64>, usize);
-    fmi3SerializedFMUStateSize(*mut c_void, Out<usize>);
-    fmi3SerializeFMUState(*mut c_void, Out<u8>, usize);
-    fmi3DeserializeFMUState(In<u8>, usize, Out<*mut c_void>);
     fmi3ActivateModelPartition(u32, f64);
     fmi3GetFloat32(Vr, usize, Out<f32>, usize);
     fmi3SetFloat32(Vr, usize, In<f32>, usize);

@@ -7,6 +7,7 @@ use std::ffi::{c_void, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use crate::instance::{Fallible, Instance, Snapshot};
+use crate::serial;
 use crate::types::{CallbackFunctions, FmiString, Status};
 
 /// FMI 3.0's `fmi3LogMessageCallback` (not printf-style, no instance name).
@@ -200,6 +201,68 @@ pub unsafe fn free_state(state: *mut *mut c_void) -> Fallible<()> {
             drop(Box::from_raw(*p as *mut Snapshot));
         }
         *p = std::ptr::null_mut();
+    }
+    Ok(())
+}
+
+/// # Safety
+/// `state` is null or a state this library made.
+unsafe fn saved<'a>(state: *mut c_void) -> Fallible<&'a Snapshot> {
+    (state as *const Snapshot)
+        .as_ref()
+        .ok_or_else(|| "FMUstate is a null pointer".into())
+}
+
+/// `serializedFMUstateSize`: the length of the state's bytes.
+///
+/// # Safety
+/// `state` is null or a state this library made; `size` is null or writable.
+pub unsafe fn serialized_size(i: &Instance, state: *mut c_void, size: *mut usize) -> Fallible<()> {
+    let out = size.as_mut().ok_or("size is a null pointer")?;
+    *out = serial::to_bytes(saved(state)?, &i.fingerprint).len();
+    Ok(())
+}
+
+/// `serializeFMUstate`: the state's bytes into the host's buffer of `n` bytes.
+///
+/// # Safety
+/// `state` is null or a state this library made; `bytes` is null or points to `n` writable bytes.
+pub unsafe fn serialize(
+    i: &Instance,
+    state: *mut c_void,
+    bytes: *mut u8,
+    n: usize,
+) -> Fallible<()> {
+    let data = serial::to_bytes(saved(state)?, &i.fingerprint);
+    if bytes.is_null() || n < data.len() {
+        return Err(format!(
+            "the buffer ({n} bytes) is smaller than the state ({} bytes)",
+            data.len()
+        ));
+    }
+    slice_mut(bytes, data.len()).copy_from_slice(&data);
+    Ok(())
+}
+
+/// `deSerializeFMUstate`: a new saved state from `n` bytes (checked before anything is made).
+///
+/// # Safety
+/// `bytes` is null or points to `n` bytes; `state` is null or points to null or to a state
+/// this library made.
+pub unsafe fn deserialize(
+    i: &Instance,
+    bytes: *const u8,
+    n: usize,
+    state: *mut *mut c_void,
+) -> Fallible<()> {
+    let out = state.as_mut().ok_or("FMUstate is a null pointer")?;
+    if bytes.is_null() && n > 0 {
+        return Err("the serialized state is a null pointer".into());
+    }
+    let snap = serial::from_bytes(slice(bytes, n), &i.fingerprint)?;
+    match (*out as *mut Snapshot).as_mut() {
+        Some(old) => *old = snap, // the host passed a state to reuse
+        None => *out = Box::into_raw(Box::new(snap)) as *mut c_void,
     }
     Ok(())
 }

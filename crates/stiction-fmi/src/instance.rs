@@ -34,14 +34,27 @@ struct Var {
 
 impl Var {
     fn is_computed(&self) -> bool {
-        matches!(self.kind, Kind::Output | Kind::Independent)
+        matches!(
+            self.kind,
+            Kind::Output | Kind::Independent | Kind::Start { .. }
+        )
     }
 }
 
-/// A saved state: the run's and the values of the inputs and parameters.
+/// The experiment settings of `setupExperiment` / `enterInitializationMode`.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Experiment {
+    pub start: Option<f64>,
+    pub stop: Option<f64>,
+    pub tolerance: Option<f64>,
+}
+
+/// A saved state: the run's, the values of the inputs and parameters and the experiment
+/// settings (a state restored into a fresh instance rebuilds its run from them).
 pub struct Snapshot {
-    sim: SimState,
-    values: Vec<f64>,
+    pub(crate) sim: SimState,
+    pub(crate) values: Vec<f64>,
+    pub(crate) experiment: Experiment,
 }
 
 pub struct Instance {
@@ -52,6 +65,26 @@ pub struct Instance {
     stop_time: Option<f64>,
     tolerance: Option<f64>,
     sim: Option<Simulation>,
+    /// What a serialized state must carry to be restored here (`serial::fingerprint`).
+    pub fingerprint: String,
+    /// FMI 3.0 `earlyReturnAllowed`: `doStep` stops at the first friction event in the step.
+    pub early_return: bool,
+    /// Whether the last `doStep` stopped at such an event before its end.
+    pub returned_early: bool,
+}
+
+/// A parameter or start value as the model file writes it: a start value that is a guess keeps
+/// `fixed = false`.
+fn setting(kind: Kind, value: f64) -> toml::Value {
+    match kind {
+        Kind::Start { fixed: false } => {
+            let mut t = toml::map::Map::new();
+            t.insert("start".into(), toml::Value::Float(value));
+            t.insert("fixed".into(), toml::Value::Boolean(false));
+            toml::Value::Table(t)
+        }
+        _ => toml::Value::Float(value),
+    }
 }
 
 fn read(dir: &Path, file: &str) -> Fallible<String> {
@@ -75,7 +108,9 @@ fn bind(layout: Layout, model: &CompiledModel) -> Fallible<Vec<Var>> {
         .collect();
     let bind_one = |v: crate::layout::VarSpec| {
         let known = match v.kind {
-            Kind::Output => names.iter().position(|n| *n == v.name).map(|k| k + 1),
+            Kind::Output | Kind::Start { .. } => {
+                names.iter().position(|n| *n == v.name).map(|k| k + 1)
+            }
             Kind::Parameter => params.contains(&v.name).then_some(0),
             Kind::Input => inputs.contains(&v.name).then_some(0),
             Kind::Independent => Some(0), // `time` is column 0 of `Simulation::values`
@@ -115,6 +150,9 @@ impl Instance {
             stop_time: None,
             tolerance: None,
             sim: None,
+            fingerprint: crate::serial::fingerprint(guid),
+            early_return: false,
+            returned_early: false,
         })
     }
 
@@ -155,8 +193,8 @@ impl Instance {
     /// The model variant with the parameters and experiment settings set so far.
     fn variant(&self) -> Fallible<CompiledModel> {
         let mut overrides: Vec<(&str, toml::Value)> = (self.vars.iter())
-            .filter(|v| v.kind == Kind::Parameter && v.value != v.start)
-            .map(|v| (v.name.as_str(), toml::Value::Float(v.value)))
+            .filter(|v| v.kind.is_setup() && v.value != v.start)
+            .map(|v| (v.name.as_str(), setting(v.kind, v.value)))
             .collect();
         let experiment = [
             ("StartTime", self.start_time),
@@ -174,6 +212,7 @@ impl Instance {
         if self.sim.is_none() {
             let mut sim = Simulation::new(self.variant()?.system()).map_err(|e| e.to_string())?;
             sim.set_recording(false);
+            sim.set_stop_at_events(self.early_return);
             for v in self.vars.iter().filter(|v| v.kind == Kind::Input) {
                 sim.set_input(&v.name, v.value).map_err(|e| e.to_string())?;
             }
@@ -223,7 +262,7 @@ impl Instance {
             Kind::Output | Kind::Independent => {
                 return Err(format!("{name} is computed by the FMU: it cannot be set"))
             }
-            Kind::Parameter => self.set_parameter(&name, value)?,
+            Kind::Parameter | Kind::Start { .. } => self.set_parameter(&name, kind, value)?,
             Kind::Input if self.mode == Mode::Step => {
                 let sim = self.sim.as_mut().expect("a run exists in step mode");
                 sim.set_input(&name, value).map_err(|e| e.to_string())?;
@@ -234,12 +273,17 @@ impl Instance {
         Ok(())
     }
 
-    /// Parameters are set before the end of initialization; a value is checked at once.
-    fn set_parameter(&mut self, name: &str, value: f64) -> Fallible<()> {
+    /// Parameters and start values are set before the end of initialization; a value is
+    /// checked at once.
+    fn set_parameter(&mut self, name: &str, kind: Kind, value: f64) -> Fallible<()> {
         let allowed = [Mode::Instantiated, Mode::Initialization];
-        self.expect(&allowed, &format!("setting parameter {name}"))?;
+        let what = match kind {
+            Kind::Start { .. } => "the start value of",
+            _ => "parameter",
+        };
+        self.expect(&allowed, &format!("setting {what} {name}"))?;
         self.model
-            .with(&[(name, toml::Value::Float(value))])
+            .with(&[(name, setting(kind, value))])
             .map_err(|e| e.to_string())?;
         self.sim = None;
         Ok(())
@@ -259,7 +303,10 @@ impl Instance {
                 "doStep: currentCommunicationPoint {t} is not the FMU's time {now}"
             ));
         }
-        let outcome = sim.advance_to(now.max(t + h)).map_err(|e| e.to_string());
+        let target = now.max(t + h);
+        let outcome = sim.advance_to(target).map_err(|e| e.to_string());
+        let stop = sim.system().experiment.stop_time;
+        self.returned_early = outcome.is_ok() && sim.time() < target.min(stop);
         if outcome.is_err() {
             self.mode = Mode::Failed;
         }
@@ -287,22 +334,57 @@ impl Instance {
         self.mode = Mode::Instantiated;
     }
 
+    fn experiment(&self) -> Experiment {
+        Experiment {
+            start: self.start_time,
+            stop: self.stop_time,
+            tolerance: self.tolerance,
+        }
+    }
+
     pub fn snapshot(&mut self) -> Fallible<Snapshot> {
         self.expect(&[Mode::Step], "getFMUstate")?;
+        let experiment = self.experiment();
         let sim = self.sim.as_mut().expect("a run exists in step mode");
         Ok(Snapshot {
             sim: sim.state().map_err(|e| e.to_string())?,
             values: self.vars.iter().map(|v| v.value).collect(),
+            experiment,
         })
     }
 
+    /// Continues from a saved state, in step mode. An instance not yet initialized, or set up
+    /// with other parameters or experiment settings (a state deserialized into a new instance),
+    /// first builds its run from the state's.
     pub fn restore(&mut self, snap: &Snapshot) -> Fallible<()> {
-        self.expect(&[Mode::Step], "setFMUstate")?;
-        let sim = self.sim.as_mut().expect("a run exists in step mode");
+        let allowed = [
+            Mode::Instantiated,
+            Mode::Initialization,
+            Mode::Step,
+            Mode::Terminated,
+            Mode::Failed,
+        ];
+        self.expect(&allowed, "setFMUstate")?;
+        if snap.values.len() != self.vars.len() {
+            return Err("the FMU state belongs to another model".into());
+        }
+        let same_setup = self.experiment() == snap.experiment
+            && (self.vars.iter().zip(&snap.values))
+                .all(|(v, &saved)| !v.kind.is_setup() || v.value.to_bits() == saved.to_bits());
+        if !same_setup || self.mode == Mode::Failed {
+            for (v, &value) in self.vars.iter_mut().zip(&snap.values) {
+                v.value = value;
+            }
+            let e = snap.experiment;
+            (self.start_time, self.stop_time, self.tolerance) = (e.start, e.stop, e.tolerance);
+            self.sim = None;
+        }
+        let sim = self.ensure_sim()?;
         sim.set_state(&snap.sim).map_err(|e| e.to_string())?;
         for (v, &value) in self.vars.iter_mut().zip(&snap.values) {
             v.value = value;
         }
+        self.mode = Mode::Step;
         Ok(())
     }
 }

@@ -13,6 +13,18 @@ pub enum Kind {
     Parameter,
     /// Time (FMI 3.0 declares it).
     Independent,
+    /// A state with a start value (`J1.w`): read as the state, set before the end of
+    /// initialization as its start value, fixed (`initial="exact"`) or a guess (`"approx"`).
+    Start {
+        fixed: bool,
+    },
+}
+
+impl Kind {
+    /// Whether the model compiles the value into the run (set only before initialization ends).
+    pub fn is_setup(self) -> bool {
+        matches!(self, Kind::Parameter | Kind::Start { .. })
+    }
 }
 
 #[derive(Debug, Clone)]
@@ -37,6 +49,8 @@ fn parse_kind(word: &str) -> Result<Kind, String> {
         "output" => Ok(Kind::Output),
         "parameter" => Ok(Kind::Parameter),
         "independent" => Ok(Kind::Independent),
+        "start" => Ok(Kind::Start { fixed: true }),
+        "guess" => Ok(Kind::Start { fixed: false }),
         other => Err(format!("unknown variable kind '{other}'")),
     }
 }
@@ -148,5 +162,8 @@ mod tests {
         assert!(Layout::parse("guid\tabc\n1\tinput\tb.f\t0\n").is_err());
         assert!(Layout::parse("0\tinput\tb.f\t0\n").is_err());
         assert!(Layout::parse("guid\tx\n0\tstate\tb.f\t0\n").is_err());
+        let start = Layout::parse("guid\tx\n0\tstart\tJ.w\t1\n1\tguess\tJ.phi\t0\n").unwrap();
+        assert_eq!(start.vars[0].kind, Kind::Start { fixed: true });
+        assert_eq!(start.vars[1].kind, Kind::Start { fixed: false });
     }
 }

@@ -7,4 +7,5 @@ pub mod fmi3;
 pub mod host;
 pub mod instance;
 pub mod layout;
+pub mod serial;
 pub mod types;

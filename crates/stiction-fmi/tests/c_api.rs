@@ -1,5 +1,6 @@
 //! The C API called directly, as a host would, including what Python hosts cannot easily do:
-//! null handles and pointers, a wrong instantiation token, a missing resource folder.
+//! null handles and pointers, a wrong instantiation token, a missing resource folder, every
+//! truncation and flipped bit of a serialized state.
 
 use std::ffi::{c_char, c_void, CStr, CString};
 use std::ptr;
@@ -119,6 +120,64 @@ fn a_torque_input_spins_the_inertia_as_newton_says() {
         );
         assert!(last(&log).contains("setting parameter J.J"), "{log:?}");
         assert_eq!(fmi3Terminate(c), Status::Ok);
+        fmi3FreeInstance(c);
+    }
+}
+
+#[test]
+fn every_truncation_and_every_flipped_bit_of_a_serialized_state_is_refused() {
+    unsafe {
+        let (dir, mut log) = (resources("bytes"), Vec::new());
+        let c = instantiate(c"token", &dir, &mut log);
+        assert_eq!(
+            fmi3EnterInitializationMode(c, false, 0.0, 0.0, true, 1.0),
+            Status::Ok
+        );
+        assert_eq!(fmi3ExitInitializationMode(c), Status::Ok);
+        let (mut event, mut stop, mut early, mut t) = (false, false, false, 0.0);
+        fmi3DoStep(
+            c, 0.0, 0.25, true, &mut event, &mut stop, &mut early, &mut t,
+        );
+        let mut state = ptr::null_mut();
+        assert_eq!(fmi3GetFMUState(c, &mut state), Status::Ok);
+        let mut n = 0;
+        assert_eq!(fmi3SerializedFMUStateSize(c, state, &mut n), Status::Ok);
+        let mut bytes = vec![0u8; n];
+        assert_eq!(
+            fmi3SerializeFMUState(c, state, bytes.as_mut_ptr(), n),
+            Status::Ok
+        );
+        assert_eq!(
+            fmi3SerializeFMUState(c, state, bytes.as_mut_ptr(), n - 1),
+            Status::Error // a buffer too small
+        );
+        let mut copy = ptr::null_mut();
+        let deserialize = |b: &[u8], copy: &mut *mut c_void| {
+            fmi3DeserializeFMUState(c, b.as_ptr(), b.len(), copy)
+        };
+        for k in 0..n {
+            assert_eq!(
+                deserialize(&bytes[..k], &mut copy),
+                Status::Error,
+                "{k} bytes"
+            );
+        }
+        for bit in 0..8 * n {
+            bytes[bit / 8] ^= 1 << (bit % 8);
+            assert_eq!(deserialize(&bytes, &mut copy), Status::Error, "bit {bit}");
+            bytes[bit / 8] ^= 1 << (bit % 8);
+        }
+        assert!(copy.is_null()); // nothing was made from bad bytes
+        assert_eq!(deserialize(&bytes, &mut copy), Status::Ok);
+        assert_eq!(fmi3SetFMUState(c, copy), Status::Ok);
+        let mut again = vec![0u8; n];
+        assert_eq!(
+            fmi3SerializeFMUState(c, copy, again.as_mut_ptr(), n),
+            Status::Ok
+        );
+        assert_eq!(again, bytes);
+        fmi3FreeFMUState(c, &mut state);
+        fmi3FreeFMUState(c, &mut copy);
         fmi3FreeInstance(c);
     }
 }

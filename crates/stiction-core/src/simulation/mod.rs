@@ -15,6 +15,7 @@ mod grid;
 mod init;
 mod integrator;
 mod locate;
+mod saved;
 mod scan;
 mod stepper;
 
@@ -27,6 +28,7 @@ use std::time::Instant;
 use diffsol::OdeSolverMethod;
 
 pub use init::{check_model, initial_state, initial_state_and_guesses, InitialState};
+pub use saved::{SimState, SolverState};
 pub use stepper::Cursor;
 
 use integrator::{solver_for, with_solver, IntegratorCell};
@@ -116,15 +118,6 @@ impl Default for CancelHandle {
     fn default() -> Self {
         Self::new()
     }
-}
-
-/// The whole state of a run at its current time: enough to continue from it later.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SimState {
-    pub x: Vec<f64>,
-    pub disc: DiscreteState,
-    pub horizon: f64,
-    pub cursor: Cursor,
 }
 
 pub struct Simulation {
@@ -407,53 +400,15 @@ impl Simulation {
         }
     }
 
+    /// Whether `advance_to` returns right after a state event (a friction element changing
+    /// mode), with `time()` there, before its target; advanced on, the run is the same.
+    pub fn set_stop_at_events(&mut self, on: bool) {
+        self.stepper.stop_at_events = on;
+    }
+
     /// Whether rows are kept for `into_result` (a sweep computing metrics keeps none).
     pub fn set_recording(&mut self, recording: bool) {
         self.stepper.recording = recording;
-    }
-
-    /// The whole state at the current time.
-    pub fn state(&mut self) -> Result<SimState, SimError> {
-        let Simulation { cell, stepper, .. } = self;
-        let x =
-            cell.with_dependent_mut(|_, integ| with_solver!(integ, s => stepper.state_now(s)))?;
-        let phase = stepper.phase.borrow();
-        Ok(SimState {
-            x,
-            disc: phase.disc.clone(),
-            horizon: phase.horizon,
-            cursor: stepper.cursor(),
-        })
-    }
-
-    /// Continues from a saved state (of this model): the integrator restarts there.
-    pub fn set_state(&mut self, state: &SimState) -> Result<(), SimError> {
-        let sys = self.stepper.sys.clone();
-        if state.x.len() != sys.state_len() || !state.disc.fits(&sys) {
-            return Err(SimError::Usage("the state belongs to another model".into()));
-        }
-        let t = state.cursor.now;
-        let mm = self.stepper.cache.get(&sys, &state.disc, t)?;
-        {
-            let mut phase = self.stepper.phase.borrow_mut();
-            phase.disc = state.disc.clone();
-            phase.f0_t = f64::NAN;
-            phase.horizon = state.horizon;
-            phase.mm = mm;
-        }
-        let Simulation { cell, stepper, .. } = self;
-        stepper.x.copy_from_slice(&state.x);
-        stepper.set_cursor(&state.cursor);
-        stepper.evaluate_here(t, true);
-        stepper.z_prev.copy_from_slice(&stepper.z);
-        stepper.dz.fill(f64::NAN);
-        if stepper.finished {
-            return Ok(());
-        }
-        cell.with_dependent_mut(|_, integ| {
-            let (order, implicit) = (integ.order(), integ.implicit());
-            with_solver!(integ, s => stepper.restart_at(s, t, order, implicit, false))
-        })
     }
 
     /// Back to the start: initialized anew, with the same observer and recording setting.
@@ -462,6 +417,7 @@ impl Simulation {
         fresh.stepper.observer = self.stepper.observer.take();
         fresh.stepper.notify_start_row();
         fresh.stepper.recording = self.stepper.recording;
+        fresh.stepper.stop_at_events = self.stepper.stop_at_events;
         fresh.stepper.cancel = self.stepper.cancel.clone();
         fresh.stepper.cancel.store(false, Ordering::Relaxed);
         *self = fresh;

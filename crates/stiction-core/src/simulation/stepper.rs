@@ -109,6 +109,8 @@ pub(super) struct Stepper {
     pub(super) chatter: ChatterWatch, // mode changes per element: chattering or many events
     pub(super) stiffness: StiffnessWatch, // Solver = "auto": held back by stability?
     pub(super) candidates: Vec<(usize, f64, f64)>,
+    /// `advance` returns right after a state event (FMI 3.0's early return).
+    pub(super) stop_at_events: bool,
 }
 
 impl Stepper {
@@ -170,6 +172,7 @@ impl Stepper {
             chatter,
             stiffness,
             candidates: Vec::new(),
+            stop_at_events: false,
         }
     }
 
@@ -392,6 +395,11 @@ impl Stepper {
                 let horizon = self.phase.borrow().horizon;
                 self.handle_event(t_e, horizon, EventKind::State, &cause)?;
                 self.restart(solver, t_e, order, implicit)?;
+                if self.stop_at_events && t_e < target {
+                    // the run stands at the event, restarted: going on is as never stopping
+                    self.now = t_e;
+                    return Ok(false);
+                }
                 continue;
             }
             if t_now > target {

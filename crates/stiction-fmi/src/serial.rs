@@ -1,0 +1,271 @@
+//! The byte form of a saved FMU state (`fmi2SerializeFMUstate`, `fmi3SerializeFMUState`).
+//!
+//! Layout, little-endian: the magic `STICFMUS`, the format version (u32), the fingerprint of the
+//! model (the FMU's GUID, itself a hash of the model and its variable table, and the runtime's
+//! version, each a u32 length and UTF-8), the snapshot, then an FNV-1a 64 checksum of all that
+//! precedes it. Numbers are f64 bit patterns, so a restored state is the saved one exactly.
+//!
+//! Written by hand: the snapshot is a few vectors of plain fields, and a serialization crate
+//! (serde + bincode/postcard) would add derive macros to stiction-core's types and several
+//! crates to a build that is slow on small machines, for about the same number of lines here.
+//! Every read is bounds-checked and every length is checked against the bytes left, so
+//! truncated or corrupted bytes give an error (never a panic or a huge allocation).
+
+use stiction_core::engine::eval::DiscreteState;
+use stiction_core::simulation::{Cursor, SimState, SolverState};
+use stiction_core::switching::element::SwitchState;
+use stiction_core::switching::logic::Discrete;
+use stiction_core::switching::relation::{RelationSet, MAX_RELATIONS};
+
+use crate::instance::{Experiment, Fallible, Snapshot};
+
+const MAGIC: &[u8; 8] = b"STICFMUS";
+const VERSION: u32 = 1;
+
+/// What a state must have been saved with to be restored here.
+pub fn fingerprint(guid: &str) -> String {
+    format!("{guid} stiction-fmi {}", env!("CARGO_PKG_VERSION"))
+}
+
+/// FNV-1a, 64 bits: enough to notice corrupted bytes (not an adversary).
+fn checksum(bytes: &[u8]) -> u64 {
+    (bytes.iter()).fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
+/// The bytes of `snap`, saved by the model with fingerprint `model`.
+pub fn to_bytes(snap: &Snapshot, model: &str) -> Vec<u8> {
+    let mut w = Writer(Vec::with_capacity(256));
+    w.0.extend_from_slice(MAGIC);
+    w.u32(VERSION);
+    w.text(model);
+    w.floats(&snap.values);
+    for v in [
+        snap.experiment.start,
+        snap.experiment.stop,
+        snap.experiment.tolerance,
+    ] {
+        w.option(v);
+    }
+    w.sim(&snap.sim);
+    let sum = checksum(&w.0);
+    w.u64(sum);
+    w.0
+}
+
+/// The snapshot in `bytes`; an error names what is wrong with them.
+pub fn from_bytes(bytes: &[u8], model: &str) -> Fallible<Snapshot> {
+    let bad = |what: &str| format!("the serialized FMU state is not valid: {what}");
+    if bytes.len() < MAGIC.len() + 12 || &bytes[..MAGIC.len()] != MAGIC {
+        return Err(bad("it is not a stiction FMU state"));
+    }
+    let (body, sum) = bytes.split_at(bytes.len() - 8);
+    if checksum(body).to_le_bytes() != sum {
+        return Err(bad(
+            "its checksum does not match (truncated or corrupted bytes)",
+        ));
+    }
+    let mut r = Reader(&body[MAGIC.len()..]);
+    let version = r.u32()?;
+    if version != VERSION {
+        return Err(bad(&format!(
+            "format version {version}, this FMU reads {VERSION}"
+        )));
+    }
+    let saved_by = r.text()?;
+    if saved_by != model {
+        return Err(bad(&format!(
+            "it was saved by another model or runtime ({saved_by}), this is {model}"
+        )));
+    }
+    let values = r.floats()?;
+    let experiment = Experiment {
+        start: r.option()?,
+        stop: r.option()?,
+        tolerance: r.option()?,
+    };
+    let sim = r.sim()?;
+    if !r.0.is_empty() {
+        return Err(bad("bytes left over after the state"));
+    }
+    Ok(Snapshot {
+        sim,
+        values,
+        experiment,
+    })
+}
+
+struct Writer(Vec<u8>);
+
+impl Writer {
+    fn u32(&mut self, v: u32) {
+        self.0.extend_from_slice(&v.to_le_bytes());
+    }
+    fn u64(&mut self, v: u64) {
+        self.0.extend_from_slice(&v.to_le_bytes());
+    }
+    fn f64(&mut self, v: f64) {
+        self.u64(v.to_bits());
+    }
+    fn flag(&mut self, v: bool) {
+        self.0.push(v as u8);
+    }
+    fn count(&mut self, n: usize) {
+        self.u32(u32::try_from(n).expect("fewer than 2³² items"));
+    }
+    fn text(&mut self, s: &str) {
+        self.count(s.len());
+        self.0.extend_from_slice(s.as_bytes());
+    }
+    fn floats(&mut self, v: &[f64]) {
+        self.count(v.len());
+        v.iter().for_each(|&x| self.f64(x));
+    }
+    fn option(&mut self, v: Option<f64>) {
+        self.flag(v.is_some());
+        self.f64(v.unwrap_or(0.0));
+    }
+    fn sim(&mut self, s: &SimState) {
+        self.floats(&s.x);
+        self.count(s.disc.switching.len());
+        for e in &s.disc.switching {
+            self.0.push(e.pre.mode as u8);
+            for b in [e.pre.start_forward, e.pre.start_backward, e.locked, e.free] {
+                self.flag(b);
+            }
+            e.rel.0.iter().for_each(|&b| self.flag(b));
+        }
+        self.count(s.disc.relations.len());
+        s.disc.relations.iter().for_each(|&b| self.flag(b));
+        self.floats(&s.disc.inputs);
+        self.f64(s.horizon);
+        let c = &s.cursor;
+        self.f64(c.now);
+        self.f64(c.stop);
+        self.u64(c.next_te as u64);
+        self.u64(c.grid_k as u64);
+        self.flag(c.finished);
+        let v = &s.solver;
+        self.f64(v.h);
+        self.flag(v.implicit);
+        self.u64(v.window_steps as u64);
+        self.f64(v.window_span);
+        self.flag(v.switch_due);
+    }
+}
+
+struct Reader<'a>(&'a [u8]);
+
+impl Reader<'_> {
+    fn take(&mut self, n: usize) -> Fallible<&[u8]> {
+        if n > self.0.len() {
+            return Err("the serialized FMU state is not valid: it ends too early".into());
+        }
+        let (head, rest) = self.0.split_at(n);
+        self.0 = rest;
+        Ok(head)
+    }
+    fn array<const N: usize>(&mut self) -> Fallible<[u8; N]> {
+        Ok(self.take(N)?.try_into().expect("N bytes taken"))
+    }
+    fn u8(&mut self) -> Fallible<u8> {
+        Ok(self.take(1)?[0])
+    }
+    fn u32(&mut self) -> Fallible<u32> {
+        Ok(u32::from_le_bytes(self.array()?))
+    }
+    fn u64(&mut self) -> Fallible<u64> {
+        Ok(u64::from_le_bytes(self.array()?))
+    }
+    fn usize(&mut self) -> Fallible<usize> {
+        usize::try_from(self.u64()?)
+            .map_err(|_| "the serialized FMU state is not valid: a count out of range".into())
+    }
+    fn f64(&mut self) -> Fallible<f64> {
+        Ok(f64::from_bits(self.u64()?))
+    }
+    fn flag(&mut self) -> Fallible<bool> {
+        match self.u8()? {
+            0 => Ok(false),
+            1 => Ok(true),
+            b => Err(format!(
+                "the serialized FMU state is not valid: {b} is not a Boolean"
+            )),
+        }
+    }
+    /// A count of items of at least `size` bytes each, no more than the bytes left can hold.
+    fn count(&mut self, size: usize) -> Fallible<usize> {
+        let n = self.u32()? as usize;
+        if n.saturating_mul(size) > self.0.len() {
+            return Err("the serialized FMU state is not valid: it ends too early".into());
+        }
+        Ok(n)
+    }
+    fn text(&mut self) -> Fallible<String> {
+        let n = self.count(1)?;
+        String::from_utf8(self.take(n)?.to_vec())
+            .map_err(|_| "the serialized FMU state is not valid: a name is not UTF-8".into())
+    }
+    fn floats(&mut self) -> Fallible<Vec<f64>> {
+        let n = self.count(8)?;
+        (0..n).map(|_| self.f64()).collect()
+    }
+    fn option(&mut self) -> Fallible<Option<f64>> {
+        let (some, v) = (self.flag()?, self.f64()?);
+        Ok(some.then_some(v))
+    }
+    fn element(&mut self) -> Fallible<SwitchState> {
+        let mode = self.u8()? as i8;
+        let [start_forward, start_backward, locked, free] =
+            [self.flag()?, self.flag()?, self.flag()?, self.flag()?];
+        let mut rel = [false; MAX_RELATIONS];
+        for r in &mut rel {
+            *r = self.flag()?;
+        }
+        Ok(SwitchState {
+            pre: Discrete {
+                mode,
+                start_forward,
+                start_backward,
+            },
+            locked,
+            free,
+            rel: RelationSet(rel),
+        })
+    }
+    fn sim(&mut self) -> Fallible<SimState> {
+        let x = self.floats()?;
+        let n = self.count(5 + MAX_RELATIONS)?;
+        let switching = (0..n).map(|_| self.element()).collect::<Fallible<_>>()?;
+        let n = self.count(1)?;
+        let relations = (0..n).map(|_| self.flag()).collect::<Fallible<_>>()?;
+        let inputs = self.floats()?;
+        let horizon = self.f64()?;
+        let cursor = Cursor {
+            now: self.f64()?,
+            stop: self.f64()?,
+            next_te: self.usize()?,
+            grid_k: self.usize()?,
+            finished: self.flag()?,
+        };
+        let solver = SolverState {
+            h: self.f64()?,
+            implicit: self.flag()?,
+            window_steps: self.usize()?,
+            window_span: self.f64()?,
+            switch_due: self.flag()?,
+        };
+        Ok(SimState {
+            x,
+            disc: DiscreteState {
+                switching,
+                relations,
+                inputs,
+            },
+            horizon,
+            cursor,
+            solver,
+        })
+    }
+}

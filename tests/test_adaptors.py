@@ -165,7 +165,9 @@ def test_torque_to_angle_without_w_and_a_reports_only_phi() -> None:
     assert "adaptor.phi" in r.names and "adaptor.w" not in r.names and "adaptor.a" not in r.names
 
 
-@pytest.mark.parametrize(("use_w", "use_a", "missing", "parameter"), [(True, False, "w", "use_w"), (False, True, "a", "use_a")])
+@pytest.mark.parametrize(
+    ("use_w", "use_a", "missing", "parameter"), [(True, False, "w", "use_w"), (False, True, "a", "use_a")]
+)
 def test_an_enabled_input_left_open_names_component_and_parameter(
     use_w: bool, use_a: bool, missing: str, parameter: str
 ) -> None:

@@ -40,7 +40,10 @@ fn a_prescribed_shaft_without_inertia_needs_the_spring_damper_torque() {
     for ((t, tau), phi_rel) in t.iter().zip(&tau).zip(&phi) {
         assert!((phi_rel + t.sin()).abs() < 1e-13, "t = {t}");
         let exact = 50.0 * t.sin() + 2.0 * t.cos();
-        assert!((tau - exact).abs() < 1e-11, "t = {t}: {tau} against {exact}");
+        assert!(
+            (tau - exact).abs() < 1e-11,
+            "t = {t}: {tau} against {exact}"
+        );
     }
     assert!(t.len() > 400);
 }
@@ -49,7 +52,10 @@ fn a_prescribed_shaft_without_inertia_needs_the_spring_damper_torque() {
 fn without_the_adaptor_the_shaft_is_undetermined() {
     let text = PRESCRIBED
         .replace(r#"["adaptor.flange", "sd.flange_a"],"#, "")
-        .replace(r#"type = "SpringDamper", c = 50.0, d = 2.0"#, r#"type = "Spring", c = 50.0"#);
+        .replace(
+            r#"type = "SpringDamper", c = 50.0, d = 2.0"#,
+            r#"type = "Spring", c = 50.0"#,
+        );
     let sys = assemble(&ModelSpec::from_toml(&text, ".").unwrap()).unwrap();
     assert!(check_model(&sys).is_err());
 }

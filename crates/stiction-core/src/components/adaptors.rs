@@ -106,9 +106,9 @@ impl Component for AngleToTorque {
     fn build(&self, b: &mut Builder) -> ModelResult<()> {
         let nf = b.node("flange")?;
         let NodeRef::Node(node) = nf else {
-            return Err(b.error(
-                "port 'flange': held by ground, so no motion can be prescribed to it",
-            ));
+            return Err(
+                b.error("port 'flange': held by ground, so no motion can be prescribed to it")
+            );
         };
         let w_parameter = if self.use_a { "use_a" } else { "use_w" };
         let prescribed = Prescribed {

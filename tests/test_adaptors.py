@@ -198,3 +198,38 @@ def test_a_grounded_flange_cannot_be_prescribed() -> None:
     m.connect("adaptor.flange", "ground.flange")
     with pytest.raises(st.ModelError, match="adaptor"):
         m.simulate(StopTime=1.0)
+
+
+def test_a_brake_on_a_prescribed_shaft_follows_jumps_of_the_speed_input() -> None:
+    """As in an FMU (use_a = false, phi and w set between steps): held while the speed is 0,
+    the brake slides with the speed it is given and reverses when the speed jumps through zero
+    (straight through: a stuck element cannot hold a shaft the prescribed motion moves)."""
+    m = st.Model("jumps")
+    m.add("adaptor", st.AngleToTorqueAdaptor(use_a=False))
+    m.add("J", st.Inertia(J=J))
+    m.add("brake", st.Brake(mu_pos=[[0.0, 0.5]], fn_max=100.0, cgeo=1.0))
+    m.add("force", st.Constant(k=1.0))
+    m.connect("adaptor.flange", "J.flange_a")
+    m.connect("J.flange_b", "brake.flange_a")
+    m.connect("force.y", "brake.f_normalized")
+    m.input("adaptor.phi", start=0.0)
+    m.input("adaptor.w", start=0.0)
+    sim = m.simulation(StopTime=1.0)
+    assert (sim.get("brake.mode"), sim.get("adaptor.tau")) == (0.0, 0.0)  # held, needing nothing
+    for k, (w, mode, tau) in enumerate([(1.0, 1.0, 50.0), (-1.0, -1.0, -50.0), (2.0, 1.0, 50.0)]):
+        sim.advance_to(0.2 * (k + 1))
+        sim.set_input("adaptor.w", w)
+        sim.advance_to(0.2 * (k + 1) + 0.1)
+        assert sim.get("J.w") == w
+        assert sim.get("brake.mode") == mode
+        assert sim.get("adaptor.tau") == pytest.approx(tau, abs=1e-9)
+
+
+def test_the_adaptors_go_through_modelica_under_their_msl_names() -> None:
+    m = with_spring_damper(prescribed("roundtrip", use_a=False))
+    text = m.to_modelica()
+    assert "Modelica.Mechanics.Rotational.Components.AngleToTorqueAdaptor adaptor(use_a=false);" in text
+    again = st.Model.from_modelica(text)
+    assert again.components["adaptor"].type == "AngleToTorqueAdaptor"
+    tau = again.simulate(StopTime=2.0, Interval=0.01)["adaptor.tau"]
+    np.testing.assert_array_equal(tau, m.simulate(StopTime=2.0, Interval=0.01)["adaptor.tau"])

@@ -8,6 +8,7 @@ use nalgebra::{DMatrix, DVector};
 use super::kkt::ModeMatrix;
 use super::massless::Massless;
 use crate::switching::element::{ElementValues, Kinematics, ModeKey, Solved, SwitchState};
+use crate::switching::logic::STUCK;
 use crate::system::{EnergyRole, LawCtx, System};
 use crate::thermal::HeatCache;
 
@@ -232,27 +233,31 @@ fn accelerations(sys: &System, mm: &ModeMatrix, disc: &DiscreteState, ws: &mut W
     let multiplier = |row: Option<usize>| row.map(|r| rhs[n + r]);
     for (k, (e, st)) in sys.switching.iter().zip(&disc.switching).enumerate() {
         let rows = &mm.element_rows[k];
-        let lock = match (rows.forced, multiplier(rows.lock)) {
-            (true, None) => Some(forced_lock(e.motion().dot(&ws.w), e.motion().dot(&ws.a))),
-            (_, lock) => lock,
-        };
         let solved = Solved {
             a: &ws.a,
             permanent: multiplier(rows.permanent),
-            lock,
+            lock: multiplier(rows.lock),
             held: rows.held,
         };
         e.solved(st, &solved, &mut ws.elements[k]);
+        if rows.forced && !st.free && st.pre.mode == STUCK {
+            let beyond = forced_breakaway(e.motion().dot(&ws.w), e.motion().dot(&ws.a));
+            if beyond != 0.0 {
+                ws.elements[k].sa = beyond;
+            }
+        }
     }
     ws.rhs = rhs;
 }
 
-/// The torque a locked friction element would need to hold a motion that a prescribed motion
-/// moves on (an AngleToTorqueAdaptor's shaft braked): none suffices, so it is beyond any
-/// breakaway torque in the direction of the prescribed relative speed (or, at zero speed, of the
-/// acceleration) and the element starts sliding that way; with neither it holds, carrying 0.
-/// The bound is finite so that the event iteration's sums stay finite.
-pub fn forced_lock(w: f64, a: f64) -> f64 {
+/// `sa` of a stuck (locked or starting) element whose motion a prescribed motion moves (an
+/// AngleToTorqueAdaptor's shaft braked): no torque holds it — its lock row is dependent — so
+/// `sa` is beyond any breakaway torque in the direction of the prescribed relative speed (at
+/// zero speed, of its acceleration) and the element starts sliding that way at once, in every
+/// pass of the event iteration (without this, starting at a = 0 puts `sa` exactly on the
+/// threshold and the mixed system cycles back to stuck). 0 when the motion rests: it holds,
+/// carrying nothing. Finite, so that the event iteration's sums stay finite.
+pub fn forced_breakaway(w: f64, a: f64) -> f64 {
     const BEYOND_ANY_BREAKAWAY: f64 = 1e100;
     const BAND: f64 = 1e-10; // the event hysteresis (`switching::relation`)
     if w.abs() > BAND {

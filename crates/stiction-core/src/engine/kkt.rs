@@ -35,7 +35,7 @@ pub struct ElementRows {
     /// for zero crossings (no events from round-off).
     pub held: bool,
     /// A prescribed motion (with the other rows) sets its relative motion, which may change:
-    /// locked, its row is dependent and it could hold nothing (see `eval::forced_lock`).
+    /// locked, its row is dependent and it could hold nothing (see `eval::forced_breakaway`).
     pub forced: bool,
 }
 

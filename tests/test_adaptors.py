@@ -233,3 +233,12 @@ def test_the_adaptors_go_through_modelica_under_their_msl_names() -> None:
     assert again.components["adaptor"].type == "AngleToTorqueAdaptor"
     tau = again.simulate(StopTime=2.0, Interval=0.01)["adaptor.tau"]
     np.testing.assert_array_equal(tau, m.simulate(StopTime=2.0, Interval=0.01)["adaptor.tau"])
+
+
+def test_a_fixed_start_on_the_prescribed_flange_is_over_determined() -> None:
+    """MSL: flange.phi = phi already fixes the start; a fixed J.w on the same shaft is one too many."""
+    m = with_spring_damper(prescribed("over"))
+    m.add("J", st.Inertia(J=J, w=5.0))
+    m.connect("adaptor.flange", "J.flange_a")
+    with pytest.raises(st.ModelError, match=r"over-determined.*J\.w|J\.w.*over-determined|adaptor\.w"):
+        m.simulate(StopTime=1.0)

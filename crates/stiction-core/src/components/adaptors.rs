@@ -6,7 +6,7 @@
 
 use super::{Component, Entry, Ports};
 use crate::error::{ModelError, ModelResult};
-use crate::model::Params;
+use crate::model::{InitValue, Params};
 use crate::system::{Builder, EnergyRole, ForceLaw, LawCtx, NodeRef, Out, Prescribed, Rel};
 
 const TTA_USE_W: &str = "use_w true: enable the output connector w (angular velocity)";
@@ -125,6 +125,14 @@ impl Component for AngleToTorque {
         };
         let rel = Rel::of(&[(nf, 1.0)]);
         let k = b.add_prescribed(rel.clone(), prescribed)?;
+        // The inputs fix the flange's angle and speed from the start (their values replace these
+        // zeros once the signals are known), so another fixed start on it is over-determined.
+        let from_inputs = InitValue {
+            start: 0.0,
+            fixed: true,
+        };
+        b.init_angle(rel.clone(), from_inputs, "phi");
+        b.init_speed(rel.clone(), from_inputs, "w");
         // MSL: tau = torqueSensor.tau = −flange.tau, the torque that drives the flange
         b.output("tau", Out::ConstraintTau(k, -1.0));
         b.output("phi", Out::Angle(rel.clone()));

@@ -27,6 +27,7 @@ class _Factory(Component):
 __all__ = [
     "FACTORIES",
     "Add",
+    "AngleToTorqueAdaptor",
     "BearingFriction",
     "Brake",
     "Clutch",
@@ -64,6 +65,7 @@ __all__ = [
     "TimeTable",
     "Torque",
     "TorqueStep",
+    "TorqueToAngleAdaptor",
     "component_types",
     "factory",
 ]
@@ -705,6 +707,76 @@ class ConstantSpeed(_Factory):
         w_fixed: float = ...,
         phi: float | StartValue = ...,
         useSupport: bool = ...,
+    ) -> None: ...
+
+class TorqueToAngleAdaptor(_Factory):
+    """Signal adaptor for a Rotational flange with angle, speed, and acceleration as outputs and torque as input (especially useful for FMUs).
+
+    MSL class: ``Modelica.Mechanics.Rotational.Components.TorqueToAngleAdaptor``
+
+    Parameters
+    ----------
+    use_w : Boolean, default true
+        true: enable the output connector w (angular velocity)
+    use_a : Boolean, default true
+        true: enable the output connector a (angular acceleration)
+
+    Ports
+    -----
+    - flange: flange
+    - tau: signal input
+
+    Variables
+    ---------
+    - tau [N.m]
+    - phi [rad]
+    - w [rad/s]
+    - a [rad/s2]
+    - flange.phi [rad]
+    - flange.tau [N.m]
+    """
+
+    def __init__(
+        self,
+        *,
+        use_w: bool = ...,
+        use_a: bool = ...,
+    ) -> None: ...
+
+class AngleToTorqueAdaptor(_Factory):
+    """Signal adaptor for a Rotational flange with torque as output and angle, speed, and optionally acceleration as inputs (especially useful for FMUs).
+
+    MSL class: ``Modelica.Mechanics.Rotational.Components.AngleToTorqueAdaptor``
+
+    Parameters
+    ----------
+    use_w : Boolean, default true
+        true: enable the input connector w (angular velocity)
+    use_a : Boolean, default true
+        true: enable the input connector a (angular acceleration)
+
+    Ports
+    -----
+    - flange: flange
+    - phi: signal input
+    - w: signal input (if use_w = true)
+    - a: signal input (if use_a = true)
+
+    Variables
+    ---------
+    - tau [N.m]
+    - phi [rad]
+    - w [rad/s]
+    - a [rad/s2]
+    - flange.phi [rad]
+    - flange.tau [N.m]
+    """
+
+    def __init__(
+        self,
+        *,
+        use_w: bool = ...,
+        use_a: bool = ...,
     ) -> None: ...
 
 class Brake(_Factory):

@@ -43,6 +43,8 @@ MSL_CLASSES: dict[str, str] = {
             "OneWayClutch",
             "BearingFriction",
             "LossyGear",
+            "TorqueToAngleAdaptor",
+            "AngleToTorqueAdaptor",
         ]
     },
     **{

@@ -3,6 +3,7 @@
 //! contributes masses, force laws, constraints, friction elements, start values and the output
 //! variables it reports under its MSL names. Adding a component = one file + one registry line.
 
+pub mod adaptors;
 pub mod blocks;
 pub mod compliant;
 pub mod friction;
@@ -149,6 +150,7 @@ pub fn registry() -> Vec<Entry> {
     r.extend(compliant::REGISTRY);
     r.extend(gears::REGISTRY);
     r.extend(sources::REGISTRY);
+    r.extend(adaptors::REGISTRY);
     r.extend(friction::REGISTRY);
     r.extend(friction::lossy_gear::REGISTRY);
     r.extend(signal_blocks::REGISTRY);

@@ -8,6 +8,7 @@ use nalgebra::{DMatrix, DVector};
 use super::kkt::ModeMatrix;
 use super::massless::Massless;
 use crate::switching::element::{ElementValues, Kinematics, ModeKey, Solved, SwitchState};
+use crate::switching::logic::STUCK;
 use crate::system::{EnergyRole, LawCtx, System};
 use crate::thermal::HeatCache;
 
@@ -160,14 +161,19 @@ pub fn kinematics(
         ws.signals[input.slot] = *value;
     }
     sys.signals.eval(t, horizon, &mut ws.signals);
+    for c in &sys.constraints {
+        c.prescribe(&ws.signals, &mut ws.phi, &mut ws.w);
+    }
     for (k, law) in sys.laws.iter().enumerate() {
         ws.law_phi[k] = law.rel.angle(&ws.phi);
         ws.law_w[k] = law.rel.dot(&ws.w);
     }
 }
 
-/// Writes the algebraic speeds of the shafts without inertia in mode `mm` into `x` (its other
-/// entries unchanged), so that recorded rows and event states hold the speeds the system has.
+/// Writes the algebraic speeds of the shafts without inertia in mode `mm`, and the angles and
+/// speeds of prescribed motions, into `x` (its other entries unchanged), so that recorded rows
+/// and event states hold the values the system has — and the integrator, restarted from an
+/// event's state, continues from the prescribed motion (the reset at an input event).
 pub fn consistent_speeds(
     sys: &System,
     mm: &ModeMatrix,
@@ -177,8 +183,9 @@ pub fn consistent_speeds(
     horizon: f64,
     ws: &mut Workspace,
 ) {
-    if mm.massless.is_some() {
+    if mm.massless.is_some() || sys.prescribes() {
         evaluate(sys, mm, disc, t, x, horizon, ws);
+        x[..sys.nodes].copy_from_slice(&ws.phi);
         x[sys.nodes..2 * sys.nodes].copy_from_slice(&ws.w);
     }
 }
@@ -208,6 +215,10 @@ fn accelerations(sys: &System, mm: &ModeMatrix, disc: &DiscreteState, ws: &mut W
     rhs.clear();
     rhs.resize(mm.size, 0.0);
     forces(sys, disc, ws, &mut rhs[..n]);
+    // the permanent constraints are G's first rows; a prescribed motion's holds its acceleration
+    for (k, c) in sys.constraints.iter().enumerate() {
+        rhs[n + k] = c.accel(&ws.signals);
+    }
     if let Some(ml) = &mm.massless {
         massless_speeds(sys, ml, disc, ws, &mut rhs[..n]);
     }
@@ -229,8 +240,33 @@ fn accelerations(sys: &System, mm: &ModeMatrix, disc: &DiscreteState, ws: &mut W
             held: rows.held,
         };
         e.solved(st, &solved, &mut ws.elements[k]);
+        if rows.forced && !st.free && st.pre.mode == STUCK {
+            let beyond = forced_breakaway(e.motion().dot(&ws.w), e.motion().dot(&ws.a));
+            if beyond != 0.0 {
+                ws.elements[k].sa = beyond;
+            }
+        }
     }
     ws.rhs = rhs;
+}
+
+/// `sa` of a stuck (locked or starting) element whose motion a prescribed motion moves (an
+/// AngleToTorqueAdaptor's shaft braked): no torque holds it — its lock row is dependent — so
+/// `sa` is beyond any breakaway torque in the direction of the prescribed relative speed (at
+/// zero speed, of its acceleration) and the element starts sliding that way at once, in every
+/// pass of the event iteration (without this, starting at a = 0 puts `sa` exactly on the
+/// threshold and the mixed system cycles back to stuck). 0 when the motion rests: it holds,
+/// carrying nothing. Finite, so that the event iteration's sums stay finite.
+pub fn forced_breakaway(w: f64, a: f64) -> f64 {
+    const BEYOND_ANY_BREAKAWAY: f64 = 1e100;
+    const BAND: f64 = 1e-10; // the event hysteresis (`switching::relation`)
+    if w.abs() > BAND {
+        BEYOND_ANY_BREAKAWAY.copysign(w)
+    } else if a != 0.0 {
+        BEYOND_ANY_BREAKAWAY.copysign(a)
+    } else {
+        0.0
+    }
 }
 
 /// The generalized forces `f` of the laws and switching elements at the speeds in `ws`.

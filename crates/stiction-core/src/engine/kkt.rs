@@ -34,6 +34,9 @@ pub struct ElementRows {
     /// The mode's rows hold its relative motion: its speed cannot change, so it is not watched
     /// for zero crossings (no events from round-off).
     pub held: bool,
+    /// A prescribed motion (with the other rows) sets its relative motion, which may change:
+    /// locked, its row is dependent and it could hold nothing (see `eval::forced_breakaway`).
+    pub forced: bool,
 }
 
 pub struct ModeMatrix {
@@ -174,14 +177,22 @@ fn mode_rows<'a>(
 ) -> (Vec<(&'a Rel, Column<'a>)>, Vec<ElementRows>) {
     let mut rows: Vec<(&Rel, Column)> = Vec::new();
     let mut basis = RowBasis::new(sys.nodes);
+    // the kept rows without the prescribed motions: what holds a speed constant
+    let mut fixed = sys.prescribes().then(|| RowBasis::new(sys.nodes));
     for c in &sys.constraints {
         basis.accept(&c.rel.terms);
+        if let (Some(f), None) = (&mut fixed, &c.prescribed) {
+            f.accept(&c.rel.terms);
+        }
         rows.push((&c.rel, Column::Same));
     }
     let mut element_rows = vec![ElementRows::default(); sys.switching.len()];
     for (k, (e, key)) in sys.switching.iter().zip(keys).enumerate() {
         if let Some((rel, column)) = e.permanent_row(*key) {
             basis.accept(&rel.terms);
+            if let Some(f) = &mut fixed {
+                f.accept(&rel.terms);
+            }
             element_rows[k].permanent = Some(rows.len());
             rows.push((rel, column));
         }
@@ -192,6 +203,9 @@ fn mode_rows<'a>(
     for rank in ranks {
         for (k, (e, key)) in sys.switching.iter().zip(keys).enumerate() {
             if key.locked && e.lock_rank() == rank && basis.accept(&e.motion().terms) {
+                if let Some(f) = &mut fixed {
+                    f.accept(&e.motion().terms);
+                }
                 element_rows[k].lock = Some(rows.len());
                 rows.push((e.motion(), e.lock_column()));
             }
@@ -199,7 +213,12 @@ fn mode_rows<'a>(
     }
     // Elements whose motion the kept rows hold: their speed cannot change in this mode.
     for (e, rows) in sys.switching.iter().zip(&mut element_rows) {
-        rows.held = basis.depends(&e.motion().terms);
+        let determined = basis.depends(&e.motion().terms);
+        rows.held = match &mut fixed {
+            Some(f) => f.depends(&e.motion().terms),
+            None => determined,
+        };
+        rows.forced = determined && !rows.held;
     }
     (rows, element_rows)
 }

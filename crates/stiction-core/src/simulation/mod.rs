@@ -78,9 +78,10 @@ pub(crate) struct Phase {
 }
 
 impl Phase {
-    /// Writes the algebraic speeds of the shafts without inertia of the current mode into `x`.
+    /// Writes the algebraic speeds of the shafts without inertia of the current mode, and the
+    /// prescribed motions, into `x`.
     fn project(&mut self, sys: &System, t: f64, x: &mut [f64]) {
-        if self.mm.massless.is_some() {
+        if self.mm.massless.is_some() || sys.prescribes() {
             let ws = self.scratch.get_or_insert_with(|| Workspace::new(sys));
             consistent_speeds(sys, &self.mm, &self.disc, t, x, self.horizon, ws);
         }

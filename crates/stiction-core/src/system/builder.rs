@@ -5,7 +5,7 @@
 use std::collections::HashMap;
 
 use super::flange::FlangeBuilder;
-use super::{Constraint, ForceLaw, InitEq, LawElem, NodeRef, Out, Rel, System};
+use super::{Constraint, ForceLaw, InitEq, LawElem, NodeRef, Out, Prescribed, Rel, System};
 use crate::error::{ModelError, ModelResult};
 use crate::model::InitValue;
 use crate::signals::{Block, BlockElem};
@@ -122,8 +122,16 @@ impl Builder {
             owner: self.name().to_string(),
             rel,
             does_work,
+            prescribed: None,
         });
         Ok(self.sys.constraints.len() - 1)
+    }
+
+    /// A motion prescribed by signals along `rel` (see `Prescribed`); it does work.
+    pub fn add_prescribed(&mut self, rel: Rel, prescribed: Prescribed) -> ModelResult<usize> {
+        let k = self.add_constraint(rel, true)?;
+        self.sys.constraints[k].prescribed = Some(prescribed);
+        Ok(k)
     }
 
     /// Adds a switching element; returns its index (for its result variables).

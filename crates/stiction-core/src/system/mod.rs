@@ -27,12 +27,56 @@ pub struct LawElem {
     pub heat_node: Option<usize>,
 }
 
-/// A permanent constraint `row·a = 0`; its multiplier is the element torque along the row.
+/// A permanent constraint `row·a = 0` (or `= a(t)` for a prescribed motion); its multiplier is
+/// the element torque along the row.
 pub struct Constraint {
     pub owner: String,
     pub rel: Rel,
     /// A speed source does work through its constraint; a gear does not.
     pub does_work: bool,
+    /// The row's angle and speed follow input signals (an AngleToTorqueAdaptor).
+    pub prescribed: Option<Prescribed>,
+}
+
+/// A motion prescribed by signals, as MSL's `Sources.Move` with exact motion: the row's angle is
+/// the `phi` signal and its speed the `w` signal (0 without one) at every evaluation, its
+/// acceleration the `a` signal (0 without one). The angle and speed are algebraic, as in MSL
+/// (`flange.phi = phi`), so a new input value moves the flange at once: the state entries of
+/// `node` are overwritten wherever the state is evaluated or recorded — the reset of the
+/// flange's angle and speed at an input event.
+#[derive(Debug, Clone, Copy)]
+pub struct Prescribed {
+    /// The node set to satisfy the row (the flange's; the support keeps its own motion).
+    pub node: usize,
+    /// Signal slots of the inputs.
+    pub phi: usize,
+    pub w: Option<usize>,
+    pub a: Option<usize>,
+}
+
+impl Constraint {
+    /// Sets `phi[node]` and `w[node]` so that the row's angle and speed are the inputs'.
+    pub fn prescribe(&self, signals: &[f64], phi: &mut [f64], w: &mut [f64]) {
+        let Some(p) = &self.prescribed else {
+            return;
+        };
+        let c = (self.rel.terms.iter())
+            .find(|(i, _)| *i == p.node)
+            .map_or(1.0, |t| t.1);
+        let target_w = p.w.map_or(0.0, |slot| signals[slot]);
+        let rest_phi = self.rel.angle(phi) - c * phi[p.node];
+        let rest_w = self.rel.dot(w) - c * w[p.node];
+        phi[p.node] = (signals[p.phi] - rest_phi) / c;
+        w[p.node] = (target_w - rest_w) / c;
+    }
+
+    /// The right-hand side of the acceleration row: the `a` input, or 0.
+    pub fn accel(&self, signals: &[f64]) -> f64 {
+        match self.prescribed {
+            Some(Prescribed { a: Some(slot), .. }) => signals[slot],
+            _ => 0.0,
+        }
+    }
 }
 
 /// A start-value equation `rel(phi or w) = value`, fixed or a guess.
@@ -66,7 +110,8 @@ pub struct System {
     pub node_ports: Vec<Vec<String>>,
     pub laws: Vec<LawElem>,
     pub relation_count: usize,
-    /// Permanent acceleration constraints `row·a = 0` (gears, speed sources).
+    /// Permanent acceleration constraints `row·a = 0` (gears, speed sources) or `row·a = a(t)`
+    /// (prescribed motions).
     pub constraints: Vec<Constraint>,
     /// Every element with stick/slip or quadrant logic, in one list.
     pub switching: Vec<Box<dyn SwitchingElement>>,
@@ -84,6 +129,11 @@ impl System {
     /// Number of continuous states: node angles and speeds, heat capacities, two energy integrals.
     pub fn state_len(&self) -> usize {
         2 * self.nodes + self.thermal.capacities.len() + 2
+    }
+
+    /// Whether some constraint prescribes a motion from signals (its node's state is algebraic).
+    pub fn prescribes(&self) -> bool {
+        self.constraints.iter().any(|c| c.prescribed.is_some())
     }
 
     pub fn node_label(&self, node: usize) -> String {

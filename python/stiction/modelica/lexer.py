@@ -1,4 +1,5 @@
-"""Tokens of Modelica text, each with its line and column, and the error that names them.
+"""Tokens of Modelica text (parallel lists of kinds and texts, each token's line and column
+found when asked), and the error that names a place.
 
 Hand-written, as is the parser: the Modelica parsers on PyPI are either unmaintained
 (modparc 2017, modelicalang alpha 2023) or a whole compiler front end with heavy

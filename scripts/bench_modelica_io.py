@@ -100,6 +100,10 @@ def main() -> None:
             print(f"  write {ext:<8} {seconds * 1e3:7.0f} ms  {path.stat().st_size / 1e6:6.1f} MB")
         old = timed(lambda: csvio.write_csv(Path(tmp) / "old.csv", r.names, data), repeat=1)
         print(f"  old Python per-cell CSV writer: {old * 1e3:.0f} ms")
+        big_mo = Path(tmp) / "Big.mo"
+        big_mo.write_text(big)
+        convert = [sys.executable, "-m", "stiction", "import", str(big_mo), "-o", str(Path(tmp) / "big.toml")]
+        print(f"  stiction import Big.mo -o big.toml (fresh process, best of 3): {_process(convert):.2f} s")
         mo = Path(tmp) / "Chain.mo"
         mo.write_text(chain_mo(100))
         cli = [sys.executable, "-m", "stiction", "simulate", str(mo), "-o"]

@@ -25,8 +25,15 @@ StartValue = Mapping[str, float | bool]
 ParamValue = Union[bool, int, float, str, Sequence[Any], Mapping[str, Any], "os.PathLike[str]"]
 
 
+_PLAIN = frozenset((float, int, bool, str))
+
+
 def normalize_value(value: Any, where: str) -> Any:
     """Turn a parameter value into TOML-able data, or raise ModelError naming it."""
+    if type(value) in _PLAIN:  # the common cases, before the slower abstract-class checks
+        return value
+    if type(value) is dict:
+        return _normalize_table(value, where)
     if isinstance(value, bool):
         return value
     if type(value).__module__ == "numpy" and type(value).__name__ in ("bool", "bool_"):
@@ -42,15 +49,19 @@ def normalize_value(value: Any, where: str) -> Any:
     if hasattr(value, "tolist") and not isinstance(value, (list, tuple)):  # numpy arrays
         return normalize_value(value.tolist(), where)
     if isinstance(value, Mapping):
-        out = {}
-        for key, item in value.items():
-            if not isinstance(key, str):
-                raise ModelError(f"{where}: table keys must be strings, got {key!r}")
-            out[key] = normalize_value(item, f"{where}.{key}")
-        return out
+        return _normalize_table(value, where)
     if isinstance(value, (list, tuple)):
         return [normalize_value(item, where) for item in value]
     raise ModelError(f"{where}: unsupported value {value!r} ({type(value).__name__})")
+
+
+def _normalize_table(value: Mapping[Any, Any], where: str) -> dict[str, Any]:
+    out = {}
+    for key, item in value.items():
+        if not isinstance(key, str):
+            raise ModelError(f"{where}: table keys must be strings, got {key!r}")
+        out[key] = normalize_value(item, f"{where}.{key}")
+    return out
 
 
 class Component:

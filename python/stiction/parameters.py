@@ -24,8 +24,13 @@ def expr(text: str) -> dict[str, str]:
     return {"expr": text}
 
 
+_PLAIN = frozenset((float, int, bool, str))
+
+
 def is_expr(value: Any) -> bool:
     """Whether a parameter value is ``{ expr = "…" }``."""
+    if type(value) in _PLAIN:  # most values, before the slower abstract-class check
+        return False
     return isinstance(value, Mapping) and set(value) == {"expr"} and isinstance(value["expr"], str)
 
 
@@ -82,6 +87,8 @@ def resolve_params(comp: str, params: Mapping[str, Any], values: Mapping[str, An
         return values[name]
 
     def resolve(raw: Any, where: str) -> Any:
+        if type(raw) in _PLAIN:
+            return raw
         if is_expr(raw):
             result = _evaluate(raw["expr"], where, lookup)
             return float(result) if type(result) is int else result

@@ -35,8 +35,8 @@ def read_modelica(source: str | os.PathLike[str], model: str | None = None) -> M
         text, label, base_dir = source, "<modelica>", "."
     else:
         raise TypeError(f"expected a path or Modelica text, got {type(source).__name__}")
-    # Tokens and tree nodes are many small objects that all live until the end: the cyclic
-    # garbage collector would scan them again and again (a third of a large import's time).
+    # Tree nodes are many small objects that all live until the end: the cyclic garbage
+    # collector would scan them again and again.
     enabled = gc.isenabled()
     gc.disable()
     try:

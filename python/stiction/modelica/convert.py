@@ -221,6 +221,8 @@ class _Converter:
                 )
 
     def expression(self, expr: Any) -> Any:
+        if type(expr) is Literal:  # most values (J=1, fixed=true): no evaluator needed
+            return expr.value
         return evaluate(expr, self.lookup, self.scope.resolve)
 
     def lookup(self, ref: Ref) -> Any:
@@ -267,7 +269,10 @@ class _Converter:
             if mod.value is None:
                 raise ModelicaError(mod.pos, f"modifier '{mod.name}' of '{comp}' has no value")
             value = _real(python_value(self.expression(mod.value)), key)
-            self.check_attributes(f"{comp}.{mod.name}", value, mod.args or [])
+            if mod.args:
+                self.check_attributes(f"{comp}.{mod.name}", value, mod.args)
+            if type(mod.value) is Literal:
+                return key, value
             kept = self.kept(mod.value, value)
             return key, {"expr": kept} if isinstance(kept, str) and kept != value else value
         if key not in START_VARIABLES:

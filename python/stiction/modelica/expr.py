@@ -132,8 +132,13 @@ def _call(e: Call, ev: Callable[[Expr], Any], resolve: Resolve, der: Lookup | No
         raise ModelicaError(e.pos, f"bad call of '{e.func}': {exc}") from None
 
 
+_PLAIN = frozenset((float, int, bool, str))
+
+
 def python_value(value: Any) -> Any:
     """Plain Python data (float, bool, lists) from an evaluation's NumPy scalars."""
+    if type(value) in _PLAIN:
+        return value
     if isinstance(value, (np.bool_, bool)):
         return bool(value)
     if isinstance(value, np.floating):

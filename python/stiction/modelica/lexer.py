@@ -1,4 +1,5 @@
-"""Tokens of Modelica text, each with its line and column, and the error that names them.
+"""Tokens of Modelica text (parallel lists of kinds and texts, each token's line and column
+found when asked), and the error that names a place.
 
 Hand-written, as is the parser: the Modelica parsers on PyPI are either unmaintained
 (modparc 2017, modelicalang alpha 2023) or a whole compiler front end with heavy
@@ -10,15 +11,15 @@ lines and lets every error carry ``file:line:column`` and the name at fault.
 from __future__ import annotations
 
 import bisect
-import functools
 import itertools
+import operator
 import re
 from collections.abc import Iterator
-from typing import Any, NamedTuple
+from typing import Any, Protocol
 
 from ..errors import ModelError
 
-__all__ = ["KEYWORDS", "ModelicaError", "Pos", "Token", "tokenize"]
+__all__ = ["KEYWORDS", "ModelicaError", "Pos", "Tokens", "tokenize"]
 
 
 class Pos:
@@ -26,24 +27,25 @@ class Pos:
     tree carries one, and almost none is ever shown: a token's line and column are worked out
     when first read (``Pos.at``), not when the tree is built."""
 
-    __slots__ = ("_lines", "_offset", "_where")
+    __slots__ = ("_key", "_table", "_where")
 
     def __init__(self, source: str, line: int = 1, col: int = 1) -> None:
-        self._lines: _Lines | None = None
-        self._offset = 0
+        self._table: _Where | None = None
+        self._key = 0
         self._where: tuple[str, int, int] | None = (source, line, col)
 
     @classmethod
-    def at(cls, lines: _Lines, offset: int) -> Pos:
-        """The place of character ``offset`` of the text ``lines`` indexes."""
+    def at(cls, table: _Where, key: int) -> Pos:
+        """The place ``table.where(key)`` names: a character offset of a text (``_Lines``) or
+        a token's index (``Tokens``)."""
         pos = cls.__new__(cls)
-        pos._lines, pos._offset, pos._where = lines, offset, None
+        pos._table, pos._key, pos._where = table, key, None
         return pos
 
     def _resolved(self) -> tuple[str, int, int]:
         if self._where is None:
-            assert self._lines is not None
-            self._where = self._lines.where(self._offset)
+            assert self._table is not None
+            self._where = self._table.where(self._key)
         return self._where
 
     @property
@@ -86,33 +88,61 @@ class ModelicaError(ModelError):
         self.detail = message
 
 
+class _Where(Protocol):
+    """What a ``Pos`` asks for its place: ``where(key)`` → (file label, line, column)."""
+
+    def where(self, key: int) -> tuple[str, int, int]: ...
+
+
 class _Lines:
-    """Line starts of a text, to turn an offset into line and column only when asked."""
+    """Line starts of a text, to turn an offset into line and column only when asked (the
+    starts are found at the first question: a text read without error never needs them)."""
 
     def __init__(self, source: str, text: str) -> None:
         self.source = source
-        self.starts = [0, *(m.end() for m in re.finditer("\n", text))]
+        self.text = text
+        self._starts: list[int] | None = None
 
     def pos(self, offset: int) -> Pos:
         return Pos.at(self, offset)
 
     def where(self, offset: int) -> tuple[str, int, int]:
-        line = bisect.bisect_right(self.starts, offset)
-        return self.source, line, offset - self.starts[line - 1] + 1
+        if self._starts is None:
+            self._starts = [0, *(m.end() for m in re.finditer("\n", self.text))]
+        line = bisect.bisect_right(self._starts, offset)
+        return self.source, line, offset - self._starts[line - 1] + 1
 
 
-class Token(NamedTuple):
-    """One token: kind (``ident``, ``number``, ``string``, ``op``, ``kw``, ``eof``) and text."""
+class Tokens:
+    """The tokens of a text as parallel lists, ``kinds[i]`` (``ident``, ``number``,
+    ``string``, ``op``, ``kw``, the last ``eof``) and ``texts[i]``: no object per token, and
+    a token's offset is worked out only when its position is read (``pos``)."""
 
-    kind: str
-    text: str
-    offset: int
-    lines: _Lines
+    __slots__ = ("_found", "_starts", "kinds", "lines", "texts")
 
-    @property
-    def pos(self) -> Pos:
-        """Where the token starts."""
-        return Pos.at(self.lines, self.offset)
+    def __init__(
+        self, lines: _Lines, found: list[tuple[str, str]], kinds: list[str], texts: list[str]
+    ) -> None:
+        self.lines = lines
+        self.kinds = kinds
+        self.texts = texts
+        self._found = found  # (blanks before, token) per token, the end's token "": the offsets
+        self._starts: list[int] | None = None
+
+    def start(self, i: int) -> int:
+        """The offset of token ``i`` in the text (the end of file's after trailing blanks)."""
+        if self._starts is None:
+            ends = itertools.accumulate(len(blank) + len(token) for blank, token in self._found)
+            self._starts = [end - len(token) for end, (_, token) in zip(ends, self._found, strict=True)]
+        return self._starts[i]
+
+    def pos(self, i: int) -> Pos:
+        """Where token ``i`` starts."""
+        return Pos.at(self, i)
+
+    def where(self, i: int) -> tuple[str, int, int]:
+        """File label, line and column of token ``i``."""
+        return self.lines.where(self.start(i))
 
 
 KEYWORDS = frozenset(
@@ -179,18 +209,20 @@ KEYWORDS = frozenset(
     ]
 )
 
-# Blanks and comments are the first group, the token the second: one match per token, and
-# findall builds the whole list in C (the 1500-component import spends its time here).
-_TOKEN = re.compile(
-    r"""
-    (\s*(?:(?://[^\n]*|/\*.*?\*/)\s*)*)
+# One match is one token with the blanks and comments before it (the first group), so
+# findall builds the whole list in C. The blanks never give back what they took (possessive):
+# a comment at the end of the file is not searched for a token; the end itself matches (\Z),
+# with the trailing blanks, as the token "".
+_BLANKS_BEFORE = r"(\s*+(?:(?://[^\n]*+|/\*.*?\*/MORE)\s*+)*+)"
+_TOKEN_TEXT = r"""
     ( [A-Za-z_][A-Za-z0-9_]*|'(?:[^'\\]|\\.)+'
     | \d+\.?\d*(?:[eE][+-]?\d+)?|\.\d+(?:[eE][+-]?\d+)?
     | [()\[\]{};,+\-*/^]|\.[*/+\-^]?|:=?|==|=|<[>=]?|>=?
-    | "(?:[^"\\]|\\.)*"
+    | "(?:[^"\\]|\\.)*"MORE|\Z
     )
-    """,
-    re.VERBOSE | re.DOTALL,
+"""
+_TOKEN = re.compile(
+    _BLANKS_BEFORE.replace("MORE", "") + _TOKEN_TEXT.replace("MORE", ""), re.VERBOSE | re.DOTALL
 )
 _KIND = {
     **{c: "ident" for c in "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz_'"},
@@ -212,17 +244,19 @@ def _kinds(texts: list[str]) -> list[str]:
 _NOT_NEWLINE = re.compile(r"[^\n]")
 
 
-def _nested_parens(depth: int) -> str:
-    """A regex for balanced parentheses up to ``depth`` levels, no strings inside."""
-    inner = r"[^()\"]*"
+def _nested_parens(depth: int, char: str = r'[^()"]++') -> str:
+    """A regex for balanced parentheses up to ``depth`` levels of ``char`` (no strings)."""
+    inner = rf"(?:{char})*+"
     for _ in range(depth):
-        inner = rf"(?:[^()\"]|\({inner}\))*"
+        inner = rf"(?:{char}|\({inner}\))*+"  # possessive: the balanced match is the only one
     return rf"\({inner}\)"
 
 
 # A string or comment (kept as it is) or a graphical annotation (strings inside it, deeper
 # nesting: left to the parser, which skips it token by token).
-_GRAPHICS = re.compile(r'"(?:[^"\\]|\\.)*"|//[^\n]*|/\*.*?\*/|\bannotation\s*' + _nested_parens(6), re.DOTALL)
+_ANNOTATION = r"\bannotation\s*+" + _nested_parens(6)
+_GRAPHICS = re.compile(r'"(?:[^"\\]|\\.)*"|//[^\n]*|/\*.*?\*/|' + _ANNOTATION, re.DOTALL)
+_GRAPHIC_AT = re.compile(_ANNOTATION, re.DOTALL)
 
 
 def _blank(m: re.Match[str]) -> str:
@@ -239,37 +273,122 @@ def blank_graphics(text: str) -> str:
     return _GRAPHICS.sub(_blank, text)
 
 
-def tokenize(text: str, source: str = "<modelica>") -> list[Token]:
+def tokenize(text: str, source: str = "<modelica>") -> Tokens:
     """Split Modelica text into tokens; comments, white space and graphical annotations
     (``blank_graphics``) are dropped."""
-    lines = _Lines(source, text)
+    return _fast_tokens(text, source) or _careful_tokens(text, source)
+
+
+# One pass for what MSL-style text holds: a graphical annotation (one that ``blank_graphics``
+# blanks: no string inside, no "experiment") is skipped with the blanks before a token. Any
+# other character is a token too (\S) and the end is one (\Z), so no text is left out.
+_FAST = re.compile(
+    _BLANKS_BEFORE.replace("MORE", r"|\bannotation\s*+" + _nested_parens(6, r'[^()"e]++|e(?!xperiment)'))
+    + _TOKEN_TEXT.replace("MORE", r"|\S"),
+    re.VERBOSE | re.DOTALL,
+)
+
+
+class _Unknown(dict[str, str]):
+    def __missing__(self, key: str) -> str:
+        return "?"
+
+
+# Kinds by the whole text (keywords, operators starting with "."), else by the first
+# character. "?" sends the text the careful way: a character no token starts with, an open
+# string, a quoted identifier or a number such as .5, and "./" (in "a.//b" blank_graphics
+# sees a comment where the tokens are "./" "/").
+_KIND_OF_TEXT = {
+    **dict.fromkeys(KEYWORDS, "kw"),
+    **dict.fromkeys((".", ".*", ".+", ".-", ".^"), "op"),
+    **dict.fromkeys(("./", '"', "'"), "?"),
+}
+_KIND_OF_FIRST = _Unknown({k: v for k, v in _KIND.items() if k != "'"})
+
+
+def _fast_tokens(text: str, source: str) -> Tokens | None:
+    """The tokens in one regex pass, or None where that pass could differ from the careful
+    one (a stray character, an open comment, a quoted identifier, an annotation left whole):
+    that one then decides, and places the error."""
+    found = _findall(_FAST, text)
+    texts = list(map(operator.itemgetter(1), found))
+    texts.pop()
+    first = map(_KIND_OF_FIRST.__getitem__, map(operator.itemgetter(0), texts))
+    kinds = list(map(_KIND_OF_TEXT.get, texts, first))
+    if (
+        "?" in kinds
+        or "/*" in text
+        and _open_comment(texts, found) >= 0
+        or not _whole_agree(text, found, texts)
+    ):
+        return None
+    kinds.append("eof")
+    texts.append("")
+    return Tokens(_Lines(source, text), found, kinds, texts)
+
+
+def _whole_agree(text: str, found: list[tuple[str, str]], texts: list[str]) -> bool:
+    """Whether the careful pass leaves every annotation whole that this one leaves whole,
+    and nothing inside it blanked. Counted from the end, where a class annotation is."""
+    whole = []
+    i = -1
+    while (i := _index(texts, "annotation", i + 1)) >= 0:
+        whole.append(i)
+    end, counted = len(text), len(found)  # end: where found[counted:] begins
+    for i in reversed(whole):
+        end -= sum(map(len, itertools.chain.from_iterable(itertools.islice(found, i, counted))))
+        counted = i
+        m = _GRAPHIC_AT.match(text, end + len(found[i][0]))
+        if m and ("experiment" not in m.group() or m.group().count("annotation") > 1):
+            return False
+    return True
+
+
+def _careful_tokens(text: str, source: str) -> Tokens:
+    """Graphical annotations blanked first, then the tokens; every error placed."""
     text = blank_graphics(text)
-    found = _TOKEN.findall(text)
-    ends = list(itertools.accumulate([len(blank) + len(token) for blank, token in found]))
-    covered = ends[-1] if ends else 0
-    rest = _skip_blanks(text, covered)
-    if rest != len(text):  # findall skipped text no token matches: the matches end later
-        _refuse(text, _first_gap(text), lines)
-    texts = [token for _, token in found]
-    starts = [end - len(token) for end, token in zip(ends, texts, strict=True)]
-    if "/*" in text:  # a comment that never closes reads as the tokens '/' '*'
-        for token, start in zip(texts, starts, strict=True):
-            if token == "/" and text.startswith("/*", start):
-                _refuse(text, start, lines)
-    make = functools.partial(tuple.__new__, Token)
-    tokens = list(map(make, zip(_kinds(texts), texts, starts, itertools.repeat(lines))))
-    tokens.append(Token("eof", "", rest, lines))
+    lines = _Lines(source, text)  # the same lines and columns as the text given
+    found = _findall(_TOKEN, text)
+    if sum(map(len, itertools.chain.from_iterable(found))) != len(text):  # findall skipped text
+        _refuse(text, _first_gap(text), lines)  # no token matches, so the matches end later
+    texts = list(map(operator.itemgetter(1), found))
+    texts.pop()
+    tokens = Tokens(lines, found, [*_kinds(texts), "eof"], [*texts, ""])
+    if "/*" in text and (i := _open_comment(texts, found)) >= 0:
+        _refuse(text, tokens.start(i), lines)
     return tokens
+
+
+def _open_comment(texts: list[str], found: list[tuple[str, str]]) -> int:
+    """The first '/' token of a comment that never closes (it reads as the tokens '/' '*')."""
+    i = -1
+    while (i := _index(texts, "/", i + 1)) >= 0:  # a scan in C: '/' tokens are few
+        if i + 1 < len(found) and found[i + 1] == ("", "*"):
+            return i
+    return -1
+
+
+def _findall(pattern: re.Pattern[str], text: str) -> list[tuple[str, str]]:
+    """(blanks, token) pairs, the last (trailing blanks, "") for the end of the text."""
+    found = pattern.findall(text)
+    if len(found) > 1 and found[-2][1] == "":  # after trailing blanks, \Z matched once more
+        found.pop()
+    return found
+
+
+def _index(items: list[str], item: str, start: int) -> int:
+    try:
+        return items.index(item, start)
+    except ValueError:
+        return -1
 
 
 def _first_gap(text: str) -> int:
     """Where the first text no token matches begins (only called for bad text)."""
     i = 0
-    while True:
-        m = _TOKEN.match(text, i)
-        if m is None:
-            return i
+    while (m := _TOKEN.match(text, i)) is not None and m.end() > i:
         i = m.end()
+    return i
 
 
 def _refuse(text: str, i: int, lines: _Lines) -> None:

@@ -146,9 +146,16 @@ class Scope:
                 self.aliases[imp.alias or target.rsplit(".", 1)[-1]] = target
         if enclosing.split(".")[0] == "Modelica":  # MSL's packages import SI themselves
             self.aliases.setdefault("SI", "Modelica.Units.SI")
+        self._resolved: dict[str, str] = {}  # a model names few classes, each many times
 
     def resolve(self, name: str, pos: Pos, what: str = "class") -> str:
         """The fully qualified name ``name`` denotes here (MSL 3.2 names renamed)."""
+        full = self._resolved.get(name)
+        if full is None:
+            full = self._resolved[name] = self._lookup(name, pos, what)
+        return full
+
+    def _lookup(self, name: str, pos: Pos, what: str) -> str:
         if name in _BUILTIN_TYPES:
             return name
         first, _, rest = name.partition(".")

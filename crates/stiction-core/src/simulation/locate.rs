@@ -7,14 +7,10 @@
 use diffsol::OdeSolverMethod;
 
 use super::integrator::Eqn;
-use super::scan::FD_STEP;
+use super::samples::{Hump, FD_STEP};
 use super::stepper::Stepper;
 use crate::engine::speed_rates;
 use crate::error::SimError;
-
-/// A hump that reaches above zero: bracket start, (indicator, value there, value at the top),
-/// and the top's time.
-pub(super) type Hump = (f64, (usize, f64, f64), f64);
 
 impl Stepper {
     /// The indicator `i` at time t on the dense output of the last step.

@@ -15,6 +15,7 @@ mod grid;
 mod init;
 mod integrator;
 mod locate;
+mod samples;
 mod saved;
 mod scan;
 mod stepper;

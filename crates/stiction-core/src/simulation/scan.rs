@@ -10,17 +10,11 @@
 use diffsol::{OdeSolverMethod, VectorCommon};
 
 use super::integrator::Eqn;
+use super::samples::{Hump, FD_STEP, SAMPLES};
 use super::stepper::Stepper;
 use crate::engine::speed_rates;
 use crate::error::SimError;
 use crate::switching::element::NEVER;
-
-/// Interior samples plus the step's end.
-const SAMPLES: usize = 4;
-
-/// The step of the backward differences that give rates to indicators with no analytic one,
-/// as a fraction of the integrator step.
-pub(super) const FD_STEP: f64 = 1e-6;
 
 /// An indicator without analytic rate is searched for humps between samples when its largest
 /// sample in the step lies within `NEAR` times its spread over the step of zero. The quartic
@@ -28,33 +22,6 @@ pub(super) const FD_STEP: f64 = 1e-6;
 /// Lebesgue constant of five equidistant points is 2.2), so 3 leaves a wide margin for what
 /// the quartic does not capture of a step the integrator resolved.
 const NEAR: f64 = 3.0;
-
-/// The indicators and their rates at the start of a step and at its samples, each sample
-/// evaluated once and kept while the step is searched.
-#[derive(Default)]
-pub(super) struct StepSamples {
-    t: [f64; SAMPLES + 1],
-    z: Vec<f64>,
-    dz: Vec<f64>,
-}
-
-impl StepSamples {
-    fn at(&self, k: usize) -> (&[f64], &[f64]) {
-        let nz = self.z.len() / (SAMPLES + 1);
-        (
-            &self.z[k * nz..(k + 1) * nz],
-            &self.dz[k * nz..(k + 1) * nz],
-        )
-    }
-
-    fn at_mut(&mut self, k: usize) -> (&mut [f64], &mut [f64]) {
-        let nz = self.z.len() / (SAMPLES + 1);
-        (
-            &mut self.z[k * nz..(k + 1) * nz],
-            &mut self.dz[k * nz..(k + 1) * nz],
-        )
-    }
-}
 
 impl Stepper {
     /// Looks for a crossing in the last step (t_prev, t_now]; a relation that flips and flips
@@ -232,11 +199,7 @@ impl Stepper {
 
     /// A hump over the samples k − 2, k − 1 and k (the first uses the previous step's last
     /// interior sample) that may reach above zero.
-    fn hump_before<'a, S>(
-        &mut self,
-        solver: &S,
-        k: usize,
-    ) -> Result<Option<super::locate::Hump>, SimError>
+    fn hump_before<'a, S>(&mut self, solver: &S, k: usize) -> Result<Option<Hump>, SimError>
     where
         S: OdeSolverMethod<'a, Eqn>,
     {

@@ -15,7 +15,7 @@ use super::auto::StiffnessWatch;
 use super::chatter::ChatterWatch;
 use super::dense::StepPoly;
 use super::integrator::{integrator_error, Eqn, StepBudget, V};
-use super::scan::StepSamples;
+use super::samples::StepSamples;
 use super::{Observer, Phase};
 use crate::engine::eval::{evaluate, DiscreteState};
 use crate::engine::{indicator_count, indicator_label, indicators, ModeCache};

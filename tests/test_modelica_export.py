@@ -100,3 +100,51 @@ def _class_names(node: Any) -> set[str]:
     for name, cls in getattr(node, "classes", {}).items():
         names |= {name} | _class_names(cls)
     return names
+
+
+DECLARED = """
+model Declared
+  import SI = Modelica.Units.SI;
+  parameter SI.Inertia Jx(min=0, displayUnit="kg.m2") = 2 "inertia of the \\"flywheel\\"";
+  parameter Real k = 3;
+  parameter SI.Time T2 = 0.4 "when it starts";
+  Modelica.Mechanics.Rotational.Components.Inertia J1(J=Jx*k, w(start=1, fixed=true));
+  annotation(experiment(StopTime=1));
+end Declared;
+"""
+
+
+def test_a_parameter_keeps_its_declaration_through_export_and_the_model_file() -> None:
+    """Type, attributes and description of a top-level parameter survive .mo → model → .mo and
+    the model file; an independent parser reads them back from the export."""
+    model = st.Model.from_modelica(DECLARED)
+    assert model.declarations == {
+        "Jx": {
+            "type": "Modelica.Units.SI.Inertia",
+            "min": 0.0,
+            "displayUnit": "kg.m2",
+            "description": 'inertia of the "flywheel"',
+        },
+        "T2": {"type": "Modelica.Units.SI.Time", "description": "when it starts"},
+    }
+    text = model.to_modelica()
+    assert 'parameter Modelica.Units.SI.Inertia Jx(min=0.0, displayUnit="kg.m2") = 2.0' in text
+    assert st.Model.from_modelica(text) == model
+    assert st.Model.loads(model.to_toml()) == model
+    pymoca_parser = pytest.importorskip("pymoca.parser")
+    symbol = pymoca_parser.parse(text).classes["Declared"].symbols["Jx"]
+    assert str(symbol.type) == "Modelica.Units.SI.Inertia" and "flywheel" in symbol.comment
+
+
+@pytest.mark.parametrize(
+    ("table", "message"),
+    [
+        ('x = { unit = "s" }', "'x' is not a parameter"),
+        ('T2 = { units = "s" }', "unknown key 'units'.*did you mean 'unit'"),
+        ("T2 = { min = true }", "'T2.min' must be text or a number"),
+    ],
+)
+def test_a_bad_declaration_names_the_parameter_and_key(table: str, message: str) -> None:
+    text = f'name = "M"\nconnect = []\n[parameters]\nT2 = 0.4\n[declarations]\n{table}\n'
+    with pytest.raises(st.ModelError, match=message):
+        st.Model.loads(text)

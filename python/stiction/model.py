@@ -61,6 +61,9 @@ class Model:
         # Top-level parameters: name -> number, Boolean or expression text over the others;
         # components refer to them with {"expr": "T2"} (see stiction/parameters.py).
         self.parameters: dict[str, Any] = {}
+        # What a top-level parameter's Modelica declaration says beyond its value (type,
+        # description, unit, min…): kept through import and export, never read by the engine.
+        self.declarations: dict[str, dict[str, Any]] = {}
 
     # --- building ---------------------------------------------------------------------
     def add(self, name: str, component: Component) -> Model:
@@ -191,6 +194,7 @@ class Model:
             and self.inputs == other.inputs
             and self.variables == other.variables
             and self.parameters == other.parameters
+            and self.declarations == other.declarations
         )
 
     __hash__ = None  # type: ignore[assignment]  # mutable
@@ -224,6 +228,7 @@ class Model:
             self.inputs,
             self.variables,
             self.parameters,
+            self.declarations,
         )
 
     def engine_toml(self) -> str:
@@ -330,6 +335,7 @@ class Model:
         for var_name, expression in data.variables.items():
             model.variable(var_name, expression)
         model.parameters.update(data.parameters)
+        model.declarations.update(data.declarations)
         return model
 
     @classmethod

@@ -34,7 +34,17 @@ EXPERIMENT_KEYS = (
 )
 # The model file format written here; every older one is read, a newer one refused by name.
 FORMAT_VERSION = 1
-_TOP_KEYS = ("format", "name", "connect", "inputs", "experiment", "parameters", "components", "variables")
+_TOP_KEYS = (
+    "format",
+    "name",
+    "connect",
+    "inputs",
+    "experiment",
+    "parameters",
+    "declarations",
+    "components",
+    "variables",
+)
 _BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
 _INLINE_MAX = 110  # longer components are written as [components.<name>] sections instead
 
@@ -49,6 +59,8 @@ class ModelData(NamedTuple):
     inputs: dict[str, float]  # model input port -> start value
     variables: dict[str, str]  # derived variable -> Modelica expression over result variables
     parameters: dict[str, Any]  # top-level parameter -> value or expression text
+    # top-level parameter -> its Modelica declaration beyond the value: type, description, unit…
+    declarations: dict[str, dict[str, Any]]
 
 
 def _suggest(word: str, choices: Iterable[str]) -> str:
@@ -152,7 +164,37 @@ def parse(text: str, source: str = "model") -> ModelData:
             raise ModelError(f"{source}: component '{comp_name}': missing 'type' (a string)")
         components.append((comp_name, comp_type, params))
     variables, parameters = _variables_and_parameters(doc, source)
-    return ModelData(name, dict(experiment), components, connections, inputs, variables, parameters)
+    declarations = _declarations(doc, parameters, source)
+    return ModelData(
+        name, dict(experiment), components, connections, inputs, variables, parameters, declarations
+    )
+
+
+DECLARATION_KEYS = ("type", "description", "unit", "displayUnit", "quantity", "min", "max", "nominal")
+
+
+def _declarations(doc: dict[str, Any], parameters: dict[str, Any], source: str) -> dict[str, dict[str, Any]]:
+    """The ``[declarations]`` table: for a top-level parameter, what its Modelica declaration
+    says beyond the value (``type``, ``description``, ``unit``, ``min``…), kept so that an
+    imported model exports as it was declared; the engine never reads it."""
+    table = doc.get("declarations", {})
+    if not isinstance(table, dict):
+        raise ModelError(f"{source}: 'declarations' must be a table, e.g. J = {{ unit = \"kg.m2\" }}")
+    for name, entry in table.items():
+        if name not in parameters:
+            raise ModelError(
+                f"{source}: declarations: '{name}' is not a parameter{_suggest(name, parameters)}"
+            )
+        if not isinstance(entry, dict):
+            raise ModelError(f"{source}: declarations: '{name}' must be a table, e.g. {{ unit = \"s\" }}")
+        for key, value in entry.items():
+            if key not in DECLARATION_KEYS:
+                raise ModelError(
+                    f"{source}: declarations: '{name}': unknown key '{key}'{_suggest(key, DECLARATION_KEYS)}"
+                )
+            if isinstance(value, bool) or not isinstance(value, (str, int, float)):
+                raise ModelError(f"{source}: declarations: '{name}.{key}' must be text or a number")
+    return {name: dict(entry) for name, entry in table.items()}
 
 
 def _variables_and_parameters(doc: dict[str, Any], source: str) -> tuple[dict[str, str], dict[str, Any]]:
@@ -214,6 +256,7 @@ def dumps(
     inputs: Mapping[str, float] | None = None,
     variables: Mapping[str, str] | None = None,
     parameters: Mapping[str, Any] | None = None,
+    declarations: Mapping[str, Mapping[str, Any]] | None = None,
 ) -> str:
     """Write a model file; it parses back to the same data."""
     lines = [f"format = {FORMAT_VERSION}", f"name = {_scalar(name)}"]
@@ -234,6 +277,9 @@ def dumps(
     if parameters:
         lines += ["", "[parameters]"]
         lines.extend(f"{_key(k)} = {_value(v)}" for k, v in parameters.items())
+    if declarations:
+        lines += ["", "[declarations]"]
+        lines.extend(f"{_key(k)} = {_value(dict(v))}" for k, v in declarations.items())
     if variables:
         lines += ["", "[variables]"]
         lines.extend(f"{_key(k)} = {_scalar(v)}" for k, v in variables.items())

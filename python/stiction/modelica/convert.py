@@ -184,7 +184,21 @@ class _Converter:
         self.values[name] = value
         integer = decl.type_name == "Integer"
         self.model.parameters[name] = self.kept(decl.binding, value if integer else _real(value, name))
+        declared = self.declared(decl)
+        if declared:
+            self.model.declarations[name] = declared
         return value
+
+    def declared(self, decl: Declaration) -> dict[str, Any]:
+        """What the declaration says beyond the value, for export: its SI type, its
+        description and its attributes (bounds as numbers, units as text)."""
+        info: dict[str, Any] = {"type": decl.type_name} if is_unit_type(decl.type_name) else {}
+        for mod in decl.args:
+            value = self.expression(mod.value)
+            info[mod.name] = value if isinstance(value, str) else _real(python_value(value), decl.name)
+        if decl.description:
+            info["description"] = decl.description
+        return info
 
     def kept(self, expr: Any, value: Any) -> Any:
         """What the model keeps of a binding: the value of a literal (or of an expression over

@@ -5,6 +5,7 @@ variables, ``connect`` equations and the experiment annotation, in plain Modelic
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
 from ..errors import ModelError
@@ -35,7 +36,7 @@ def write_modelica(model: Model) -> str:
         raise ModelError("a model with inputs (unconnected signal inputs) has no Modelica form here")
     lines = [f"model {model.name}"]
     for name, value in model.parameters.items():
-        lines.append(f"  {_parameter(name, value)};")
+        lines.append(f"  {_parameter(name, value, model.declarations.get(name, {}))};")
     for name, comp in model.components.items():
         lines.append(f"  {_declaration(model, name, comp.type, comp.params)};")
     for name, expression in model.variables.items():
@@ -74,15 +75,31 @@ def _declaration(model: Model, name: str, ctype: str, params: dict[str, Any]) ->
     return f"{cls} {name}({', '.join(mods)})" if mods else f"{cls} {name}"
 
 
-def _parameter(name: str, value: Any) -> str:
+def _parameter(name: str, value: Any, declared: Mapping[str, Any]) -> str:
+    """``parameter Type name(attributes) = value "description"``, as it was declared."""
     if not name.isidentifier():
         raise ModelError(f"parameter name '{name}' is not a Modelica identifier")
-    if isinstance(value, str):
-        return f"parameter Real {name} = {value}"
-    kind = "Boolean" if isinstance(value, bool) else "Integer" if isinstance(value, int) else "Real"
     if isinstance(value, list):
         raise ModelError(f"parameter '{name}': array parameters have no Modelica export here")
-    return f"parameter {kind} {name} = {format_literal(value)}"
+    kind = "Boolean" if isinstance(value, bool) else "Integer" if isinstance(value, int) else "Real"
+    kind = declared.get("type", kind)
+    attrs = [f"{key}={_attribute(v)}" for key, v in declared.items() if key not in ("type", "description")]
+    text = value if isinstance(value, str) else format_literal(value)
+    line = (
+        f"parameter {kind} {name}({', '.join(attrs)}) = {text}"
+        if attrs
+        else f"parameter {kind} {name} = {text}"
+    )
+    description = declared.get("description")
+    return f"{line} {_string(description)}" if description else line
+
+
+def _attribute(value: Any) -> str:
+    return _string(value) if isinstance(value, str) else format_literal(value)
+
+
+def _string(text: str) -> str:
+    return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
 
 
 def _modifier(key: str, value: Any) -> str:

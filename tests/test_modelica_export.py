@@ -148,3 +148,15 @@ def test_a_bad_declaration_names_the_parameter_and_key(table: str, message: str)
     text = f'name = "M"\nconnect = []\n[parameters]\nT2 = 0.4\n[declarations]\n{table}\n'
     with pytest.raises(st.ModelError, match=message):
         st.Model.loads(text)
+
+
+def test_an_attribute_the_model_file_does_not_keep_is_left_out_of_the_declaration() -> None:
+    text = """
+model M
+  parameter Real k(stateSelect=StateSelect.prefer, unit="1") = 3;
+  Modelica.Mechanics.Rotational.Components.Inertia J1(J=k, w(start=1, fixed=true));
+end M;
+"""
+    model = st.Model.from_modelica(text)
+    assert model.declarations == {"k": {"unit": "1"}}
+    assert st.Model.loads(model.to_toml()) == model

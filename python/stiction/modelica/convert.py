@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 
 from ..components import Component, component_types
 from ..errors import ModelError
+from ..modelfile import DECLARATION_KEYS
 from ..parameters import is_expr, resolve_params
 from .ast import ClassDef, Declaration, Literal, Modification, Ref, StoredDefinition
 from .expr import CONSTANTS, evaluate, python_value, unparse
@@ -194,6 +195,8 @@ class _Converter:
         description and its attributes (bounds as numbers, units as text)."""
         info: dict[str, Any] = {"type": decl.type_name} if is_unit_type(decl.type_name) else {}
         for mod in decl.args:
+            if mod.name not in DECLARATION_KEYS:  # stateSelect says nothing a model file keeps
+                continue
             value = self.expression(mod.value)
             info[mod.name] = value if isinstance(value, str) else _real(python_value(value), decl.name)
         if decl.description:

@@ -83,7 +83,9 @@ def _parameter(name: str, value: Any, declared: Mapping[str, Any]) -> str:
         raise ModelError(f"parameter '{name}': array parameters have no Modelica export here")
     kind = "Boolean" if isinstance(value, bool) else "Integer" if isinstance(value, int) else "Real"
     kind = declared.get("type", kind)
-    attrs = [f"{key}={_attribute(v)}" for key, v in declared.items() if key not in ("type", "description")]
+    attrs = [
+        f"{key}={format_literal(v)}" for key, v in declared.items() if key not in ("type", "description")
+    ]
     text = value if isinstance(value, str) else format_literal(value)
     line = (
         f"parameter {kind} {name}({', '.join(attrs)}) = {text}"
@@ -91,15 +93,7 @@ def _parameter(name: str, value: Any, declared: Mapping[str, Any]) -> str:
         else f"parameter {kind} {name} = {text}"
     )
     description = declared.get("description")
-    return f"{line} {_string(description)}" if description else line
-
-
-def _attribute(value: Any) -> str:
-    return _string(value) if isinstance(value, str) else format_literal(value)
-
-
-def _string(text: str) -> str:
-    return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    return f"{line} {format_literal(description)}" if description else line
 
 
 def _modifier(key: str, value: Any) -> str:

@@ -14,6 +14,8 @@ pub mod signal_blocks;
 pub mod sources;
 pub mod timetable;
 #[cfg(test)]
+mod toy_relay;
+#[cfg(test)]
 mod toy_stop;
 
 use std::path::Path;
@@ -157,6 +159,8 @@ pub fn registry() -> Vec<Entry> {
     r.extend(heat::REGISTRY);
     #[cfg(test)]
     r.extend(toy_stop::REGISTRY);
+    #[cfg(test)]
+    r.extend(toy_relay::REGISTRY);
     r
 }
 

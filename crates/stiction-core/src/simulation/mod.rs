@@ -8,7 +8,7 @@
 //! `advance_to` ends, so a run advanced in pieces is bit-identical to one call.
 
 mod auto;
-mod chatter;
+pub(crate) mod chatter;
 mod dense;
 mod event;
 mod grid;

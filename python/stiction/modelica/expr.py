@@ -64,7 +64,8 @@ _BINARY: dict[str, Callable[[Any, Any], Any]] = {
     "-": lambda a, b: a - b,
     "*": lambda a, b: a * b,
     "/": lambda a, b: np.divide(a, b) if isinstance(a, np.ndarray) or isinstance(b, np.ndarray) else a / b,
-    "^": lambda a, b: a**b,
+    # Integer powers in floats once large: Python's exact 10**(10**9) would take minutes
+    "^": lambda a, b: float(a) ** b if type(a) is type(b) is int and abs(b) > 64 else a**b,
     "<": lambda a, b: a < b,
     "<=": lambda a, b: a <= b,
     ">": lambda a, b: a > b,
@@ -93,7 +94,7 @@ def evaluate(expr: Expr, lookup: Lookup, resolve: Resolve, der: Lookup | None = 
         if isinstance(e, BinOp):
             left, right = ev(e.left), ev(e.right)
             _check_operands(e, left, right)
-            return _BINARY[e.op](left, right)
+            return _arithmetic(e, lambda: _BINARY[e.op](left, right))
         if isinstance(e, IfExpr):
             cond = ev(e.cond)
             if isinstance(cond, np.ndarray):
@@ -127,9 +128,24 @@ def _call(e: Call, ev: Callable[[Expr], Any], resolve: Resolve, der: Lookup | No
         raise ModelicaError(e.pos, f"unknown function '{e.func}' (supported: {known}, der)")
     args = [ev(a) for a in e.args]
     try:
-        return FUNCTIONS[name](*args)
+        return _arithmetic(e, lambda: FUNCTIONS[name](*args))
     except (TypeError, ValueError) as exc:
         raise ModelicaError(e.pos, f"bad call of '{e.func}': {exc}") from None
+
+
+def _arithmetic(e: BinOp | Call, compute: Callable[[], Any]) -> Any:
+    """``compute()``, with Python's arithmetic errors as located ones. A result out of range
+    as a float (inf, NaN) passes: the parameter it reaches refuses it, naming itself."""
+    try:
+        with np.errstate(all="ignore"):
+            value = compute()
+    except ZeroDivisionError:
+        raise ModelicaError(e.pos, "division by zero") from None
+    except OverflowError:
+        raise ModelicaError(e.pos, "the result is too large for a Real") from None
+    if type(value) is int and abs(value) >= 2**63:  # 10^400 of Integers: Python's int grows
+        raise ModelicaError(e.pos, "the result is too large for an Integer")
+    return value
 
 
 _PLAIN = frozenset((float, int, bool, str))

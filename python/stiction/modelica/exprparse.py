@@ -7,10 +7,19 @@ parallel lists (the hot paths read them into locals and test texts directly).
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
+from typing import TypeVar
+
 from .ast import Array, BinOp, Call, Expr, IfExpr, Literal, Matrix, Ref, Unary
 from .lexer import ModelicaError, Pos, Tokens
 
 __all__ = ["ExpressionParser"]
+
+T = TypeVar("T")
+# Every walk over an expression (evaluation, dependency checks, export) recurses once per
+# level, and a chain like 1+1+…+1 is as deep as it is long: deeper is an error, not a crash.
+MAX_DEPTH = 200
 
 _RELATIONS = ("<", "<=", ">", ">=", "==", "<>")
 _AFTER_VALUE = frozenset((",", ")", ";", "}", "]"))
@@ -25,8 +34,28 @@ class ExpressionParser:
         self.texts = tokens.texts
         self.last = len(tokens.texts) - 1  # the end-of-file token
         self.i = 0
+        self.depth = 0  # of the expression tree being read, at the cursor
+
+    def guarded(self, read: Callable[[], T]) -> T:
+        """``read()``, with nesting too deep for Python's stack (``((((…``, ``a(b(c(…``) as
+        an error at the token where it got too deep: the grammar is recursive descent."""
+        try:
+            return read()
+        except RecursionError:
+            raise self.fail("nested too deeply to read") from None
 
     # --- tokens ------------------------------------------------------------------------
+    def number(self, i: int) -> Literal:
+        """The number token ``i``: an Integer within 64 bits or a finite Real, else a located
+        error (a literal of 400 digits would overflow the float every parameter becomes)."""
+        text = self.texts[i]
+        value: int | float = int(text) if text.isdigit() else float(text)
+        if isinstance(value, int) and value >= 2**63:
+            raise self.fail(f"the Integer literal {text[:24]}... is out of range", i)
+        if value == math.inf:
+            raise self.fail(f"the number {text} is too large for a Real", i)
+        return Literal(value, self.pos(i))
+
     def pos(self, i: int | None = None) -> Pos:
         return Pos.at(self.tokens, self.i if i is None else i)
 
@@ -95,6 +124,20 @@ class ExpressionParser:
 
     # --- expressions ------------------------------------------------------------------
     def expression(self) -> Expr:
+        saved = self.depth
+        try:
+            self.deeper()
+            return self._expression()
+        finally:
+            self.depth = saved
+
+    def deeper(self) -> None:
+        """One level deeper in the expression tree: a nested expression or a chained operator."""
+        self.depth += 1
+        if self.depth > MAX_DEPTH:
+            raise self.fail(f"expression deeper than {MAX_DEPTH} levels (operators chained or nested)")
+
+    def _expression(self) -> Expr:
         i = self.i
         kind, text = self.kinds[i], self.texts[i]
         if (
@@ -102,7 +145,7 @@ class ExpressionParser:
         ):  # fast paths for a lone value: J=1, fixed=true, k=T2
             if kind == "number":
                 self.i = i + 1
-                return Literal(int(text) if text.isdigit() else float(text), Pos.at(self.tokens, i))
+                return self.number(i)
             if kind == "ident":
                 self.i = i + 1
                 return Ref(text, Pos.at(self.tokens, i))
@@ -126,6 +169,7 @@ class ExpressionParser:
         left = sub()
         while self.texts[self.i] == op:
             token = self.take()
+            self.deeper()
             left = BinOp(op, left, sub(), self.pos(token))
         return left
 
@@ -151,6 +195,7 @@ class ExpressionParser:
             left = self.term()
         while texts[self.i] in ("+", "-", ".+", ".-"):
             token = self.take()
+            self.deeper()
             left = BinOp(texts[token].lstrip("."), left, self.term(), self.pos(token))
         return left
 
@@ -159,6 +204,7 @@ class ExpressionParser:
         left = self.factor()
         while texts[self.i] in ("*", "/", ".*", "./"):
             token = self.take()
+            self.deeper()
             left = BinOp(texts[token].lstrip("."), left, self.factor(), self.pos(token))
         return left
 
@@ -179,7 +225,7 @@ class ExpressionParser:
         kind, text = self.kinds[i], self.texts[i]
         if kind == "number":
             self.i = i + 1
-            return Literal(int(text) if text.isdigit() else float(text), self.pos(i))
+            return self.number(i)
         if kind == "string":
             return Literal(self.string_comment(), self.pos(i))
         if text in ("true", "false"):

@@ -37,7 +37,8 @@ _SECTION_ENDS = frozenset(("end", "annotation", "public", "protected", "equation
 
 def parse(text: str, source: str = "<modelica>") -> StoredDefinition:
     """Parse a whole ``.mo`` file; raises ModelicaError at the first problem."""
-    return _Parser(tokenize(text, source)).stored_definition()
+    parser = _Parser(tokenize(text, source))
+    return parser.guarded(parser.stored_definition)
 
 
 class _Parser(ExpressionParser):
@@ -274,7 +275,7 @@ class _Parser(ExpressionParser):
 def parse_expression(text: str, source: str = "<expression>") -> Expr:
     """Parse one Modelica expression (a derived variable's binding)."""
     parser = _Parser(tokenize(text, source))
-    expr = parser.expression()
+    expr = parser.guarded(parser.expression)
     if parser.kinds[parser.i] != "eof":
         raise parser.fail(f"syntax error: unexpected {parser.found()} after the expression")
     return expr

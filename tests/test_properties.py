@@ -221,10 +221,22 @@ def test_a_tight_tolerance_lies_in_the_tube_of_the_default_one(model: st.Model) 
     r = _run(model)
     if r is None:
         return
+    assert not _outside_tight_tube(model, r)
+
+
+def _outside_tight_tube(model: st.Model, r: st.Result) -> list[str]:
+    """The speeds of ``r`` outside the tube of the run at Tolerance 1e-9.
+
+    The tube's height is 2e-3 of each speed's own range as in MSL, but at least 2e-3 of the
+    largest speed range of the drivetrain: the integrator's absolute tolerance is the
+    Tolerance itself (1e-6 rad/s, as Modelica tools set it), so a shaft creeping at a few
+    mrad/s beside others turning 10x faster is right to that, not to 0.2 % of its own range
+    (``tests/data/tiny_speeds.toml``)."""
     tight = model.simulate(Tolerance=1e-9)
     speeds = [f"{n}.w" for n, c in model.components.items() if c.type == "Inertia"]
-    report = compare(tight, r, tolerance=2e-3, signals=speeds)
-    assert report.passed, report.failed
+    scale = max(float(np.ptp(tight[s])) for s in speeds)
+    report = compare(tight, r, tolerance=2e-3, signals=speeds, floor=2e-3 * scale)
+    return report.failed
 
 
 @BUDGET
@@ -246,6 +258,25 @@ def test_a_static_limit_crossed_and_recovered_between_samples_at_the_stop_time_i
     locked = r["brake0.locked"] == 1.0
     excess = (np.abs(r["brake0.tau"]) - r["brake0.tau0_max"])[locked].max()
     assert excess <= 1e-6, f"held {excess:.3f} N·m beyond the static limit"
+
+
+def test_shafts_creeping_at_a_few_mrad_per_s_are_right_to_the_absolute_tolerance():
+    """Found by `make soak` (1 in about 1000 drivetrains): ten clutches on a tree, all at rest,
+    a 1 N·m sine on one shaft; most shafts creep at 2-3 mrad/s. At the default Tolerance the
+    run makes the tight run's 50 mode changes in the same order, and its speeds are off by
+    up to 7e-6 rad/s (7x the absolute tolerance, after 50 events): outside 0.2 % of a creeping
+    shaft's own range, inside 0.2 % of the drivetrain's. The error is the integrator's: at
+    Tolerance 1e-7 even each shaft's own tube holds."""
+    from pathlib import Path
+
+    model = st.Model.load(Path(__file__).parent / "data" / "tiny_speeds.toml")
+    r, tight = model.simulate(), model.simulate(Tolerance=1e-9)
+    changes = [[(e.component, e.old_mode, e.new_mode) for e in run.events] for run in (r, tight)]
+    assert changes[0] == changes[1]
+    assert not _outside_tight_tube(model, r)
+    speeds = [f"J{k}.w" for k in range(14)]
+    assert not compare(tight, r, signals=speeds).passed  # the case the soak found
+    assert compare(tight, model.simulate(Tolerance=1e-7), signals=speeds).passed
 
 
 def test_a_brake_starting_backward_that_a_lossy_gear_turns_forward_stops_starting_there():

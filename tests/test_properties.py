@@ -224,17 +224,19 @@ def test_a_tight_tolerance_lies_in_the_tube_of_the_default_one(model: st.Model) 
     tight = model.simulate(Tolerance=1e-9)
     if not _outside_tube(model, tight, r):
         return
-    # About 1 drivetrain in 1000 amplifies the integration error beyond the tube (shafts
-    # elastically bouncing in a backlash, tests/data/bouncing_backlash.toml): then the default
-    # run must have made the same mode changes, and its error must go away with the tolerance —
-    # a wrong stick/slip decision would not.
+    # About 1 drivetrain in 1000 amplifies the integration error beyond the tube: shafts
+    # bouncing in an undamped backlash, each contact's timing error growing in the next
+    # (tests/data/bouncing_backlash.toml; beside clutches, 59 % of a speed's range at 1e-6,
+    # 11 % at 1e-7, 0.7 % at 1e-8). Then the default run must have made the same mode changes
+    # and the error must go away with the tolerance: a wrong stick/slip decision would not.
     assert _changes(r) == _changes(tight)
-    assert not _outside_tube(model, tight, model.simulate(Tolerance=1e-7))
+    assert not _outside_tube(model, tight, model.simulate(Tolerance=1e-8))
 
 
-def _changes(r: st.Result) -> tuple[list[tuple[str, int, int]], int]:
-    """The mode changes in order, and the number of state events (a backlash's contacts too)."""
-    return [(e.component, e.old_mode, e.new_mode) for e in r.events], r.stats["state_events"]
+def _changes(r: st.Result) -> list[tuple[str, int, int]]:
+    """The mode changes in order (a backlash's contacts are no mode changes: a grazing one
+    may be seen at one tolerance and not at another)."""
+    return [(e.component, e.old_mode, e.new_mode) for e in r.events]
 
 
 def _outside_tube(model: st.Model, tight: st.Result, r: st.Result) -> list[str]:
@@ -300,7 +302,7 @@ def test_an_undamped_backlash_amplifies_the_integration_error_that_a_tighter_tol
 
     model = st.Model.load(Path(__file__).parent / "data" / "bouncing_backlash.toml")
     r, tight = model.simulate(), model.simulate(Tolerance=1e-9)
-    assert _changes(r) == _changes(tight) == ([], 21)
+    assert _changes(r) == _changes(tight) == [] and r.stats["state_events"] == 21
     assert _outside_tube(model, tight, r) == ["J1.w"]  # the case the soak found
     errors = []
     for tol in (1e-6, 1e-7, 1e-8):

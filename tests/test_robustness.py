@@ -123,3 +123,19 @@ def test_an_output_grid_that_cannot_fit_in_memory_is_refused() -> None:
     m = st.Model.load(REPO / "examples" / "msl" / "CoupledClutches.toml")
     with pytest.raises(st.ModelError, match="Interval"):
         m.simulate(Interval=1e-9)
+
+
+def test_a_brake_pressed_beyond_floating_point_is_an_error_not_a_spin() -> None:
+    """Found by fuzzing the FMU's calls (an input set to 1e300): the flywheel's deceleration,
+    1e302 rad/s², overflows the integrator's error norm, its starting step was 0 and zero
+    steps were accepted until the 5e6-step limit (minutes). Now the first one stops the run."""
+    m = st.Model("pressed")
+    m.add("J", st.Inertia(J=2.0, phi=0.0, w=5.0))
+    m.add("brake", st.Brake(fn_max=50.0))
+    m.add("press", st.Constant(k=1e300))
+    m.connect("J.flange_b", "brake.flange_a")
+    m.connect("press.y", "brake.f_normalized")
+    with pytest.raises(st.IntegratorError, match="step size fell to 0"):
+        m.simulate(params={"max_steps": 1000})  # the limit would be reached first otherwise
+    pressed = m.simulate(params={"press.k": 1e100})  # far, but within floating point: it stops
+    assert pressed.events[-1].new_mode == 0 and pressed.events[-1].time < 1e-99

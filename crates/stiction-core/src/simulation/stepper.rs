@@ -25,6 +25,8 @@ use crate::system::System;
 
 /// The most state events and steps a run may take (a runaway, not a model, needs more).
 const MAX_STEPS: usize = 5_000_000;
+/// Why a step of length 0 stops the run.
+const ZERO_STEP: &str = "the step size fell to 0: the derivatives are too large for floating point (a force or an input far beyond the model's scale?)";
 
 /// A step taken but not yet processed to its end.
 pub(super) struct Pending {
@@ -271,6 +273,11 @@ impl Stepper {
         }
         if solver.state().y.inner().iter().any(|v| !v.is_finite()) {
             return Err(SimError::NonFiniteState { time: t });
+        }
+        if t <= self.t_prev {
+            // diffsol's starting step is 0 when the derivatives' norm overflows (a brake
+            // pressed with 1e200): its zero steps would be accepted for ever
+            return Err(integrator_error(t, ZERO_STEP));
         }
         let limits = &self.sys.experiment.limits;
         let limit = |limit: String| Err(SimError::Limit { time: t, limit });

@@ -13,7 +13,7 @@
 use std::ffi::{c_char, c_void, CStr, CString};
 use std::ptr;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::OnceLock;
+use std::sync::{Mutex, OnceLock};
 use std::time::{Duration, Instant};
 
 use proptest::prelude::*;
@@ -108,9 +108,10 @@ fn call() -> impl Strategy<Value = Call> {
     ]
 }
 
-/// When the call under way started (ms since `origin()`, 0: none); a watchdog thread aborts
-/// the test binary with a message when one has not returned for 20 s — a hang.
+/// When the call under way started (ms since `origin()`, 0: none) and what it is; a watchdog
+/// thread aborts the test binary, naming the call, when one has not returned for 20 s — a hang.
 static CALL_STARTED: AtomicU64 = AtomicU64::new(0);
+static CALL: Mutex<String> = Mutex::new(String::new());
 
 fn origin() -> Instant {
     static ORIGIN: OnceLock<Instant> = OnceLock::new();
@@ -119,7 +120,8 @@ fn origin() -> Instant {
             std::thread::sleep(Duration::from_millis(200));
             let since = CALL_STARTED.load(Ordering::Relaxed);
             if since > 0 && now_ms() - since > 20_000 {
-                eprintln!("an FMI call has not returned for 20 s: a hang");
+                let call = CALL.lock().map(|c| c.clone()).unwrap_or_default();
+                eprintln!("an FMI call has not returned for 20 s, a hang: {call}");
                 std::process::abort();
             }
         });
@@ -131,7 +133,10 @@ fn now_ms() -> u64 {
     origin().elapsed().as_millis() as u64 + 1
 }
 
-fn guarded<T>(f: impl FnOnce() -> T) -> T {
+fn guarded<T>(call: &Call, history: &[Call], f: impl FnOnce() -> T) -> T {
+    if let Ok(mut c) = CALL.lock() {
+        *c = format!("{call:?} after {history:?}");
+    }
     CALL_STARTED.store(now_ms(), Ordering::Relaxed);
     let out = f();
     CALL_STARTED.store(0, Ordering::Relaxed);
@@ -410,8 +415,8 @@ fn mutate(mut bytes: Vec<u8>, keep: f64, flip: Option<usize>) -> Vec<u8> {
 }
 
 fn drive(host: &mut dyn Host, calls: &[Call]) {
-    for call in calls {
-        let status = guarded(|| unsafe { host.run(call) });
+    for (k, call) in calls.iter().enumerate() {
+        let status = guarded(call, &calls[..k], || unsafe { host.run(call) });
         assert!(
             matches!(
                 status,

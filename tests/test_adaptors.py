@@ -136,6 +136,33 @@ def test_a_new_input_moves_the_flange_at_once() -> None:
     assert sim.get("J.phi") == pytest.approx(0.3, abs=1e-12)
 
 
+def test_shafts_ideal_gears_tie_to_the_prescribed_one_move_with_it_at_once() -> None:
+    """Behind ideal gears (ratios 2 and -0.5) the angles and speeds are the prescribed ones
+    through the ratios (MSL: phi_a = ratio·phi_b, algebraic), also right after an input event;
+    the gears' rows no longer hold only in the accelerations."""
+    m = st.Model("geared")
+    m.add("adaptor", st.AngleToTorqueAdaptor(use_a=False))
+    m.add("gear", st.IdealGear(ratio=2.0))
+    m.add("J", st.Inertia(J=J))
+    m.add("gear2", st.IdealGear(ratio=-0.5))
+    m.add("J2", st.Inertia(J=0.5))
+    for a, b in [("adaptor.flange", "gear.flange_a"), ("gear.flange_b", "J.flange_a")]:
+        m.connect(a, b)
+    for a, b in [("J.flange_b", "gear2.flange_a"), ("gear2.flange_b", "J2.flange_a")]:
+        m.connect(a, b)
+    m.input("adaptor.phi", start=0.0)
+    m.input("adaptor.w", start=0.0)
+    sim = m.simulation(StopTime=1.0)
+    sim.advance_to(0.5)
+    sim.set_input("adaptor.phi", 0.3)
+    sim.set_input("adaptor.w", 2.0)
+    for t in (0.5, 0.75):  # at the event and after it (a = 0: the speeds hold)
+        sim.advance_to(t)
+        assert (sim.get("J.phi"), sim.get("J.w")) == pytest.approx((0.15, 1.0), abs=1e-12)
+        assert (sim.get("J2.phi"), sim.get("J2.w")) == pytest.approx((-0.3, -2.0), abs=1e-12)
+    assert sim.get("adaptor.tau") == pytest.approx(0.0, abs=1e-12)  # nothing to accelerate
+
+
 def test_torque_to_angle_on_an_inertia_is_a_parabola() -> None:
     """MSL flange.tau = tau: a constant tau = 3 decelerates J = 2 at 1.5 rad/s²."""
     m = st.Model("parabola")

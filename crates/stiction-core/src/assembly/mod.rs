@@ -125,6 +125,7 @@ pub fn build_with(
     order_signals(&mut b.sys.signals)?;
     finish_thermal(&mut b)?;
     b.sys.flange_torques = b.flanges.finish(&topo.cut_roots);
+    b.sys.followers = b.sys.gear_followers();
     Ok(b.sys)
 }
 
@@ -190,6 +191,7 @@ fn builder(spec: &SpecView, topo: &Topology) -> Builder {
             flange_torques: Default::default(),
             time_events: Vec::new(),
             inputs: topo.inputs.clone(),
+            followers: Vec::new(),
         },
         flanges: FlangeBuilder::default(),
         fixed_temperature: vec![None; heat_nodes],

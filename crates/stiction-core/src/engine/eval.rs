@@ -164,6 +164,7 @@ pub fn kinematics(
     for c in &sys.constraints {
         c.prescribe(&ws.signals, &mut ws.phi, &mut ws.w);
     }
+    sys.follow(&mut ws.phi, &mut ws.w);
     for (k, law) in sys.laws.iter().enumerate() {
         ws.law_phi[k] = law.rel.angle(&ws.phi);
         ws.law_w[k] = law.rel.dot(&ws.w);

@@ -4,6 +4,7 @@
 
 mod builder;
 pub(crate) mod flange;
+mod follow;
 pub mod law;
 pub mod outputs;
 
@@ -123,6 +124,8 @@ pub struct System {
     pub flange_torques: FlangeTorques,
     pub time_events: Vec<f64>,
     pub inputs: Vec<ModelInput>,
+    /// Shafts ideal gears tie to prescribed ones (`follow`).
+    pub followers: Vec<(usize, usize)>,
 }
 
 impl System {

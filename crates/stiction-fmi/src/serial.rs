@@ -12,7 +12,7 @@
 //! truncated or corrupted bytes give an error (never a panic or a huge allocation).
 
 use stiction_core::engine::eval::DiscreteState;
-use stiction_core::simulation::{Cursor, SimState, SolverState};
+use stiction_core::simulation::{Cursor, InputChange, SimState};
 use stiction_core::switching::element::SwitchState;
 use stiction_core::switching::logic::Discrete;
 use stiction_core::switching::relation::{RelationSet, MAX_RELATIONS};
@@ -20,7 +20,8 @@ use stiction_core::switching::relation::{RelationSet, MAX_RELATIONS};
 use crate::instance::{Experiment, Fallible, Snapshot};
 
 const MAGIC: &[u8; 8] = b"STICFMUS";
-const VERSION: u32 = 1;
+/// 2: the run's input events (a restored state replays them); 1 had the integrator's step size.
+const VERSION: u32 = 2;
 
 /// What a state must have been saved with to be restored here.
 pub fn fingerprint(guid: &str) -> String {
@@ -146,12 +147,12 @@ impl Writer {
         self.u64(c.next_te as u64);
         self.u64(c.grid_k as u64);
         self.flag(c.finished);
-        let v = &s.solver;
-        self.f64(v.h);
-        self.flag(v.implicit);
-        self.u64(v.window_steps as u64);
-        self.f64(v.window_span);
-        self.flag(v.switch_due);
+        self.count(s.inputs.len());
+        for change in &s.inputs {
+            self.f64(change.time);
+            self.u64(change.input as u64);
+            self.f64(change.value);
+        }
     }
 }
 
@@ -234,6 +235,13 @@ impl Reader<'_> {
             rel: RelationSet(rel),
         })
     }
+    fn input_change(&mut self) -> Fallible<InputChange> {
+        Ok(InputChange {
+            time: self.f64()?,
+            input: self.usize()?,
+            value: self.f64()?,
+        })
+    }
     fn sim(&mut self) -> Fallible<SimState> {
         let x = self.floats()?;
         let n = self.count(5 + MAX_RELATIONS)?;
@@ -249,14 +257,12 @@ impl Reader<'_> {
             grid_k: self.usize()?,
             finished: self.flag()?,
         };
-        let solver = SolverState {
-            h: self.f64()?,
-            implicit: self.flag()?,
-            window_steps: self.usize()?,
-            window_span: self.f64()?,
-            switch_due: self.flag()?,
-        };
+        let n = self.count(24)?;
+        let changes = (0..n)
+            .map(|_| self.input_change())
+            .collect::<Fallible<_>>()?;
         Ok(SimState {
+            inputs: changes,
             x,
             disc: DiscreteState {
                 switching,
@@ -265,7 +271,6 @@ impl Reader<'_> {
             },
             horizon,
             cursor,
-            solver,
         })
     }
 }

@@ -2,8 +2,9 @@
 //!
 //! Layout, little-endian: the magic `STICFMUS`, the format version (u32), the fingerprint of the
 //! model (the FMU's GUID, itself a hash of the model and its variable table, and the runtime's
-//! version, each a u32 length and UTF-8), the snapshot, then an FNV-1a 64 checksum of all that
-//! precedes it. Numbers are f64 bit patterns, so a restored state is the saved one exactly.
+//! version, each a u32 length and UTF-8), the snapshot (every variable's values, the
+//! experiment, the run's input events and what it reached), then an FNV-1a 64 checksum of all
+//! that precedes it. Numbers are f64 bit patterns, so a restored state is the saved one exactly.
 //!
 //! Written by hand: the snapshot is a few vectors of plain fields, and a serialization crate
 //! (serde + bincode/postcard) would add derive macros to stiction-core's types and several
@@ -20,7 +21,8 @@ use stiction_core::switching::relation::{RelationSet, MAX_RELATIONS};
 use crate::instance::{Experiment, Fallible, Snapshot};
 
 const MAGIC: &[u8; 8] = b"STICFMUS";
-/// 2: the run's input events (a restored state replays them); 1 had the integrator's step size.
+/// 2: the run's input events (a restored state replays them) and the values of array and
+/// Boolean variables; 1 had the integrator's step size.
 const VERSION: u32 = 2;
 
 /// What a state must have been saved with to be restored here.
@@ -41,7 +43,8 @@ pub fn to_bytes(snap: &Snapshot, model: &str) -> Vec<u8> {
     w.0.extend_from_slice(MAGIC);
     w.u32(VERSION);
     w.text(model);
-    w.floats(&snap.values);
+    w.count(snap.values.len());
+    snap.values.iter().for_each(|v| w.floats(v));
     for v in [
         snap.experiment.start,
         snap.experiment.stop,
@@ -80,7 +83,8 @@ pub fn from_bytes(bytes: &[u8], model: &str) -> Fallible<Snapshot> {
             "it was saved by another model or runtime ({saved_by}), this is {model}"
         )));
     }
-    let values = r.floats()?;
+    let n = r.count(4)?;
+    let values = (0..n).map(|_| r.floats()).collect::<Fallible<_>>()?;
     let experiment = Experiment {
         start: r.option()?,
         stop: r.option()?,

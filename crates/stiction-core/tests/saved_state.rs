@@ -3,11 +3,14 @@
 //! by input events, under Solver = "auto" after its change to the implicit method, and under
 //! Bdf and Esdirk34; restored in a fresh run, after a reset and in the run that saved it.
 
+mod common;
+
+use common::flywheel_with_input;
 use stiction_core::simulation::{SimState, Simulation};
 use stiction_core::{ModelSpec, SimError};
 
 const COUPLED: &str = include_str!("../../../examples/msl/CoupledClutches.toml");
-const FLYWHEEL: &str = include_str!("../../../examples/braked_flywheel.toml");
+const FLYWHEEL: &str = common::FLYWHEEL;
 const STIFF_SHAFT: &str = include_str!("../../../examples/stiff/StiffShaft.toml");
 
 fn spec(text: &str) -> ModelSpec {
@@ -20,20 +23,6 @@ fn with_solver(text: &str, solver: &str) -> String {
         "[experiment]\n",
         &format!("[experiment]\nSolver = \"{solver}\"\n"),
     )
-}
-
-/// The braked flywheel with its press ramp replaced by a model input.
-fn flywheel_with_input() -> String {
-    FLYWHEEL
-        .replace("  [\"press.y\", \"brake.f_normalized\"],\n", "")
-        .replace(
-            "press = { type = \"Ramp\", height = 1.0, duration = 0.2, startTime = 0.5 }\n",
-            "",
-        )
-        .replace(
-            "name = \"braked_flywheel\"",
-            "name = \"braked_flywheel\"\ninputs = [\"brake.f_normalized\"]",
-        )
 }
 
 /// The brake force a host drives the flywheel with: a ramp from 0.5 s, held at 1 from 1.5 s
@@ -102,26 +91,21 @@ fn check_model(text: &str, h: f64, steps: usize, points: &[usize]) {
             &format!("{what}, same run"),
         );
         let mut fresh = Simulation::from_spec(&spec).unwrap();
-        fresh.set_state(&saved).unwrap();
-        let got = drive(&mut fresh, at, steps, h);
-        assert_continues(
-            &got,
-            &uninterrupted,
-            at,
-            &names,
-            &format!("{what}, fresh run"),
-        );
+        let restored_in = |sim: &mut Simulation, label: &str| {
+            sim.set_state(&saved).unwrap();
+            let got = drive(sim, at, steps, h);
+            assert_continues(
+                &got,
+                &uninterrupted,
+                at,
+                &names,
+                &format!("{what}, {label}"),
+            );
+        };
+        restored_in(&mut fresh, "fresh run");
         fresh.reset().unwrap();
         drive(&mut fresh, 0, at / 2, h);
-        fresh.set_state(&saved).unwrap();
-        let got = drive(&mut fresh, at, steps, h);
-        assert_continues(
-            &got,
-            &uninterrupted,
-            at,
-            &names,
-            &format!("{what}, after reset"),
-        );
+        restored_in(&mut fresh, "after reset");
     }
 }
 

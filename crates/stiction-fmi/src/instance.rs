@@ -190,9 +190,9 @@ impl Instance {
             true => self.ensure_sim()?.values().map_err(|e| e.to_string())?,
             false => Vec::new(),
         };
-        let vars = self.typed(vrs, boolean)?;
         let mut at = 0;
-        for v in vars {
+        for &vr in vrs {
+            let v = self.var(vr)?; // checked above
             let n = v.kind.size();
             match v.is_computed() {
                 true => out[at] = row[v.column],

@@ -6,7 +6,9 @@ In the C host of tests/fmi/harness.c (no Python in that process):
    (nothing happens) and brake on (braked to rest: a slip and a stick event);
 2. CoupledClutches over its 1.5 s in doSteps of 0.5 ms, against the in-process run;
 3. resident memory before and after 10 000 reset/initialize and 10 000 instantiate/free cycles.
-Then FMPy's end-to-end time for the same runs (its own Python loop dominates) and the FMU size.
+Then FMPy's end-to-end time for the same runs (its own Python loop dominates), the cost of
+saving and restoring an FMU state (a restore replays the run to the saved time) and the FMU
+size.
 
 Run: .venv/bin/python scripts/bench_fmu.py
 """
@@ -19,6 +21,7 @@ import time
 from pathlib import Path
 
 import fmpy
+from fmpy.fmi2 import FMU2Slave
 
 import stiction as st
 
@@ -63,7 +66,38 @@ def main() -> None:
         t = time.perf_counter()
         fmpy.simulate_fmu(str(fmu), stop_time=stop, output_interval=h)
         print(f"FMPy end to end, {fmu.stem}: {time.perf_counter() - t:.2f} s")
+    state_costs(cc)
     print(f"FMU size: {cc.stat().st_size / 1e3:.0f} kB (CoupledClutches, zipped)")
+
+
+def state_costs(fmu: Path) -> None:
+    """getFMUstate and setFMUstate (a replay from the start) of CoupledClutches, through FMPy."""
+    md = fmpy.read_model_description(fmu)
+    slave = FMU2Slave(
+        guid=md.guid, unzipDirectory=fmpy.extract(fmu), modelIdentifier=md.coSimulation.modelIdentifier
+    )
+    slave.instantiate()
+    slave.setupExperiment(startTime=0.0, stopTime=1.5)
+    slave.enterInitializationMode()
+    slave.exitInitializationMode()
+    t = 0.0
+    for saved_at in (0.375, 0.75, 1.5):
+        while t < saved_at - 1e-12:
+            slave.doStep(t, 0.0005)
+            t += 0.0005
+        start = time.perf_counter()
+        state = slave.getFMUstate()
+        got = time.perf_counter() - start
+        start = time.perf_counter()
+        slave.setFMUstate(state)
+        restored = time.perf_counter() - start
+        print(
+            f"CoupledClutches state at {saved_at} s: getFMUstate {got * 1e6:.0f} µs, "
+            f"setFMUstate {restored * 1e3:.2f} ms (replays the run to {saved_at} s)"
+        )
+        slave.freeFMUstate(state)
+    slave.terminate()
+    slave.freeInstance()
 
 
 if __name__ == "__main__":

@@ -1,7 +1,8 @@
 """FMI 3.0 early return, checked with FMPy's FMI 3.0 API: a host that allows it gets each
 ``doStep`` back at the first friction event inside it, with ``lastSuccessfulTime`` there; those
 times are the state events of ``stiction simulate``, and the run ends where one that never
-returns early ends. A host that does not allow it never gets a step back early."""
+returns early ends. A host that does not allow it never gets a step back early. A state saved
+right after such an event and restored in a new instance continues bit for bit."""
 
 from __future__ import annotations
 
@@ -60,3 +61,32 @@ def test_do_step_returns_early_at_each_friction_event(tmp_path: Path) -> None:
     assert all(min(abs(t - e) for e in off_grid) < 1e-9 for t in returns)
     # stopping at the events changes nothing: the integrator restarts there either way
     assert final == final_whole
+
+
+def test_a_state_saved_at_an_early_return_continues_exactly(tmp_path: Path) -> None:
+    fmu = st.Model.load(COUPLED).to_fmu(tmp_path / "CC.fmu", fmi_version=3, outputs=OUT)
+    _, final_whole = run(fmu, early=False)
+    md = fmpy.read_model_description(fmu)
+    vr = [v.valueReference for v in md.modelVariables if v.name in OUT]
+    args = {"guid": md.guid, "unzipDirectory": fmpy.extract(fmu)}
+    args["modelIdentifier"] = md.coSimulation.modelIdentifier
+    first, second = FMU3Slave(**args), FMU3Slave(**args)
+    first.instantiate(earlyReturnAllowed=True)
+    first.enterInitializationMode(startTime=0.0, stopTime=1.5)
+    first.exitInitializationMode()
+    t, returned_early = 0.0, False
+    while not returned_early:  # to the first friction event off the 0.1 s grid
+        _, _, returned_early, t_next = first.doStep(t, round(t * 10 + 1) / 10 - t)
+        t = t_next
+    data = first.serializeFMUState(first.getFMUState())
+    second.instantiate()  # no early return here, not initialized: the state carries its setup
+    second.setFMUState(second.deserializeFMUState(data))
+    k = round(t * 10 + 0.5)
+    second.doStep(t, k / 10 - t)
+    while k < 15:
+        second.doStep(k / 10, 0.1)
+        k += 1
+    assert second.getFloat64(vr) == final_whole
+    for slave in (first, second):
+        slave.terminate()
+        slave.freeInstance()

@@ -3,12 +3,15 @@
 The FMU holds ``modelDescription.xml``, the runtime library (``crates/stiction-fmi``, a C-ABI
 build of the engine: no Python in the importer's process) in ``binaries/<platform>/`` and, in
 ``resources/``, the model file and the table that maps value references to names. Inputs are
-the model's declared inputs; outputs are the chosen variables; parameters are the numeric
-parameters of the components with their MSL names, set before the end of initialization
-(``variability="fixed"``: the engine compiles them into the run). The start values of the
-states (``J1.w``) are the FMI way: the state's variable (an output if chosen, else a local one)
-has ``initial="exact"`` (fixed) or ``"approx"`` (a guess) and its start, settable before the
-end of initialization.
+the model's declared inputs; outputs are the chosen variables; parameters are the Real and
+Boolean parameters of the components with their MSL names, and the tables given in the model
+(FMI 3.0: an array variable; FMI 2.0: one Real per element, ``brake.mu_pos[2,1]``), all set
+before the end of initialization (``variability="fixed"``: the engine compiles them into the
+run). Boolean parameters that change a component's ports (``useSupport``, ``useHeatPort``, an
+adaptor's ``use_w``) stay in the model file: they decide what the compiled model is. The start
+values of the states (``J1.w``, a OneWayClutch's Boolean ``stuck``) are the FMI way: the
+state's variable (an output if chosen, else a local one) has ``initial="exact"`` (fixed) or
+``"approx"`` (a guess) and its start, settable before the end of initialization.
 """
 
 from __future__ import annotations
@@ -39,21 +42,43 @@ PLATFORM = {
     "darwin": ("darwin64", "x86_64-darwin", ".dylib"),
     "win32": ("win64", "x86_64-windows", ".dll"),
 }
+# a TorqueToAngleAdaptor's use_w and use_a decide which of its signals exist (FMU outputs)
+ADAPTOR_SIGNALS = {"use_w", "use_a"}
 # variables whose values are states, by component type: the default outputs
 STATES = {"Inertia": ("phi", "w"), "HeatCapacitor": ("T",)}
 
 
 @dataclass(frozen=True)
 class FmuVariable:
-    """One scalar variable of the FMU, in value-reference order."""
+    """One variable of the FMU, in value-reference order."""
 
     name: str
-    kind: str  # input, output, parameter, independent (time, FMI 3.0), start or guess
+    #: input, output, parameter, independent (time, FMI 3.0), start or guess (a Real state's
+    #: start value), boolean (a Boolean parameter), boolean-start (a Boolean state's start
+    #: value), table (FMI 3.0: a table parameter as an array) or element (FMI 2.0: one of its
+    #: elements, ``brake.mu_pos[2,1]``)
+    kind: str
     start: float
     unit: str = ""
     description: str = ""
     #: a state with a start value (kind start: fixed, guess: not): also an FMU output?
     output: bool = False
+    #: a table's rows and columns, and its values row after row (``start`` is unused)
+    shape: tuple[int, int] | None = None
+    values: tuple[float, ...] = ()
+
+    @property
+    def is_boolean(self) -> bool:
+        """Whether the variable is an FMI Boolean (else Real / Float64)."""
+        return self.kind in ("boolean", "boolean-start")
+
+    def table_kind(self) -> str:
+        """The kind as the variable table writes it (a table's shape follows its kind)."""
+        return f"table:{self.shape[0]}x{self.shape[1]}" if self.kind == "table" and self.shape else self.kind
+
+    def start_text(self) -> str:
+        """The start value(s) as the variable table writes them."""
+        return " ".join(repr(float(v)) for v in self.values) if self.kind == "table" else repr(self.start)
 
 
 def runtime_library() -> Path:
@@ -86,42 +111,80 @@ def _is_number(value: object) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
-def _parameters(model: Model, components: dict[str, dict]) -> list[FmuVariable]:
-    """Every Real parameter with a numeric value (given, or its MSL default)."""
+def _structural(info: object) -> set[str]:
+    """The Boolean parameters that change a component's ports (``useSupport``,
+    ``useHeatPort``, an adaptor's ``use_w``): the model is compiled with them, so they stay in
+    the model file."""
+    return {p.enabled_by for p in info.ports if p.enabled_by} | ADAPTOR_SIGNALS
+
+
+def _table(value: object) -> list[list[float]] | None:
+    """A table given in the model (rows of numbers, all of one length), else None."""
+    if not isinstance(value, list) or not value or not all(isinstance(r, list) for r in value):
+        return None
+    if len({len(r) for r in value}) != 1 or not all(_is_number(x) for r in value for x in r):
+        return None
+    return value
+
+
+def _table_variables(
+    name: str, rows: list[list[float]], description: str, fmi_version: int
+) -> list[FmuVariable]:
+    """FMI 3.0: one array variable; FMI 2.0: one Real per element, ``name[i,j]`` (1-based)."""
+    if fmi_version == 3:
+        values = tuple(float(x) for r in rows for x in r)
+        shape = (len(rows), len(rows[0]))
+        return [FmuVariable(name, "table", 0.0, "", description, shape=shape, values=values)]
+    return [
+        FmuVariable(f"{name}[{i + 1},{j + 1}]", "element", float(x), "", description)
+        for i, r in enumerate(rows)
+        for j, x in enumerate(r)
+    ]
+
+
+def _parameters(model: Model, components: dict[str, dict], fmi_version: int = 2) -> list[FmuVariable]:
+    """Every Real parameter with a numeric value (given, or its MSL default), every Boolean
+    parameter that leaves the structure alone, and every table given in the model."""
     from .catalogue import catalogue
 
     known = catalogue()
     found = []
     for name, spec in components.items():
-        for p in known[spec["type"]].parameters:
+        info = known[spec["type"]]
+        for p in info.parameters:
             value = spec.get(p.name, p.default)
+            full = f"{name}.{p.name}"
             if p.kind == "Real" and _is_number(value):
-                found.append(
-                    FmuVariable(f"{name}.{p.name}", "parameter", float(value), p.unit, p.description)
-                )
+                found.append(FmuVariable(full, "parameter", float(value), p.unit, p.description))
+            elif p.kind == "Boolean" and isinstance(value, bool) and p.name not in _structural(info):
+                found.append(FmuVariable(full, "boolean", float(value), "", p.description))
+            elif p.kind.startswith("table") and "file" not in spec and (rows := _table(value)) is not None:
+                found.extend(_table_variables(full, rows, p.description, fmi_version))
     return found
 
 
 def _start_values(components: dict[str, dict]) -> dict[str, FmuVariable]:
     """The start value of every Real state (an Inertia's phi and w, a HeatCapacitor's T), by
     the state's name: ``start`` where the model fixes it (a bare number, ``fixed = true``),
-    ``guess`` where it is a guess for the initialization (``fixed = false``, or not given)."""
+    ``guess`` where it is a guess for the initialization (``fixed = false``, or not given); and
+    of every Boolean state (a OneWayClutch's ``stuck``): ``boolean-start``."""
     from .catalogue import catalogue
 
     known = catalogue()
     found = {}
     for name, spec in components.items():
         for p in known[spec["type"]].parameters:
-            if p.kind != "start value":
+            if p.kind not in ("start value", "Boolean start value"):
                 continue
             value = spec.get(p.name, {})
             value = value if isinstance(value, dict) else {"start": value, "fixed": True}
             start = value.get("start", p.default)
-            if _is_number(start):
+            full = f"{name}.{p.name}"
+            if p.kind == "Boolean start value" and isinstance(start, bool):
+                found[full] = FmuVariable(full, "boolean-start", float(start), "", p.description)
+            elif _is_number(start):
                 kind = "start" if value.get("fixed", False) else "guess"
-                found[f"{name}.{p.name}"] = FmuVariable(
-                    f"{name}.{p.name}", kind, float(start), p.unit, p.description
-                )
+                found[full] = FmuVariable(full, kind, float(start), p.unit, p.description)
     return found
 
 
@@ -156,7 +219,8 @@ def interface(model: Model, outputs: list[str] | None = None, fmi_version: int =
         replace(starts.pop(v.name), unit=v.unit, output=True) if v.name in starts else v for v in chosen
     ]
     time = [FmuVariable("time", "independent", 0.0, "s", "Simulation time")] if fmi_version == 3 else []
-    return inputs + chosen + _parameters(model, components) + list(starts.values()) + time
+    params = _parameters(model, components, fmi_version)
+    return inputs + chosen + params + list(starts.values()) + time
 
 
 def _identifier(name: str) -> str:
@@ -166,7 +230,7 @@ def _identifier(name: str) -> str:
 
 def variable_table(variables: list[FmuVariable], guid: str) -> str:
     """``resources/variables.tsv``: what the runtime reads to map value references."""
-    rows = [f"{k}\t{v.kind}\t{v.name}\t{v.start!r}" for k, v in enumerate(variables)]
+    rows = [f"{k}\t{v.table_kind()}\t{v.name}\t{v.start_text()}" for k, v in enumerate(variables)]
     return "\n".join([f"guid\t{guid}", *rows]) + "\n"
 
 

@@ -86,7 +86,9 @@ class Simulation:
         return SimulationState(self._core.state())
 
     def set_state(self, state: SimulationState) -> None:
-        """Continue from a saved state of this model (the integrator restarts there)."""
+        """Continue from a saved state of this model, bit for bit as the run that saved it
+        went on (its input events are replayed from the start, so this costs the run to the
+        saved time)."""
         if not isinstance(state, SimulationState):
             raise UsageError(f"set_state expects a state from Simulation.state(), got {state!r}")
         self._core.set_state(state._core)

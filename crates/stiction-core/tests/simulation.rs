@@ -3,11 +3,14 @@
 //! continues as the original, and the same bit for bit wherever it is restored; misuse is a
 //! typed error, never a panic.
 
+mod common;
+
+use common::flywheel_with_input;
 use stiction_core::simulation::Simulation;
 use stiction_core::{ModelSpec, SimError, SimResult};
 
 const COUPLED: &str = include_str!("../../../examples/msl/CoupledClutches.toml");
-const FLYWHEEL: &str = include_str!("../../../examples/braked_flywheel.toml");
+const FLYWHEEL: &str = common::FLYWHEEL;
 
 fn spec(text: &str) -> ModelSpec {
     ModelSpec::from_toml(text, ".").expect("the model parses")
@@ -70,20 +73,6 @@ fn values_read_between_pieces_are_those_of_the_result() {
         assert_eq!(sim.get("J1.w").unwrap().to_bits(), w1[row].to_bits());
         assert!((sim.get("clutch1.tau").unwrap() - tau[row]).abs() <= 1e-12);
     }
-}
-
-/// The braked flywheel with its press ramp replaced by a model input.
-fn flywheel_with_input() -> String {
-    FLYWHEEL
-        .replace("  [\"press.y\", \"brake.f_normalized\"],\n", "")
-        .replace(
-            "press = { type = \"Ramp\", height = 1.0, duration = 0.2, startTime = 0.5 }\n",
-            "",
-        )
-        .replace(
-            "name = \"braked_flywheel\"",
-            "name = \"braked_flywheel\"\ninputs = [\"brake.f_normalized\"]",
-        )
 }
 
 #[test]

@@ -117,7 +117,7 @@ pub unsafe extern "C" fn fmi2GetReal(
     value: *mut Real,
 ) -> Status {
     with(c, "fmi2GetReal", |i| {
-        i.get_reals(slice(vr, n), slice_mut(value, n))
+        i.get_values(slice(vr, n), false, slice_mut(value, n))
     })
 }
 
@@ -129,7 +129,7 @@ pub unsafe extern "C" fn fmi2SetReal(
     value: *const Real,
 ) -> Status {
     with(c, "fmi2SetReal", |i| {
-        i.set_reals(slice(vr, n), slice(value, n))
+        i.set_values(slice(vr, n), false, slice(value, n))
     })
 }
 
@@ -164,21 +164,34 @@ pub unsafe extern "C" fn fmi2SetInteger(
 #[no_mangle]
 pub unsafe extern "C" fn fmi2GetBoolean(
     c: Component,
-    _vr: *const ValueReference,
+    vr: *const ValueReference,
     n: usize,
-    _v: *mut Boolean,
+    value: *mut Boolean,
 ) -> Status {
-    no_variables(c, "fmi2GetBoolean", n)
+    with(c, "fmi2GetBoolean", |i| {
+        let mut values = vec![0.0; n];
+        i.get_values(slice(vr, n), true, &mut values)?;
+        for (out, v) in slice_mut(value, n).iter_mut().zip(values) {
+            *out = Boolean::from(v != 0.0);
+        }
+        Ok(())
+    })
 }
 
 #[no_mangle]
 pub unsafe extern "C" fn fmi2SetBoolean(
     c: Component,
-    _vr: *const ValueReference,
+    vr: *const ValueReference,
     n: usize,
-    _v: *const Boolean,
+    value: *const Boolean,
 ) -> Status {
-    no_variables(c, "fmi2SetBoolean", n)
+    with(c, "fmi2SetBoolean", |i| {
+        let values: Vec<f64> = slice(value, n)
+            .iter()
+            .map(|&b| (b != 0) as u8 as f64)
+            .collect();
+        i.set_values(slice(vr, n), true, &values)
+    })
 }
 
 #[no_mangle]

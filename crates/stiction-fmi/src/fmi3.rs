@@ -2,7 +2,7 @@
 //! or, if the host allows early return, to the first friction event in them (no event mode:
 //! the events are handled inside the step either way). Every
 //! function an importer binds exists; those for Model Exchange, Scheduled Execution, clocks,
-//! derivatives and the integer, Boolean, string and binary types return
+//! derivatives and the integer, string and binary types return
 //! `fmi3Error` with a logged message.
 #![allow(non_snake_case, clippy::missing_safety_doc)] // FMI's names; FMI 3.0 is the contract
 
@@ -103,15 +103,6 @@ pub unsafe extern "C" fn fmi3Reset(c: Inst) -> Status {
     })
 }
 
-fn same_length(nvr: usize, n: usize) -> Result<(), String> {
-    match nvr == n {
-        true => Ok(()),
-        false => Err(format!(
-            "{nvr} value references but {n} values (arrays are not used)"
-        )),
-    }
-}
-
 #[no_mangle]
 pub unsafe extern "C" fn fmi3GetFloat64(
     c: Inst,
@@ -121,8 +112,7 @@ pub unsafe extern "C" fn fmi3GetFloat64(
     n: usize,
 ) -> Status {
     with(c, "fmi3GetFloat64", |i| {
-        same_length(nvr, n)?;
-        i.get_reals(slice(vr, nvr), slice_mut(v, n))
+        i.get_values(slice(vr, nvr), false, slice_mut(v, n))
     })
 }
 
@@ -135,8 +125,41 @@ pub unsafe extern "C" fn fmi3SetFloat64(
     n: usize,
 ) -> Status {
     with(c, "fmi3SetFloat64", |i| {
-        same_length(nvr, n)?;
-        i.set_reals(slice(vr, nvr), slice(v, n))
+        i.set_values(slice(vr, nvr), false, slice(v, n))
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3GetBoolean(
+    c: Inst,
+    vr: Vr,
+    nvr: usize,
+    v: *mut bool,
+    n: usize,
+) -> Status {
+    with(c, "fmi3GetBoolean", |i| {
+        let mut values = vec![0.0; n];
+        i.get_values(slice(vr, nvr), true, &mut values)?;
+        for (out, x) in slice_mut(v, n).iter_mut().zip(values) {
+            *out = x != 0.0;
+        }
+        Ok(())
+    })
+}
+
+#[no_mangle]
+pub unsafe extern "C" fn fmi3SetBoolean(
+    c: Inst,
+    vr: Vr,
+    nvr: usize,
+    v: *const bool,
+    n: usize,
+) -> Status {
+    with(c, "fmi3SetBoolean", |i| {
+        // read as bytes: a host's `bool` other than 0 or 1 is true, not undefined behaviour
+        let bytes = slice(v as *const u8, n);
+        let values: Vec<f64> = bytes.iter().map(|&b| (b != 0) as u8 as f64).collect();
+        i.set_values(slice(vr, nvr), true, &values)
     })
 }
 
@@ -302,8 +325,6 @@ unsupported! {
     fmi3SetInt64(Vr, usize, In<i64>, usize);
     fmi3GetUInt64(Vr, usize, Out<u64>, usize);
     fmi3SetUInt64(Vr, usize, In<u64>, usize);
-    fmi3GetBoolean(Vr, usize, Out<bool>, usize);
-    fmi3SetBoolean(Vr, usize, In<bool>, usize);
     fmi3GetString(Vr, usize, Out<*const c_char>, usize);
     fmi3SetString(Vr, usize, In<*const c_char>, usize);
     fmi3GetBinary(Vr, usize, Out<usize>, Out<*const u8>, usize);

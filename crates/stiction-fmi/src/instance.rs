@@ -9,6 +9,7 @@ use stiction_core::simulation::SimState;
 use stiction_core::{ModelSpec, Simulation};
 
 use crate::layout::{resource_dir, Kind, Layout};
+use crate::values::{bind, overrides, setting, Var};
 
 pub type Fallible<T> = Result<T, String>;
 
@@ -23,24 +24,6 @@ pub enum Mode {
     Failed,
 }
 
-struct Var {
-    kind: Kind,
-    name: String,
-    start: f64,
-    value: f64,
-    /// An output's column in `Simulation::values` (time: 0).
-    column: usize,
-}
-
-impl Var {
-    fn is_computed(&self) -> bool {
-        matches!(
-            self.kind,
-            Kind::Output | Kind::Independent | Kind::Start { .. }
-        )
-    }
-}
-
 /// The experiment settings of `setupExperiment` / `enterInitializationMode`.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Experiment {
@@ -53,7 +36,7 @@ pub struct Experiment {
 /// settings (a state restored into a fresh instance rebuilds its run from them).
 pub struct Snapshot {
     pub(crate) sim: SimState,
-    pub(crate) values: Vec<f64>,
+    pub(crate) values: Vec<Vec<f64>>,
     pub(crate) experiment: Experiment,
 }
 
@@ -73,58 +56,9 @@ pub struct Instance {
     pub returned_early: bool,
 }
 
-/// A parameter or start value as the model file writes it: a start value that is a guess keeps
-/// `fixed = false`.
-fn setting(kind: Kind, value: f64) -> toml::Value {
-    match kind {
-        Kind::Start { fixed: false } => {
-            let mut t = toml::map::Map::new();
-            t.insert("start".into(), toml::Value::Float(value));
-            t.insert("fixed".into(), toml::Value::Boolean(false));
-            toml::Value::Table(t)
-        }
-        _ => toml::Value::Float(value),
-    }
-}
-
 fn read(dir: &Path, file: &str) -> Fallible<String> {
     std::fs::read_to_string(dir.join(file))
         .map_err(|e| format!("cannot read {}: {e}", dir.join(file).display()))
-}
-
-fn bind(layout: Layout, model: &CompiledModel) -> Fallible<Vec<Var>> {
-    let names: Vec<String> = model
-        .system()
-        .outputs
-        .iter()
-        .map(|(n, _)| n.clone())
-        .collect();
-    let params = model.parameter_names();
-    let inputs: Vec<String> = model
-        .system()
-        .inputs
-        .iter()
-        .map(|i| i.name.clone())
-        .collect();
-    let bind_one = |v: crate::layout::VarSpec| {
-        let known = match v.kind {
-            Kind::Output | Kind::Start { .. } => {
-                names.iter().position(|n| *n == v.name).map(|k| k + 1)
-            }
-            Kind::Parameter => params.contains(&v.name).then_some(0),
-            Kind::Input => inputs.contains(&v.name).then_some(0),
-            Kind::Independent => Some(0), // `time` is column 0 of `Simulation::values`
-        };
-        let column = known.ok_or(format!("'{}' is not a {:?} of the model", v.name, v.kind))?;
-        Ok(Var {
-            kind: v.kind,
-            name: v.name,
-            start: v.start,
-            value: v.start,
-            column,
-        })
-    };
-    layout.vars.into_iter().map(bind_one).collect()
 }
 
 impl Instance {
@@ -192,10 +126,9 @@ impl Instance {
 
     /// The model variant with the parameters and experiment settings set so far.
     fn variant(&self) -> Fallible<CompiledModel> {
-        let mut overrides: Vec<(&str, toml::Value)> = (self.vars.iter())
-            .filter(|v| v.kind.is_setup() && v.value != v.start)
-            .map(|v| (v.name.as_str(), setting(v.kind, v.value)))
-            .collect();
+        let set = overrides(&self.vars);
+        let mut overrides: Vec<(&str, toml::Value)> =
+            set.iter().map(|(n, v)| (n.as_str(), v.clone())).collect();
         let experiment = [
             ("StartTime", self.start_time),
             ("StopTime", self.stop_time),
@@ -214,7 +147,8 @@ impl Instance {
             sim.set_recording(false);
             sim.set_stop_at_events(self.early_return);
             for v in self.vars.iter().filter(|v| v.kind == Kind::Input) {
-                sim.set_input(&v.name, v.value).map_err(|e| e.to_string())?;
+                sim.set_input(&v.name, v.value[0])
+                    .map_err(|e| e.to_string())?;
             }
             self.sim = Some(sim);
         }
@@ -227,64 +161,113 @@ impl Instance {
             .ok_or(format!("unknown value reference {vr}"))
     }
 
-    pub fn get_reals(&mut self, vrs: &[u32], out: &mut [f64]) -> Fallible<()> {
-        let needs_run = vrs.iter().any(|&r| self.var(r).is_ok_and(Var::is_computed));
-        let row = match needs_run {
+    /// The variables `vrs` of the FMI type `boolean` or Real, each checked.
+    fn typed(&self, vrs: &[u32], boolean: bool) -> Fallible<Vec<&Var>> {
+        let what = if boolean { "Boolean" } else { "Real (Float64)" };
+        (vrs.iter())
+            .map(|&vr| match self.var(vr)? {
+                v if v.kind.is_boolean() == boolean => Ok(v),
+                v => Err(format!(
+                    "{} (value reference {vr}) is not a {what} variable",
+                    v.name
+                )),
+            })
+            .collect()
+    }
+
+    /// The values of `vrs` (a table: all its elements, row after row) into `out`, which
+    /// holds exactly as many; Booleans as 0 or 1.
+    pub fn get_values(&mut self, vrs: &[u32], boolean: bool, out: &mut [f64]) -> Fallible<()> {
+        let vars = self.typed(vrs, boolean)?;
+        let size: usize = vars.iter().map(|v| v.kind.size()).sum();
+        if size != out.len() {
+            return Err(format!(
+                "{} values asked for, the variables hold {size}",
+                out.len()
+            ));
+        }
+        let row = match vars.iter().any(|v| v.is_computed()) {
             true => self.ensure_sim()?.values().map_err(|e| e.to_string())?,
             false => Vec::new(),
         };
-        for (&vr, slot) in vrs.iter().zip(out) {
-            let v = self.var(vr)?;
-            *slot = if v.is_computed() {
-                row[v.column]
-            } else {
-                v.value
-            };
+        let mut at = 0;
+        for &vr in vrs {
+            let v = self.var(vr)?; // checked above
+            let n = v.kind.size();
+            match v.is_computed() {
+                true => out[at] = row[v.column],
+                false => out[at..at + n].copy_from_slice(&v.value),
+            }
+            at += n;
         }
         Ok(())
     }
 
-    pub fn set_reals(&mut self, vrs: &[u32], values: &[f64]) -> Fallible<()> {
-        for (&vr, &value) in vrs.iter().zip(values) {
-            self.set_real(vr, value)?;
+    /// Sets `vrs` from `values` (a table takes all its elements, row after row; its shape is
+    /// the FMU's). The types and the count are checked before anything is set.
+    pub fn set_values(&mut self, vrs: &[u32], boolean: bool, values: &[f64]) -> Fallible<()> {
+        let vars = self.typed(vrs, boolean)?;
+        let size: usize = vars.iter().map(|v| v.kind.size()).sum();
+        if size != values.len() {
+            let shapes: Vec<String> = (vars.iter())
+                .filter_map(|v| match v.kind {
+                    Kind::Table { rows, cols } => Some(format!("{} is {rows}×{cols}", v.name)),
+                    _ => None,
+                })
+                .collect();
+            return Err(format!(
+                "{} values given for {size} (a table's shape is fixed in the FMU{}{})",
+                values.len(),
+                if shapes.is_empty() { "" } else { ": " },
+                shapes.join(", ")
+            ));
+        }
+        let mut at = 0;
+        for &vr in vrs {
+            let n = self.var(vr)?.kind.size();
+            self.set_value(vr, &values[at..at + n])?;
+            at += n;
         }
         Ok(())
     }
 
-    fn set_real(&mut self, vr: u32, value: f64) -> Fallible<()> {
+    fn set_value(&mut self, vr: u32, value: &[f64]) -> Fallible<()> {
         let (kind, name) = (self.var(vr)?.kind, self.var(vr)?.name.clone());
         let settable = [Mode::Instantiated, Mode::Initialization, Mode::Step];
         self.expect(&settable, &format!("setting {name}"))?;
-        if !value.is_finite() {
-            return Err(format!("{name}: {value} is not a finite number"));
+        if let Some(bad) = value.iter().find(|v| !v.is_finite()) {
+            return Err(format!("{name}: {bad} is not a finite number"));
         }
         match kind {
             Kind::Output | Kind::Independent => {
                 return Err(format!("{name} is computed by the FMU: it cannot be set"))
             }
-            Kind::Parameter | Kind::Start { .. } => self.set_parameter(&name, kind, value)?,
             Kind::Input if self.mode == Mode::Step => {
                 let sim = self.sim.as_mut().expect("a run exists in step mode");
-                sim.set_input(&name, value).map_err(|e| e.to_string())?;
+                sim.set_input(&name, value[0]).map_err(|e| e.to_string())?;
             }
             Kind::Input => self.sim = None,
+            _ => self.set_parameter(&name, kind, value)?,
         }
-        self.vars[vr as usize].value = value;
+        self.vars[vr as usize].value = value.to_vec();
         Ok(())
     }
 
     /// Parameters and start values are set before the end of initialization; a value is
     /// checked at once.
-    fn set_parameter(&mut self, name: &str, kind: Kind, value: f64) -> Fallible<()> {
+    fn set_parameter(&mut self, name: &str, kind: Kind, value: &[f64]) -> Fallible<()> {
         let allowed = [Mode::Instantiated, Mode::Initialization];
         let what = match kind {
-            Kind::Start { .. } => "the start value of",
+            Kind::Start { .. } | Kind::FlagStart => "the start value of",
+            Kind::Element { .. } => "table element",
             _ => "parameter",
         };
         self.expect(&allowed, &format!("setting {what} {name}"))?;
-        self.model
-            .with(&[(name, setting(kind, value))])
-            .map_err(|e| e.to_string())?;
+        // an element is checked with its table at the end of initialization: one element at
+        // a time, a table passes through shapes the model refuses (x no longer increasing)
+        if let Some(setting) = setting(kind, value) {
+            (self.model.with(&[(name, setting)])).map_err(|e| e.to_string())?;
+        }
         self.sim = None;
         Ok(())
     }
@@ -328,7 +311,7 @@ impl Instance {
     /// Back to the state after instantiation: default values, no run.
     pub fn reset(&mut self) {
         for v in &mut self.vars {
-            v.value = v.start;
+            v.value.clone_from(&v.start);
         }
         (self.start_time, self.stop_time, self.tolerance) = (None, None, None);
         self.sim = None;
@@ -349,7 +332,7 @@ impl Instance {
         let sim = self.sim.as_mut().expect("a run exists in step mode");
         Ok(Snapshot {
             sim: sim.state().map_err(|e| e.to_string())?,
-            values: self.vars.iter().map(|v| v.value).collect(),
+            values: self.vars.iter().map(|v| v.value.clone()).collect(),
             experiment,
         })
     }
@@ -369,12 +352,17 @@ impl Instance {
         if snap.values.len() != self.vars.len() {
             return Err("the FMU state belongs to another model".into());
         }
+        let fits = (self.vars.iter().zip(&snap.values)).all(|(v, s)| s.len() == v.kind.size());
+        if !fits {
+            return Err("the FMU state belongs to another model".into());
+        }
+        let bits = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
         let same_setup = self.experiment() == snap.experiment
             && (self.vars.iter().zip(&snap.values))
-                .all(|(v, &saved)| !v.kind.is_setup() || v.value.to_bits() == saved.to_bits());
+                .all(|(v, saved)| !v.kind.is_setup() || bits(&v.value, saved));
         if !same_setup || self.mode == Mode::Failed {
-            for (v, &value) in self.vars.iter_mut().zip(&snap.values) {
-                v.value = value;
+            for (v, value) in self.vars.iter_mut().zip(&snap.values) {
+                v.value.clone_from(value);
             }
             let e = snap.experiment;
             (self.start_time, self.stop_time, self.tolerance) = (e.start, e.stop, e.tolerance);
@@ -382,8 +370,8 @@ impl Instance {
         }
         let sim = self.ensure_sim()?;
         sim.set_state(&snap.sim).map_err(|e| e.to_string())?;
-        for (v, &value) in self.vars.iter_mut().zip(&snap.values) {
-            v.value = value;
+        for (v, value) in self.vars.iter_mut().zip(&snap.values) {
+            v.value.clone_from(value);
         }
         self.mode = Mode::Step;
         Ok(())

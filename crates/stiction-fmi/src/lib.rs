@@ -9,3 +9,4 @@ pub mod instance;
 pub mod layout;
 pub mod serial;
 pub mod types;
+pub mod values;

@@ -2,8 +2,9 @@
 //!
 //! Layout, little-endian: the magic `STICFMUS`, the format version (u32), the fingerprint of the
 //! model (the FMU's GUID, itself a hash of the model and its variable table, and the runtime's
-//! version, each a u32 length and UTF-8), the snapshot, then an FNV-1a 64 checksum of all that
-//! precedes it. Numbers are f64 bit patterns, so a restored state is the saved one exactly.
+//! version, each a u32 length and UTF-8), the snapshot (every variable's values, the
+//! experiment, the run's input events and what it reached), then an FNV-1a 64 checksum of all
+//! that precedes it. Numbers are f64 bit patterns, so a restored state is the saved one exactly.
 //!
 //! Written by hand: the snapshot is a few vectors of plain fields, and a serialization crate
 //! (serde + bincode/postcard) would add derive macros to stiction-core's types and several
@@ -12,7 +13,7 @@
 //! truncated or corrupted bytes give an error (never a panic or a huge allocation).
 
 use stiction_core::engine::eval::DiscreteState;
-use stiction_core::simulation::{Cursor, SimState, SolverState};
+use stiction_core::simulation::{Cursor, InputChange, SimState};
 use stiction_core::switching::element::SwitchState;
 use stiction_core::switching::logic::Discrete;
 use stiction_core::switching::relation::{RelationSet, MAX_RELATIONS};
@@ -20,7 +21,9 @@ use stiction_core::switching::relation::{RelationSet, MAX_RELATIONS};
 use crate::instance::{Experiment, Fallible, Snapshot};
 
 const MAGIC: &[u8; 8] = b"STICFMUS";
-const VERSION: u32 = 1;
+/// 2: the run's input events (a restored state replays them) and the values of array and
+/// Boolean variables; 1 had the integrator's step size.
+const VERSION: u32 = 2;
 
 /// What a state must have been saved with to be restored here.
 pub fn fingerprint(guid: &str) -> String {
@@ -40,7 +43,8 @@ pub fn to_bytes(snap: &Snapshot, model: &str) -> Vec<u8> {
     w.0.extend_from_slice(MAGIC);
     w.u32(VERSION);
     w.text(model);
-    w.floats(&snap.values);
+    w.count(snap.values.len());
+    snap.values.iter().for_each(|v| w.floats(v));
     for v in [
         snap.experiment.start,
         snap.experiment.stop,
@@ -79,7 +83,8 @@ pub fn from_bytes(bytes: &[u8], model: &str) -> Fallible<Snapshot> {
             "it was saved by another model or runtime ({saved_by}), this is {model}"
         )));
     }
-    let values = r.floats()?;
+    let n = r.count(4)?;
+    let values = (0..n).map(|_| r.floats()).collect::<Fallible<_>>()?;
     let experiment = Experiment {
         start: r.option()?,
         stop: r.option()?,
@@ -146,12 +151,12 @@ impl Writer {
         self.u64(c.next_te as u64);
         self.u64(c.grid_k as u64);
         self.flag(c.finished);
-        let v = &s.solver;
-        self.f64(v.h);
-        self.flag(v.implicit);
-        self.u64(v.window_steps as u64);
-        self.f64(v.window_span);
-        self.flag(v.switch_due);
+        self.count(s.inputs.len());
+        for change in &s.inputs {
+            self.f64(change.time);
+            self.u64(change.input as u64);
+            self.f64(change.value);
+        }
     }
 }
 
@@ -234,6 +239,13 @@ impl Reader<'_> {
             rel: RelationSet(rel),
         })
     }
+    fn input_change(&mut self) -> Fallible<InputChange> {
+        Ok(InputChange {
+            time: self.f64()?,
+            input: self.usize()?,
+            value: self.f64()?,
+        })
+    }
     fn sim(&mut self) -> Fallible<SimState> {
         let x = self.floats()?;
         let n = self.count(5 + MAX_RELATIONS)?;
@@ -249,14 +261,12 @@ impl Reader<'_> {
             grid_k: self.usize()?,
             finished: self.flag()?,
         };
-        let solver = SolverState {
-            h: self.f64()?,
-            implicit: self.flag()?,
-            window_steps: self.usize()?,
-            window_span: self.f64()?,
-            switch_due: self.flag()?,
-        };
+        let n = self.count(24)?;
+        let changes = (0..n)
+            .map(|_| self.input_change())
+            .collect::<Fallible<_>>()?;
         Ok(SimState {
+            inputs: changes,
             x,
             disc: DiscreteState {
                 switching,
@@ -265,7 +275,6 @@ impl Reader<'_> {
             },
             horizon,
             cursor,
-            solver,
         })
     }
 }

@@ -91,7 +91,8 @@ impl Stepper {
     }
 
     /// Restarts the integrator at (t, self.x); with `rewind`, t lies in the last step and the
-    /// integrator is first taken back there, otherwise (a restored state) it jumps.
+    /// integrator is first taken back there, otherwise (the "auto" change of method,
+    /// between two steps) it starts there.
     pub fn restart_at<'a, S>(
         &mut self,
         solver: &mut S,

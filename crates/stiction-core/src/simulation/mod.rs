@@ -29,7 +29,7 @@ use std::time::Instant;
 use diffsol::OdeSolverMethod;
 
 pub use init::{check_model, initial_state, initial_state_and_guesses, InitialState};
-pub use saved::{SimState, SolverState};
+pub use saved::{InputChange, SimState};
 pub use stepper::Cursor;
 
 use integrator::{solver_for, with_solver, IntegratorCell};
@@ -126,6 +126,8 @@ pub struct Simulation {
     cell: IntegratorCell,
     stepper: Stepper,
     started: Instant,
+    /// Every input event so far: with the model, what a saved state replays (`saved.rs`).
+    input_events: Vec<InputChange>,
 }
 
 /// Rows are kept in memory (states, and all variables once asked for): refuse what cannot fit.
@@ -211,6 +213,7 @@ impl Simulation {
             cell,
             stepper,
             started,
+            input_events: Vec::new(),
         })
     }
 
@@ -342,7 +345,14 @@ impl Simulation {
         cell.with_dependent_mut(|_, integ| {
             let (order, implicit) = (integ.order(), integ.implicit());
             with_solver!(integ, s => stepper.set_input(s, k, value, name, order, implicit))
-        })
+        })?;
+        let time = self.stepper.now;
+        (self.input_events).push(InputChange {
+            time,
+            input: k,
+            value,
+        });
+        Ok(())
     }
 
     /// Names of every variable, as in the result (`time` first).

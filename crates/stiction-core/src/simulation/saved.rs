@@ -1,126 +1,128 @@
-//! Saving and restoring a run. A restored run restarts the integrator at the saved time, so it
-//! agrees with the uninterrupted run to the solver's tolerance; what it does from there depends
-//! only on the saved state, never on where the run stood when it was restored: the same state
-//! restored in this run later, in a fresh run of the same model or after `reset` continues
-//! bit for bit alike (an FMU's serialized state relies on it).
+//! Saving and restoring a run, bit for bit. A run is a function of its model and of the input
+//! events it was given (the times and new values of `set_input`): where `advance_to` stopped
+//! between them changes nothing (a run advanced in pieces is the run of one call). So a saved
+//! state is that list and the time reached, and restoring it replays them on a fresh run of
+//! the model: the restored run *is* the uninterrupted one, integrator and all, and continues
+//! as it would have.
+//!
+//! Why not diffsol's own `checkpoint`/`set_state`: what the next step depends on is not all in
+//! the state they hand out. Tsit45 and Esdirk34 (diffsol's `Rk`) also carry the previous error
+//! norm (the step-size controller's memory) and the start of the last step (which the dense
+//! output interpolates from); `set_state` keeps neither, and Bdf's and Esdirk34's `set_state`
+//! reset the Jacobian the Newton iterations reuse, as a fresh checkpoint does. The states'
+//! fields are private besides, so their history matrices cannot be serialized. A replay costs
+//! the run's time to the saved point again; it needs only the model and the input events.
+//!
+//! What the run reached is kept too (state, discrete state, where it stands) and compared
+//! after the replay: a state of another model, or one another build of the engine replays
+//! differently, is refused rather than continued from somewhere else.
 
-use diffsol::OdeSolverMethod;
-
-use super::integrator::{solver_for, with_solver};
+use super::integrator::with_solver;
 use super::{Cursor, Simulation};
 use crate::engine::eval::DiscreteState;
 use crate::error::SimError;
 
-/// What of the integrator the continuation depends on.
+/// One input event: model input `input` (its index in `System::inputs`) set to `value` at
+/// `time`.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SolverState {
-    /// The step size when saved: the restart's first step is no longer than it (`restart_at`).
-    pub h: f64,
-    /// Whether the method is the implicit one (an "auto" run may have changed to it).
-    pub implicit: bool,
-    /// The stiffness check's window of explicit steps ("auto"): steps counted, their span, and
-    /// whether a change of method is due.
-    pub window_steps: usize,
-    pub window_span: f64,
-    pub switch_due: bool,
+pub struct InputChange {
+    pub time: f64,
+    pub input: usize,
+    pub value: f64,
 }
 
 /// The whole state of a run at its current time: enough to continue from it later.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimState {
+    /// Every input event from the start to now, in order.
+    pub inputs: Vec<InputChange>,
+    /// What the run reached at `cursor.now` (the replay must reach the same).
     pub x: Vec<f64>,
     pub disc: DiscreteState,
     pub horizon: f64,
     pub cursor: Cursor,
-    pub solver: SolverState,
+}
+
+impl SimState {
+    /// The time the run had been advanced to.
+    pub fn time(&self) -> f64 {
+        self.cursor.now
+    }
+}
+
+fn another_model(why: &str) -> SimError {
+    SimError::Usage(format!("the state belongs to another model: {why}"))
 }
 
 impl Simulation {
     /// The whole state at the current time.
     pub fn state(&mut self) -> Result<SimState, SimError> {
-        let Simulation { cell, stepper, .. } = self;
-        let (x, h, implicit) = cell.with_dependent_mut(|_, integ| {
-            let implicit = integ.implicit();
-            with_solver!(integ, s => Ok::<_, SimError>((stepper.state_now(s)?, s.state().h, implicit)))
-        })?;
-        let phase = stepper.phase.borrow();
-        let watch = &stepper.stiffness;
+        let x = self.state_now()?;
+        let phase = self.stepper.phase.borrow();
         Ok(SimState {
+            inputs: self.input_events.clone(),
             x,
             disc: phase.disc.clone(),
             horizon: phase.horizon,
-            cursor: stepper.cursor(),
-            solver: SolverState {
-                h,
-                implicit,
-                window_steps: watch.steps,
-                window_span: watch.span,
-                switch_due: watch.switch_due,
-            },
+            cursor: self.stepper.cursor(),
         })
     }
 
-    /// Continues from a saved state (of this model): the integrator restarts there.
+    /// Continues from a saved state of this model, exactly as the run that saved it went on.
+    /// The rows recorded so far, the event log, the observer and the settings stay this run's.
     pub fn set_state(&mut self, state: &SimState) -> Result<(), SimError> {
         let sys = self.stepper.sys.clone();
         if state.x.len() != sys.state_len() || !state.disc.fits(&sys) {
-            return Err(SimError::Usage("the state belongs to another model".into()));
+            return Err(another_model("its states do not fit"));
         }
-        self.renew_integrator(state.solver.implicit)?;
-        let t = state.cursor.now;
-        let mm = self.stepper.cache.get(&sys, &state.disc, t)?;
-        {
-            let mut phase = self.stepper.phase.borrow_mut();
-            phase.disc = state.disc.clone();
-            phase.f0_t = f64::NAN;
-            phase.horizon = state.horizon;
-            phase.mm = mm;
-        }
-        let Simulation { cell, stepper, .. } = self;
-        stepper.x.copy_from_slice(&state.x);
-        stepper.set_cursor(&state.cursor);
-        stepper.evaluate_here(t, true);
-        stepper.z_prev.copy_from_slice(&stepper.z);
-        stepper.dz.fill(f64::NAN);
-        stepper.hump_back = None; // a sample of the run before the restore
-        let watch = &mut stepper.stiffness;
-        (watch.steps, watch.span) = (state.solver.window_steps, state.solver.window_span);
-        watch.switch_due = state.solver.switch_due;
-        if stepper.finished {
-            return Ok(());
-        }
-        cell.with_dependent_mut(|_, integ| {
-            let (order, implicit) = (integ.order(), integ.implicit());
-            with_solver!(integ, s => {
-                *s.state_mut().h = state.solver.h; // what `restart_at` takes as the step so far
-                stepper.restart_at(s, t, order, implicit, false)
-            })
-        })
-    }
-
-    /// A new integrator of the saved state's method: an "auto" run changes method (either
-    /// way) if it must; another run's method is fixed, so a state of the other kind belongs to
-    /// another model. New even where the method is the same: an implicit method keeps its
-    /// factored iteration matrix across a restart, and a restored run must not depend on it.
-    fn renew_integrator(&mut self, implicit: bool) -> Result<(), SimError> {
-        let Simulation { cell, stepper, .. } = self;
-        let auto = stepper.sys.experiment.solver == "auto";
-        if !auto && cell.with_dependent(|_, integ| integ.implicit()) != implicit {
-            return Err(SimError::Usage(
-                "the state was saved with another integration method".into(),
+        let mut run = Simulation::new(sys)?;
+        run.set_recording(false);
+        run.replay(state)?;
+        if run.state()? != *state {
+            return Err(another_model(
+                "replaying its input events does not reach it",
             ));
         }
-        let method = match (auto, implicit) {
-            (true, true) => "esdirk34",
-            (true, false) => "tsit45",
-            (false, _) => stepper.sys.experiment.solver.as_str(),
-        };
-        cell.with_dependent_mut(|problem, integ| {
-            with_solver!(integ, s => stepper.stiffness.retired.add(s.get_statistics()));
-            *integ = solver_for(problem, method)?;
-            stepper.fit_steps = integ.polynomial_dense_output();
-            stepper.stiffness.active = auto && !implicit;
-            Ok(())
-        })
+        self.take_over(run);
+        Ok(())
+    }
+
+    /// The state at the time the run was advanced to (inside the pending step, if any).
+    fn state_now(&mut self) -> Result<Vec<f64>, SimError> {
+        let Simulation { cell, stepper, .. } = self;
+        cell.with_dependent_mut(|_, integ| with_solver!(integ, s => stepper.state_now(s)))
+    }
+
+    /// Advances a fresh run through the saved input events to the saved time.
+    fn replay(&mut self, state: &SimState) -> Result<(), SimError> {
+        for change in &state.inputs {
+            let Some(input) = self.stepper.sys.inputs.get(change.input) else {
+                return Err(another_model("an input it sets does not exist"));
+            };
+            let name = input.name.clone();
+            self.advance_to(change.time)?;
+            if self.stepper.now != change.time {
+                return Err(another_model("its input events are out of order"));
+            }
+            self.set_input(&name, change.value)?;
+        }
+        self.advance_to(state.cursor.now)
+    }
+
+    /// Becomes `run` (a replay), keeping what belongs to this session: the recorded rows and
+    /// discrete states, the event log, the observer, the settings and the cancel flag.
+    fn take_over(&mut self, mut run: Simulation) {
+        let (mine, theirs) = (&mut self.stepper, &mut run.stepper);
+        std::mem::swap(&mut mine.trajectory, &mut theirs.trajectory);
+        std::mem::swap(&mut mine.discs, &mut theirs.discs);
+        std::mem::swap(&mut mine.log, &mut theirs.log);
+        std::mem::swap(&mut mine.observer, &mut theirs.observer);
+        theirs.disc_recorded = false; // the last recorded discrete state is this run's
+        theirs.recording = mine.recording;
+        theirs.stop_at_events = mine.stop_at_events;
+        theirs.cancel = mine.cancel.clone();
+        theirs.started = mine.started;
+        run.started = self.started;
+        *self = run;
     }
 }

@@ -188,19 +188,6 @@ impl Stepper {
         }
     }
 
-    /// Continues from a saved cursor with `self.x` holding the state at its time.
-    pub fn set_cursor(&mut self, c: &Cursor) {
-        self.now = c.now;
-        self.t_prev = c.now;
-        self.stop = c.stop;
-        self.next_te = c.next_te;
-        self.grid_k = c.grid_k;
-        self.finished = c.finished;
-        self.pending = None;
-        self.last_row = f64::NAN;
-        self.disc_recorded = false;
-    }
-
     /// Evaluates at (t, self.x) in the current discrete state; fills `z` if asked.
     pub fn evaluate_here(&mut self, t: f64, with_indicators: bool) {
         let mut guard = self.phase.borrow_mut();

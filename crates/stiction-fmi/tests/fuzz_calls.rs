@@ -432,18 +432,32 @@ fn drive(host: &mut dyn Host, calls: &[Call]) {
     host.free();
 }
 
+/// Random calls, most often after a correct start (setup, initialization) so that steps,
+/// inputs and saved states are exercised in step mode too, not only refused before it.
+fn session() -> impl Strategy<Value = Vec<Call>> {
+    let start = vec![Call::Setup { stop: None }, Call::EnterInit, Call::ExitInit];
+    (
+        prop::bool::weighted(0.8),
+        prop::collection::vec(call(), 1..40),
+    )
+        .prop_map(move |(started, calls)| match started {
+            true => start.iter().cloned().chain(calls).collect(),
+            false => calls,
+        })
+}
+
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 128, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 512, ..ProptestConfig::default() })]
 
     #[test]
-    fn any_sequence_of_fmi3_calls_answers_with_a_status(calls in prop::collection::vec(call(), 1..40)) {
+    fn any_sequence_of_fmi3_calls_answers_with_a_status(calls in session()) {
         let dir = resources("fmi3");
         let mut host = unsafe { Fmi3::new(&dir) };
         drive(&mut host, &calls);
     }
 
     #[test]
-    fn any_sequence_of_fmi2_calls_answers_with_a_status(calls in prop::collection::vec(call(), 1..40)) {
+    fn any_sequence_of_fmi2_calls_answers_with_a_status(calls in session()) {
         let dir = resources("fmi2");
         let mut host = unsafe { Fmi2::new(&dir) };
         drive(&mut host, &calls);

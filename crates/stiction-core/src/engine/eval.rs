@@ -100,6 +100,7 @@ impl Workspace {
         }
     }
 
+    #[inline]
     pub fn law_ctx<'a>(&'a self, sys: &System, disc: &'a DiscreteState, k: usize) -> LawCtx<'a> {
         let law = &sys.laws[k];
         let base = law.relation_base;
@@ -109,7 +110,7 @@ impl Workspace {
             phi_rel: self.law_phi[k],
             w_rel: self.law_w[k],
             signals: &self.signals,
-            relations: &disc.relations[base..base + law.law.relation_count()],
+            relations: &disc.relations[base..base + law.relation_count],
         }
     }
 }

@@ -46,6 +46,10 @@ pub struct ModeMatrix {
     pub element_rows: Vec<ElementRows>,
     /// The mode this matrix was factored for.
     pub keys: Vec<ModeKey>,
+    /// The elements whose loss slope may differ from the factored one (unlocked, with a
+    /// permanent row and a slope column), found once per mode so an evaluation of a mode
+    /// without them looks at no element.
+    sloped: Vec<usize>,
     /// Scratch for the rank-one correction (`solve_with_slopes`), so an evaluation allocates
     /// nothing.
     scratch: RefCell<Vec<f64>>,
@@ -76,8 +80,15 @@ impl ModeMatrix {
             time,
             detail: singular_detail(sys, keys, &massless_nodes(sys)),
         })?;
+        let sloped = (sys.switching.iter().zip(keys).enumerate())
+            .filter(|(k, (e, key))| {
+                !key.locked && element_rows[*k].permanent.is_some() && e.slope_column().is_some()
+            })
+            .map(|(k, _)| k)
+            .collect();
         Ok(Self {
             factors,
+            sloped,
             size: m.size,
             element_rows,
             keys: keys.to_vec(),
@@ -98,15 +109,12 @@ impl ModeMatrix {
     /// Allocates only when the slopes of two or more elements have changed.
     pub fn solve_with_slopes(&self, sys: &System, slope: impl Fn(usize) -> f64, rhs: &mut [f64]) {
         self.solve(rhs);
-        let mut changed = sys
-            .switching
-            .iter()
-            .zip(&self.keys)
-            .enumerate()
-            .filter(|(k, (_, key))| !key.locked && slope(*k) != key.slope)
-            .filter_map(|(k, (e, key))| {
+        let mut changed = (self.sloped.iter())
+            .filter(|&&k| slope(k) != self.keys[k].slope)
+            .filter_map(|&k| {
                 let row = self.element_rows[k].permanent?;
-                Some((e.slope_column()?, sys.nodes + row, slope(k) - key.slope))
+                let column = sys.switching[k].slope_column()?;
+                Some((column, sys.nodes + row, slope(k) - self.keys[k].slope))
             });
         let Some(first) = changed.next() else {
             return;

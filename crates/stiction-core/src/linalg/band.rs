@@ -2,6 +2,8 @@
 //! graph of shafts and the couplings between neighbours, so ordered by RCM its bandwidth stays
 //! small whatever its size; factoring costs O(n·b²) and a solve O(n·b) instead of n³ and n².
 
+use std::cell::RefCell;
+
 use super::{Factorization, LinearSolver, Singular, Triplets, PIVOT_TOLERANCE};
 
 /// RCM-ordered banded LU with partial pivoting (LAPACK `gbtrf`'s scheme).
@@ -18,6 +20,8 @@ struct BandFactors {
     /// Multipliers of step k (below the pivot) and the row swapped with k.
     lower: Vec<f64>,
     pivot_row: Vec<usize>,
+    /// The permuted right-hand side, kept so that a solve allocates nothing.
+    scratch: RefCell<Vec<f64>>,
 }
 
 impl BandFactors {
@@ -93,6 +97,7 @@ impl LinearSolver for BandLu {
             band: vec![0.0; n * width],
             lower: vec![0.0; n * kl],
             pivot_row: vec![0; n],
+            scratch: RefCell::new(Vec::with_capacity(n)),
         };
         for &(r, c, v) in &matrix.entries {
             let k = f.at(pos[r], pos[c]);
@@ -161,25 +166,31 @@ impl Factorization for BandFactors {
     }
 
     fn solve_in_place(&self, b: &mut [f64]) {
-        let (n, kl) = (self.n(), self.kl);
-        let mut y: Vec<f64> = self.perm.iter().map(|&p| b[p]).collect();
-        for k in 0..n {
-            y.swap(k, self.pivot_row[k]);
-            let yk = y[k];
-            let last = (k + kl).min(n - 1);
-            let below = &mut y[k + 1..=last];
-            for (yi, m) in below.iter_mut().zip(&self.lower[k * kl..]) {
-                *yi -= m * yk;
+        let (kl, width) = (self.kl, self.width);
+        let mut scratch = self.scratch.borrow_mut();
+        scratch.clear();
+        scratch.extend(self.perm.iter().map(|&p| b[p]));
+        let y = scratch.as_mut_slice();
+        // row by row through the stored factors (no index arithmetic per entry); the zips
+        // stop at the matrix's last row
+        if kl > 0 {
+            let steps = self.lower.chunks_exact(kl).zip(&self.pivot_row);
+            for (k, (lower, &p)) in steps.enumerate() {
+                y.swap(k, p);
+                let (head, below) = y.split_at_mut(k + 1);
+                let yk = head[k];
+                for (yi, m) in below.iter_mut().zip(lower) {
+                    *yi -= m * yk;
+                }
             }
         }
-        let ku_all = self.width - 1 - kl;
-        for k in (0..n).rev() {
-            let last = (k + ku_all).min(n - 1);
-            let s: f64 = (k + 1..=last)
-                .map(|j| self.band[self.at(k, j)] * y[j])
+        for (k, row) in self.band.chunks_exact(width).enumerate().rev() {
+            let (head, right) = y.split_at_mut(k + 1);
+            let s: f64 = (row[kl + 1..].iter().zip(right.iter()))
+                .map(|(u, v)| u * v)
                 .sum();
-            y[k] = (y[k] - s) / self.band[self.at(k, k)];
+            head[k] = (head[k] - s) / row[kl];
         }
-        self.perm.iter().zip(&y).for_each(|(&p, &v)| b[p] = v);
+        self.perm.iter().zip(y.iter()).for_each(|(&p, &v)| b[p] = v);
     }
 }

@@ -15,8 +15,9 @@ impl Stepper {
         self.sys.experiment.grid_time(k)
     }
 
+    /// The experiment's `grid_len`, computed once per run (it takes a division and a `ceil`).
     pub(super) fn grid_len(&self) -> usize {
-        self.sys.experiment.grid_len()
+        self.grid_last
     }
 
     /// The state at t from the dense output of the last step, into `out`.

@@ -11,6 +11,7 @@ use super::samples::{Hump, FD_STEP};
 use super::stepper::Stepper;
 use crate::engine::speed_rates;
 use crate::error::SimError;
+use crate::switching::element::{INDICATORS, NEVER};
 
 impl Stepper {
     /// The indicator `i` at time t on the dense output of the last step.
@@ -25,6 +26,36 @@ impl Stepper {
     {
         self.indicators_at(solver, t)?;
         Ok(self.z[i])
+    }
+
+    /// Indicator `i` at time t as `locate` reads it: a sliding element's slip speed straight
+    /// from the interpolated state when nothing rewrites the speeds (no shafts without inertia,
+    /// no prescribed motion: `w` is then the state's, bit for bit), else by evaluating the
+    /// system. Regula falsi probes a bracket tens of times, and a whole evaluation per probe
+    /// made locating cost the size of the model times the number of probes.
+    fn locate_probe<'a, S>(&mut self, solver: &S, t: f64, i: usize) -> Result<f64, SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let (k, slot) = (i / INDICATORS, i % INDICATORS);
+        let direct = slot == 1 && k < self.sys.switching.len() && {
+            let guard = self.phase.borrow();
+            let st = &guard.disc.switching[k];
+            guard.mm.massless.is_none()
+                && !self.sys.prescribes()
+                && self.sys.switching[k].slip_indicator(st, 0.0).is_some()
+        };
+        if !direct {
+            return self.indicator_at(solver, t, i);
+        }
+        self.probed = true;
+        self.load(solver, t)?;
+        let n = self.sys.nodes;
+        let e = &self.sys.switching[k];
+        let w = e.motion().dot(&self.x[n..2 * n]);
+        let guard = self.phase.borrow();
+        let z = e.slip_indicator(&guard.disc.switching[k], w);
+        Ok(z.unwrap_or(NEVER))
     }
 
     /// Every indicator at time t on the dense output of the last step, in `z` (a probe away
@@ -222,7 +253,7 @@ impl Stepper {
             let (mut ta, mut za) = (a, za0);
             let (mut tb, mut zb) = (best.0, zb0);
             if n > 0 && tb < b {
-                zb = self.indicator_at(solver, tb, i)?;
+                zb = self.locate_probe(solver, tb, i)?;
                 if zb <= 0.0 {
                     continue; // crosses after the best found so far
                 }
@@ -240,7 +271,7 @@ impl Stepper {
                 if !(tm > ta && tm < tb) {
                     tm = 0.5 * (ta + tb);
                 }
-                let zm = self.indicator_at(solver, tm, i)?;
+                let zm = self.locate_probe(solver, tm, i)?;
                 if zm > 0.0 {
                     tb = tm;
                     zb = zm;

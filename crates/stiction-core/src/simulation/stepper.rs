@@ -94,6 +94,8 @@ pub(super) struct Stepper {
     pub(super) poly_wanted: bool,
     pub(super) fit_steps: bool,
     pub(super) grid_k: usize,
+    /// The index of the last grid point.
+    pub(super) grid_last: usize,
     pub(super) stats: Stats,
     /// Where processing stands: the integrator's time unless a step is pending.
     pub(super) t_prev: f64,
@@ -125,6 +127,7 @@ impl Stepper {
         let nz = indicator_count(&sys);
         let t0 = sys.experiment.start_time;
         let chatter = ChatterWatch::new(&sys.experiment);
+        let grid_last = sys.experiment.grid_len();
         let stiffness = StiffnessWatch::new(sys.experiment.solver == "auto", x0.len());
         let stop = sys
             .time_events
@@ -160,6 +163,7 @@ impl Stepper {
             poly_wanted: false,
             fit_steps: false,
             grid_k: 1,
+            grid_last,
             stats: Stats::default(),
             t_prev: t0,
             now: t0,

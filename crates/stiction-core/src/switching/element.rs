@@ -225,6 +225,13 @@ pub trait SwitchingElement: Send + Sync {
     // ---- its zero crossings
     /// Its `INDICATORS` indicators: each goes from ≤ 0 to above 0 where something changes.
     fn indicators(&self, st: &SwitchState, v: &ElementValues, signals: &[f64], z: &mut [f64]);
+    /// Its indicator 1 from the relative speed `w` alone, when in state `st` that indicator is a
+    /// signed relative speed (a sliding element's slip reaching zero) and so needs no solve:
+    /// crossings of it are located without evaluating the whole system at every probe. The
+    /// same value `indicators` gives at that `w`; None when it depends on more.
+    fn slip_indicator(&self, _st: &SwitchState, _w: f64) -> Option<f64> {
+        None
+    }
     /// The rate of its indicator 1 when that is a signed relative speed (see `crossings`).
     fn speed_rate(&self, st: &SwitchState, v: &ElementValues) -> Option<f64>;
     /// What indicator `slot` means in this state, for the event log.

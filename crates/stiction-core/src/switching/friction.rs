@@ -251,22 +251,37 @@ impl SwitchingElement for FrictionElem {
                 flip(R::SA_ABOVE_MAX, v.sa - v.tau0_max),
                 flip(R::SA_BELOW_MAX, -v.sa - v.tau0_max),
             )
-        } else if st.pre.mode == logic::FORWARD {
-            (flip(R::W_POS, v.w), NEVER)
-        } else if st.pre.mode == logic::BACKWARD {
-            (flip(R::W_NEG, -v.w), NEVER)
-        } else if st.pre.mode == logic::STUCK && st.pre.start_forward {
-            // the start ends when sa falls below tau0 or the element turns backward
-            let end = flip(R::SA_ABOVE, v.sa - v.tau0).max(flip(R::W_NEG, -v.w));
-            (flip(R::W_POS, v.w), end)
-        } else if st.pre.mode == logic::STUCK && st.pre.start_backward {
-            let end = flip(R::SA_BELOW, -v.sa - v.tau0).max(flip(R::W_POS, v.w));
-            (flip(R::W_NEG, -v.w), end)
+        } else if let Some(slip) = self.slip_indicator(st, v.w) {
+            let end = if st.pre.mode != logic::STUCK {
+                NEVER
+            } else if st.pre.start_forward {
+                // the start ends when sa falls below tau0 or the element turns backward
+                flip(R::SA_ABOVE, v.sa - v.tau0).max(flip(R::W_NEG, -v.w))
+            } else {
+                flip(R::SA_BELOW, -v.sa - v.tau0).max(flip(R::W_POS, v.w))
+            };
+            (slip, end)
         } else {
             (NEVER, NEVER)
         };
         z[1] = a;
         z[2] = b;
+    }
+
+    /// Sliding, or starting to: its slip speed reaching zero (forward or backward).
+    fn slip_indicator(&self, st: &SwitchState, w: f64) -> Option<f64> {
+        if st.locked || (st.free && self.one_way.is_none()) {
+            return None;
+        }
+        let flip = |i: usize, g: f64| flip_indicator(st.rel.get(i), g);
+        let stuck = st.pre.mode == logic::STUCK;
+        if st.pre.mode == logic::FORWARD || (stuck && st.pre.start_forward) {
+            Some(flip(R::W_POS, w))
+        } else if st.pre.mode == logic::BACKWARD || (stuck && st.pre.start_backward) {
+            Some(flip(R::W_NEG, -w))
+        } else {
+            None
+        }
     }
 
     fn speed_rate(&self, st: &SwitchState, v: &ElementValues) -> Option<f64> {

@@ -97,12 +97,14 @@ impl Builder {
 
     pub fn add_law(&mut self, rel: Rel, law: Box<dyn ForceLaw>) -> usize {
         let relation_base = self.sys.relation_count;
-        self.sys.relation_count += law.relation_count();
+        let relation_count = law.relation_count();
+        self.sys.relation_count += relation_count;
         self.sys.laws.push(LawElem {
             owner: self.name().to_string(),
             rel,
             law,
             relation_base,
+            relation_count,
             heat_node: None,
         });
         self.sys.laws.len() - 1

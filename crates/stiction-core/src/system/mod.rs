@@ -25,6 +25,8 @@ pub struct LawElem {
     pub law: Box<dyn ForceLaw>,
     /// Index of this law's first frozen relation in the discrete state.
     pub relation_base: usize,
+    /// `law.relation_count()`, kept so that an evaluation need not ask the law each time.
+    pub relation_count: usize,
     pub heat_node: Option<usize>,
 }
 

@@ -6,6 +6,7 @@ pub mod csv;
 pub mod mat;
 pub mod metric;
 mod probe;
+mod table;
 
 use std::rc::Rc;
 use std::sync::{Arc, OnceLock};
@@ -158,23 +159,6 @@ impl SimResult {
                 .map(|r| flat.direct(sys, tr.x(r), &self.discs[tr.disc[r] as usize]))
                 .collect()
         })
-    }
-
-    fn compute_table(&self) -> Vec<f64> {
-        let sys = &*self.system;
-        let tr = &self.trajectory;
-        let mut recorder = Recorder::new(sys, tr.rows());
-        let width = self.names.len();
-        self.visit_rows(|r, row| match row {
-            Some((ws, disc)) => recorder.record(sys, ws, disc),
-            None => {
-                recorder.data.push(tr.t[r]);
-                recorder
-                    .data
-                    .extend(std::iter::repeat_n(f64::NAN, width - 1));
-            }
-        });
-        recorder.data
     }
 
     /// Evaluates the system at every recorded row (each mode factored once) and hands row `r`'s

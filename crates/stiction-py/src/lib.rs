@@ -256,6 +256,51 @@ fn simulate(
     Ok(RawResult(sim.into_result()))
 }
 
+/// Parses TOML text into Python dicts, lists and scalars as `tomllib.loads` does (tables keep
+/// their order), tens of times faster than the pure-Python parser on a model of thousands of
+/// components. None for what it does not turn into the same objects (invalid TOML, a date or
+/// time): the caller falls back to `tomllib`, which gives the error message or the datetime.
+#[pyfunction]
+fn parse_toml<'py>(py: Python<'py>, text: &str) -> PyResult<Option<Bound<'py, PyAny>>> {
+    let Ok(table) = text.parse::<toml::Table>() else {
+        return Ok(None);
+    };
+    table_to_py(py, &table)
+}
+
+fn table_to_py<'py>(py: Python<'py>, table: &toml::Table) -> PyResult<Option<Bound<'py, PyAny>>> {
+    let dict = PyDict::new(py);
+    for (key, value) in table {
+        match toml_to_py(py, value)? {
+            Some(v) => dict.set_item(key, v)?,
+            None => return Ok(None),
+        }
+    }
+    Ok(Some(dict.into_any()))
+}
+
+fn toml_to_py<'py>(py: Python<'py>, value: &toml::Value) -> PyResult<Option<Bound<'py, PyAny>>> {
+    use pyo3::IntoPyObjectExt;
+    Ok(Some(match value {
+        toml::Value::String(s) => s.into_bound_py_any(py)?,
+        toml::Value::Integer(i) => i.into_bound_py_any(py)?,
+        toml::Value::Float(f) => f.into_bound_py_any(py)?,
+        toml::Value::Boolean(b) => b.into_bound_py_any(py)?,
+        toml::Value::Datetime(_) => return Ok(None),
+        toml::Value::Array(items) => {
+            let list = pyo3::types::PyList::empty(py);
+            for item in items {
+                match toml_to_py(py, item)? {
+                    Some(v) => list.append(v)?,
+                    None => return Ok(None),
+                }
+            }
+            list.into_any()
+        }
+        toml::Value::Table(table) => return table_to_py(py, table),
+    }))
+}
+
 /// Validates a model (parameters, ports, connections, initial values and, with `motion`, that
 /// every shaft's motion is determined) without simulating.
 #[pyfunction]
@@ -426,6 +471,7 @@ impl PyState {
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
+    m.add_function(wrap_pyfunction!(parse_toml, m)?)?;
     m.add_function(wrap_pyfunction!(write_csv, m)?)?;
     m.add_function(wrap_pyfunction!(write_mat, m)?)?;
     info::register(m)?;

@@ -133,6 +133,15 @@ impl SimResult {
         self.table.get_or_init(|| self.compute_table())
     }
 
+    /// All variables as a vector of its own: the one `table()` keeps, or computed without
+    /// keeping it, for a caller that keeps it (Python hands it to NumPy without a copy).
+    pub fn table_vec(&self) -> Vec<f64> {
+        match self.table.get() {
+            Some(table) => table.clone(),
+            None => self.compute_table(),
+        }
+    }
+
     /// One variable over all rows.
     pub fn column(&self, name: &str) -> Option<Vec<f64>> {
         let c = self.names.iter().position(|n| n == name)?;

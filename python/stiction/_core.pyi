@@ -74,6 +74,10 @@ def experiment(
 def initialization(model_toml: str, base_dir: str = ".") -> list[tuple[str, float, str, float]]:
     """(variable, start, "fixed" | "guessed" | "computed", initial value) per start value."""
 
+def parse_toml(text: str) -> dict[str, Any] | None:
+    """The TOML document as ``tomllib.loads`` gives it; None if invalid or holding a date (the
+    caller asks ``tomllib`` then, for the message or the datetime)."""
+
 def check(model_toml: str, base_dir: str = ".", motion: bool = True) -> None:
     """Validate a model without running it (with ``motion``: also that every shaft's motion is
     determined); raises ModelError."""

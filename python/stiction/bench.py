@@ -37,6 +37,14 @@ class BenchRow:
     steps: int
     rhs_evals: int
     events: int
+    core_median_ms: float = float("nan")
+    core_min_ms: float = float("nan")
+
+    @property
+    def python_ms(self) -> float:
+        """What the Python path adds to the core's run (medians): ``Model.simulate`` against
+        the core's own ``wall_ms``, which it measures around building and running."""
+        return self.median_ms - self.core_median_ms
 
 
 def bench(model: Model, repeat: int = 50, warmup: int = 3) -> BenchRow:
@@ -47,11 +55,13 @@ def bench(model: Model, repeat: int = 50, warmup: int = 3) -> BenchRow:
         model.simulate()
     times = []
     table_times = []
+    core_times = []
     result = None
     for _ in range(repeat):
         start = time.perf_counter()
         result = model.simulate()
         times.append((time.perf_counter() - start) * 1e3)
+        core_times.append(float(result.stats["wall_ms"]))
         start = time.perf_counter()
         _ = result.data
         table_times.append((time.perf_counter() - start) * 1e3)
@@ -65,6 +75,8 @@ def bench(model: Model, repeat: int = 50, warmup: int = 3) -> BenchRow:
         steps=int(stats.get("steps", 0)),
         rhs_evals=int(stats.get("rhs_evals", 0)),
         events=int(stats.get("events", len(result.events))),
+        core_median_ms=statistics.median(core_times),
+        core_min_ms=min(core_times),
     )
 
 

@@ -13,7 +13,6 @@ from pathlib import Path
 from typing import Any
 
 import click
-import numpy as np
 
 from .cli import _fail, _friendly_errors, _in_file, main
 from .errors import ModelError
@@ -43,6 +42,8 @@ def _parse_vary(spec: str, sampled: bool) -> tuple[str, Any]:
         count = int(_number(parts[2], "--vary"))
         if count < 1:
             raise click.BadParameter(f"'{spec}': COUNT must be at least 1", param_hint="--vary")
+        import numpy as np  # only for a sweep (`stiction check` does not load NumPy)
+
         return name, list(np.linspace(start, stop, count))
     return name, [_number(v, "--vary") for v in values.split(",")]
 

@@ -19,11 +19,11 @@ from typing import TYPE_CHECKING, Any
 from . import modelfile
 from .components import FACTORIES, Component, component_types
 from .errors import ModelError
-from .result import Result
 from .runinfo import RunInfo
 
 if TYPE_CHECKING:
     from .compiled import CompiledModel
+    from .result import Result
     from .simulation import Simulation
 
 __all__ = ["Model"]
@@ -54,7 +54,7 @@ class Model:
         # The compiled form of the model text it was made from (see `compile`).
         self._compiled: tuple[tuple[str, str], CompiledModel] | None = None
         # The engine text and the parameter values of the model as it was (see `_text_key`).
-        self._derived: tuple[str, str, dict[str, float]] | None = None
+        self._derived: tuple[str, str, dict[str, float] | None] | None = None
         # Derived variables: result columns computed from the run, name -> Modelica expression
         # over result variables ("gear.flange_a.tau*der(gear.flange_a.phi)").
         self.variables: dict[str, str] = {}
@@ -234,7 +234,7 @@ class Model:
     def engine_toml(self) -> str:
         """The model-file text the engine reads: parameter expressions evaluated, derived
         variables left out (they are computed from the result)."""
-        return self._text_and_values()[0]
+        return self._derived_of(values=False)[0]
 
     def _text_key(self) -> str | None:
         """A fingerprint of everything the engine text and the parameter values depend on:
@@ -246,12 +246,22 @@ class Model:
         return None if "<" in key or "..." in key else key
 
     def _text_and_values(self) -> tuple[str, dict[str, float]]:
-        key = self._text_key()
-        if key is not None and self._derived is not None and self._derived[0] == key:
-            return self._derived[1], self._derived[2]
-        text, values = self._write_engine_toml(), self._parameter_values()
-        self._derived = None if key is None else (key, text, values)
+        text, values = self._derived_of(values=True)
+        assert values is not None
         return text, values
+
+    def _derived_of(self, values: bool) -> tuple[str, dict[str, float] | None]:
+        """The engine text and, if ``values``, the parameter values, kept while the model's
+        fingerprint is unchanged; the values only when asked for (``check`` needs none, and
+        they import the Modelica converter's table of start variables)."""
+        key = self._text_key()
+        cached = self._derived if key is not None and self._derived and self._derived[0] == key else None
+        text = cached[1] if cached else self._write_engine_toml()
+        known = cached[2] if cached else None
+        if values and known is None:
+            known = self._parameter_values()
+        self._derived = None if key is None else (key, text, known)
+        return text, known
 
     def _write_engine_toml(self) -> str:
         from .parameters import evaluate_parameters, resolve_params
@@ -410,6 +420,7 @@ class Model:
         """
         from .compiled import merge_overrides
         from .parameters import evaluate_parameters, expand_parameters
+        from .result import Result
 
         given: dict[str, Any] = {"StartTime": StartTime, "StopTime": StopTime, "Interval": Interval}
         given |= {"Tolerance": Tolerance, "Solver": Solver}

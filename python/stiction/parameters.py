@@ -96,7 +96,11 @@ def resolve_params(comp: str, params: Mapping[str, Any], values: Mapping[str, An
             return {k: resolve(v, f"{where}.{k}") for k, v in raw.items()}
         return raw
 
-    return {key: resolve(raw, f"component '{comp}': parameter '{key}'") for key, raw in params.items()}
+    # plain values (nearly all) skip `resolve` and the message it would carry
+    return {
+        key: raw if type(raw) in _PLAIN else resolve(raw, f"component '{comp}': parameter '{key}'")
+        for key, raw in params.items()
+    }
 
 
 def expand_parameters(

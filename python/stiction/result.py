@@ -89,7 +89,7 @@ class Result:
         """``data`` is the full table, or None when a ``source`` (the engine's raw result,
         with ``column(name)``, ``table()`` and ``rows``) computes variables on demand;
         ``info`` reports the run's experiment and initialization."""
-        self.names: list[str] = [str(n) for n in names]
+        self.names: list[str] = list(map(str, names))
         if not self.names or self.names[0] != "time":
             raise ValueError("the first signal must be 'time'")
         self._source = source
@@ -106,7 +106,7 @@ class Result:
         self.stats: dict[str, float | int] = dict(stats or {})
         self.name = name
         self._info = info
-        self._index = {n: i for i, n in enumerate(self.names)}
+        self._index_of: dict[str, int] | None = None
         # Parameter values (name -> value) of the run, written to data_1 of a .mat result.
         self.parameters: dict[str, float] = {}
 
@@ -131,8 +131,16 @@ class Result:
 
             result._extra = derived_columns(result, variables, parameters)
             result.names.extend(result._extra)
-            result._index = {n: i for i, n in enumerate(result.names)}
+            result._index_of = None
         return result
+
+    @property
+    def _index(self) -> dict[str, int]:
+        """The column of each name, built at the first lookup: a model of thousands of
+        components has tens of thousands of names, and a run nobody reads pays nothing."""
+        if self._index_of is None:
+            self._index_of = {n: i for i, n in enumerate(self.names)}
+        return self._index_of
 
     def metric(self, text: str) -> float:
         """A metric of this run, written as what it computes: ``final(J4.w)``, ``max(J1.w)``,

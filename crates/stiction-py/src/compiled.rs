@@ -152,7 +152,7 @@ impl PyCompiled {
         let mut sim = guarded(|| Simulation::new(sys))?;
         let stop = sim.system().experiment.stop_time;
         advance_interruptibly(py, &mut sim, stop)?;
-        Ok(RawResult(sim.into_result()))
+        Ok(RawResult::new(sim.into_result()))
     }
 
     /// Checks metrics and outputs before a sweep (ModelError naming the bad one).

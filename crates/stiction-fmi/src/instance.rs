@@ -281,8 +281,8 @@ impl Instance {
                 "doStep: the step size {h} must be a finite number ≥ 0"
             ));
         }
-        // written so that a NaN communication point is refused too
-        if !((t - now).abs() <= 1e-9 * now.abs().max(1.0)) {
+        let within = (t - now).abs() <= 1e-9 * now.abs().max(1.0);
+        if !within || t.is_nan() {
             return Err(format!(
                 "doStep: currentCommunicationPoint {t} is not the FMU's time {now}"
             ));

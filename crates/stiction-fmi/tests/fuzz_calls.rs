@@ -152,6 +152,8 @@ trait Host {
 
 struct Fmi3 {
     c: *mut c_void,
+    // boxed: the host's logger gets this list's address, which must not move with `Fmi3`
+    #[allow(clippy::box_collection)]
     log: Box<Vec<String>>,
     seen: usize,
     states: Vec<*mut c_void>,
@@ -435,7 +437,7 @@ fn drive(host: &mut dyn Host, calls: &[Call]) {
 /// Random calls, most often after a correct start (setup, initialization) so that steps,
 /// inputs and saved states are exercised in step mode too, not only refused before it.
 fn session() -> impl Strategy<Value = Vec<Call>> {
-    let start = vec![Call::Setup { stop: None }, Call::EnterInit, Call::ExitInit];
+    let start = [Call::Setup { stop: None }, Call::EnterInit, Call::ExitInit];
     (
         prop::bool::weighted(0.8),
         prop::collection::vec(call(), 1..40),

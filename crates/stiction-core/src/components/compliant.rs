@@ -1,6 +1,7 @@
 //! `Spring`, `Damper`, `SpringDamper`, `ElastoBacklash`: torque laws between two flanges
 //! (spec §5.6, §5.10–5.12).
 
+use super::backlash::BacklashLaw;
 use super::decl::{PHI_REL, USE_HEAT_PORT, W_REL};
 use super::{heat_port, Component, Entry, Ports};
 use crate::error::ModelResult;
@@ -59,12 +60,7 @@ impl Component for Compliant {
         let (na, nb) = (b.node("flange_a")?, b.node("flange_b")?);
         let rel = Rel::between(na, nb);
         let law: Box<dyn ForceLaw> = match self.backlash {
-            Some(width) => Box::new(BacklashLaw {
-                c: self.c,
-                d: self.d,
-                b_max: width / 2.0,
-                phi_rel0: self.phi_rel0,
-            }),
+            Some(width) => Box::new(BacklashLaw::new(self.c, self.d, width, self.phi_rel0)),
             None => Box::new(SpringDamperLaw {
                 c: self.c,
                 d: self.d,
@@ -197,93 +193,3 @@ pub const REGISTRY: &[Entry] = &[
         elasto_backlash,
     ),
 ];
-
-/// MSL ElastoBacklash (spec §5.6): a spring/damper behind a backlash of total width `b`, with
-/// soft contact (the damping torque never exceeds the spring torque; no pulling torque). The
-/// contact relations `phi_diff > b/2` and `phi_diff < −b/2` are frozen between events.
-struct BacklashLaw {
-    c: f64,
-    d: f64,
-    b_max: f64,
-    phi_rel0: f64,
-}
-
-impl BacklashLaw {
-    /// `|b| ≤ 1e-10`: a plain spring/damper (MSL's bEps).
-    fn rigid(&self) -> bool {
-        self.b_max <= 0.5e-10
-    }
-
-    /// (tau_c, tau_d, contact): contact is +1 (phi_diff > bMax), −1 (< bMin) or 0.
-    fn parts(&self, x: &LawCtx) -> (f64, f64, i8) {
-        let phi_diff = x.phi_rel - self.phi_rel0;
-        let tau_d = self.d * x.w_rel;
-        if self.rigid() {
-            return (self.c * phi_diff, tau_d, 0);
-        }
-        if x.relations[0] {
-            (self.c * (phi_diff - self.b_max), tau_d, 1)
-        } else if x.relations[1] {
-            (self.c * (phi_diff + self.b_max), tau_d, -1)
-        } else {
-            (0.0, tau_d, 0)
-        }
-    }
-}
-
-impl ForceLaw for BacklashLaw {
-    fn tau(&self, x: &LawCtx) -> f64 {
-        let (tau_c, tau_d, contact) = self.parts(x);
-        match contact {
-            _ if self.rigid() => tau_c + tau_d,
-            1 if tau_c + tau_d <= 0.0 => 0.0,
-            1 => tau_c + tau_c.min(tau_d),
-            -1 if tau_c + tau_d >= 0.0 => 0.0,
-            -1 => tau_c + tau_c.max(tau_d),
-            _ => 0.0,
-        }
-    }
-    fn role(&self) -> EnergyRole {
-        EnergyRole::Conservative
-    }
-    fn potential(&self, x: &LawCtx) -> f64 {
-        let (tau_c, _, _) = self.parts(x);
-        0.5 * tau_c * tau_c / self.c
-    }
-    fn loss_power(&self, x: &LawCtx, _tau: f64) -> f64 {
-        let (tau_c, tau_d, contact) = self.parts(x);
-        match contact {
-            _ if self.rigid() => tau_d * x.w_rel,
-            1 if tau_c + tau_d <= 0.0 => 0.0,
-            1 => tau_c.min(tau_d) * x.w_rel,
-            -1 if tau_c + tau_d >= 0.0 => 0.0,
-            -1 => tau_c.max(tau_d) * x.w_rel,
-            _ => 0.0,
-        }
-    }
-    /// Where the contact opens with the spring still compressed (MSL sets the torque to 0), the
-    /// spring's energy is lost too: `tau·w − dV/dt` counts it.
-    fn dissipation(&self, x: &LawCtx, tau: f64) -> f64 {
-        let (tau_c, _, _) = self.parts(x);
-        (tau - tau_c) * x.w_rel
-    }
-    fn relation_count(&self) -> usize {
-        if self.rigid() {
-            0
-        } else {
-            2
-        }
-    }
-    fn relation_values(&self, x: &LawCtx, z: &mut [f64]) {
-        let phi_diff = x.phi_rel - self.phi_rel0;
-        z[0] = phi_diff - self.b_max;
-        z[1] = -self.b_max - phi_diff;
-    }
-    fn relation_label(&self, i: usize) -> &'static str {
-        if i == 0 {
-            "contact at phi_rel - phi_rel0 = b/2"
-        } else {
-            "contact at phi_rel - phi_rel0 = -b/2"
-        }
-    }
-}

@@ -4,6 +4,7 @@
 //! variables it reports under its MSL names. Adding a component = one file + one registry line.
 
 pub mod adaptors;
+pub mod backlash;
 pub mod blocks;
 pub mod compliant;
 pub mod friction;

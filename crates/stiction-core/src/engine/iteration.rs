@@ -175,11 +175,19 @@ fn law_relations_at(sys: &System, disc: &mut DiscreteState, at: &EventPoint, ws:
     let mut z = [0.0; 4];
     for (k, law) in sys.laws.iter().enumerate() {
         let count = law.law.relation_count();
-        if count > 0 {
+        // a relation may depend on the law's others (an ElastoBacklash's switches inside a
+        // contact on the contact): evaluated again until none changes, at most once each
+        for _ in 0..count {
             law.law
                 .relation_values(&ws.law_ctx(sys, disc, k), &mut z[..count]);
+            let mut changed = false;
             for (r, &value) in z[..count].iter().enumerate() {
-                disc.relations[law.relation_base + r] = value >= 0.0;
+                let slot = &mut disc.relations[law.relation_base + r];
+                changed |= *slot != (value >= 0.0);
+                *slot = value >= 0.0;
+            }
+            if !changed {
+                break;
             }
         }
     }

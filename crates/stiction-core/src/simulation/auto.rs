@@ -28,6 +28,11 @@ const CHECK_EVERY: usize = 100;
 /// mean step is taken to be held by stability: such steps hover at the bound (≈ 1), steps set
 /// by accuracy stay well inside it (≤ 0.5 on the MSL examples).
 const STIFF_FRACTION: f64 = 0.75;
+/// With fewer explicit steps than this left at the stability-bound step, the explicit method
+/// finishes before the implicit one pays back its Jacobians and factorizations: HeatLosses,
+/// its backlash contacts at the bound (h·ρ at 0.80 of it) with 236 steps left, ran in 8.2 ms
+/// explicit and 14.5 ms switched; StiffHeatLosses switches with 5000 left, StiffShaft 6e5.
+const MIN_STEPS_LEFT: f64 = 1000.0;
 /// Power iterations per estimate (two right-hand sides each).
 const POWER_ITERATIONS: usize = 12;
 
@@ -119,7 +124,8 @@ impl StiffnessWatch {
             return;
         }
         let used = mean_h * lambda.norm() / stability_radius(lambda);
-        self.switch_due = used > STIFF_FRACTION;
+        let left = (sys.experiment.stop_time - t) / mean_h;
+        self.switch_due = used > STIFF_FRACTION && left > MIN_STEPS_LEFT;
     }
 }
 

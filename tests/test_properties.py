@@ -302,18 +302,18 @@ def test_a_backlash_amplifies_the_integration_error_that_a_tighter_tolerance_rem
     """Found by `make soak` (about 1 in 1000 drivetrains): shafts bouncing in an ElastoBacklash.
     Undamped, each contact's timing error grows in the next: two bodies (21 contacts in 1 s)
     are 0.8 % of the range off at the default Tolerance, four shafts on springs are chaotic,
-    91 % off; the error shrinks at the method's order. Damped (d = 1, 2 contacts), MSL's
-    noEvent switches inside the contact lower that order: 1.2 % off at 1e-6, 0.2 % at 1e-8."""
+    91 % off. Damped (d = 1, 2 contacts), the switches inside a contact were 1.2 % off at 1e-6
+    and 0.2 % at 1e-8 while they were stepped over as MSL's noEvent does; located as events,
+    0.07 % at 1e-6. Each makes the same mode changes and converges at the method's order."""
     from pathlib import Path
 
     model = st.Model.load(Path(__file__).parent / "data" / f"{case}.toml")
     r, tight = model.simulate(), model.simulate(Tolerance=1e-9)
     assert _changes(r) == _changes(tight)
     errors = [_distance(model, tight, model.simulate(Tolerance=tol)) for tol in (1e-6, 1e-7, 1e-8)]
-    assert errors[2] <= errors[0] / 5, errors
+    assert errors[0] > 5 * errors[1] > 25 * errors[2], errors
     if case != "damped_backlash":
         assert _outside_tube(model, tight, r)  # beyond any tube at the default Tolerance
-        assert errors[0] > 5 * errors[1] > 25 * errors[2], errors
 
 
 def test_a_brake_starting_backward_that_a_lossy_gear_turns_forward_stops_starting_there():

@@ -382,19 +382,20 @@ def bench(
 ) -> None:
     """Time whole runs of MODEL_FILES (default: MSL CoupledClutches, Friction, SimpleGearShift, HeatLosses)."""
     from .bench import bench as run_bench
+    from .cli_bench import print_scale, print_stiff, print_sweeps
     from .model import Model
 
     if scale_sizes is not None:
-        _bench_scale(scale_sizes)
+        print_scale(scale_sizes)
         return
     if stiff:
-        _bench_stiff(list(model_files) or [*STIFF_BENCH, EXAMPLES_DIR / "HeatLosses.toml"])
+        print_stiff(list(model_files) or [*STIFF_BENCH, EXAMPLES_DIR / "HeatLosses.toml"])
         return
     files = list(model_files) or [EXAMPLES_DIR / f"{n}.toml" for n in DEFAULT_BENCH]
     if not model_files and not all(f.is_file() for f in files):
         _fail(f"no MODEL files given and the default examples are not in {EXAMPLES_DIR}")
     if sweep_variants is not None:
-        _bench_sweeps(list(model_files) or [EXAMPLES_DIR / "CoupledClutches.toml"], sweep_variants, dask)
+        print_sweeps(list(model_files) or [EXAMPLES_DIR / "CoupledClutches.toml"], sweep_variants, dask)
         return
     click.echo(
         f"{'model':<24} {'median ms':>10} {'min ms':>10} {'core med':>9} {'core min':>9} "
@@ -409,82 +410,6 @@ def bench(
             f"{row.model:<24} {row.median_ms:>10.3f} {row.min_ms:>10.3f} {row.core_median_ms:>9.3f} "
             f"{row.core_min_ms:>9.3f} {row.table_ms:>13.3f} {row.steps:>7} {row.rhs_evals:>10} {row.events:>7}"
         )
-
-
-def _bench_scale(sizes: str) -> None:
-    from .bench import bench_scale
-
-    try:
-        ns = [int(s) for s in sizes.split(",") if s.strip()]
-    except ValueError:
-        _fail(f"--scale: expected sizes like 10,100,1000, got {sizes!r}")
-    click.echo(
-        f"{'model':<8} {'N':>6} {'ms':>10} {'steps':>7} {'rhs evals':>10} {'events':>7} "
-        f"{'us/step/elem':>13} {'ms/event':>9}"
-    )
-    for kind in ("chain", "ladder"):
-        for n in ns:
-            row = bench_scale(kind, n)
-            click.echo(
-                f"{kind:<8} {n:>6} {row.ms:>10.1f} {row.steps:>7} {row.rhs_evals:>10} {row.events:>7} "
-                f"{row.us_per_step_element:>13.3f} {row.ms_per_event:>9.3f}"
-            )
-
-
-def _bench_stiff(files: list[Path]) -> None:
-    from .bench import bench_solvers
-    from .model import Model
-
-    click.echo(
-        f"{'model':<18} {'solver':<9} {'min ms':>10} {'steps':>8} {'rejected':>9} "
-        f"{'rhs evals':>10} {'jacobians':>10} {'lu setups':>10} {'switches':>9}"
-    )
-    for path in files:
-        model = Model.load(path)
-        for row in bench_solvers(model, ["tsit45", "bdf", "esdirk34", "auto"], repeat=5):
-            click.echo(
-                f"{row.model:<18} {row.solver:<9} {row.min_ms:>10.1f} {row.steps:>8} {row.rejected:>9} "
-                f"{row.rhs_evals:>10} {row.jacobians:>10} {row.lu_setups:>10} {row.switches:>9}"
-            )
-
-
-def _bench_sweeps(files: list[Path], variants: int, dask: bool) -> None:
-    """Local sweeps on 1 worker and every core (and on Dask), with the time outside the
-    core's runs: wall × workers against the sum of the variants' ``wall_s``."""
-    from .bench import bench_sweep
-    from .model import Model
-
-    click.echo(
-        f"{'model':<20} {'where':<6} {'variants':>8} {'workers':>7} {'total s':>8} {'ms/variant':>10} "
-        f"{'overhead %':>10} {'us/variant':>10} {'single run ms':>13}"
-    )
-    for path in files:
-        model = Model.load(path)
-        rows = [bench_sweep(model, variants, workers) for workers in (1, None)]
-        if dask:
-            rows.append(_bench_dask(model, variants))
-        for row in rows:
-            click.echo(
-                f"{model.name:<20} {row.where:<6} {row.variants:>8} {row.workers:>7} {row.seconds:>8.2f} "
-                f"{row.per_variant_ms:>10.3f} {100 * row.overhead:>10.2f} {row.overhead_us:>10.1f} "
-                f"{row.single_run_ms:>13.3f}"
-            )
-        if dask:
-            click.echo(f"dask / local (every core): {rows[2].seconds / rows[1].seconds:.2f}x")
-
-
-def _bench_dask(model: Any, variants: int) -> Any:
-    """The sweep on a LocalCluster of 2 processes × 1 thread (what ``LocalCluster()`` picks on
-    a 2-core machine); starting the cluster is not timed."""
-    from distributed import Client, LocalCluster
-
-    from .bench import bench_sweep
-
-    with (
-        LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster,
-        Client(cluster) as client,
-    ):
-        return bench_sweep(model, variants, None, client=client)
 
 
 from . import cli_sweep as _cli_sweep  # noqa: F401  (registers `stiction sweep`)

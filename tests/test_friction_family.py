@@ -301,11 +301,14 @@ def test_backlash_contact_is_free_in_the_gap_then_continuous_and_only_pushes() -
     assert np.all(tau[inside] == 0.0)
     tau_c = C_BL * (phi - B_BL / 2)
     contact = phi > B_BL / 2
-    assert tau.min() >= 0.0
+    # the switch to "no pulling" is an event located where the pull passes the relations'
+    # band (1e-10 N·m, as every relation's): until then it may pull that much, no more
+    band = 1e-10
+    assert tau.min() >= -band
     assert np.all(tau[contact] <= 2 * tau_c[contact] * (1 + 1e-12))
     # the "pulling" branch really occurs on the rebound, and it is cut to zero there
     pulling = contact & (tau_c + d * r["backlash.w_rel"] < 0)
-    assert pulling.sum() >= 3 and np.all(tau[pulling] == 0.0)
+    assert pulling.sum() >= 3 and np.all(np.abs(tau[pulling]) <= band)
     # the damper took energy out: kinetic energy after the impact is below the initial one
     ke = r["system.kineticEnergy"]
     assert ke[-1] < 0.95 * ke[0]

@@ -321,7 +321,12 @@ def test_a_brake_starting_backward_that_a_lossy_gear_turns_forward_stops_startin
     lossy gear beside it drives its shaft forward. MSL's start, held by its hysteresis, would
     go on with the friction driving the motion and then lock at the slip gained (creeping).
     The start ends where the speed leaves the relation band; the brake then breaks away
-    forward, and every locked element stays inside the band and its static limit."""
+    forward, and every locked element stays inside the band and its static limit.
+
+    The corner is a near-tie that a change in the arithmetic moves: the ElastoBacklash's
+    located switches took this drivetrain off it, and c5.d = 1.6657937541474963 (found by
+    scanning it, 2.776 before) brings it back; the next bit of d does not. When this test stops
+    finding the corner, scan c5.d again rather than loosen what it asserts."""
     from pathlib import Path
 
     model = st.Model.loads((Path(__file__).parent / "data" / "start_turns_back.toml").read_text())

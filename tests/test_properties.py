@@ -218,7 +218,8 @@ def test_a_stuck_element_keeps_its_relative_speed_inside_the_relation_band(model
 @given(drivetrains())
 def test_a_tight_tolerance_lies_in_the_tube_of_the_default_one(model: st.Model) -> None:
     """The same model at Tolerance 1e-9 stays inside the MSL tube (2e-3) around the default
-    run: the default tolerance already resolves every stick/slip phase.
+    run, or — where the default tolerance's global error itself leaves the tube — the run
+    converges to it: the same mode changes, and a tenth of the error at Tolerance 1e-8.
 
     Not asked of a drivetrain with an ElastoBacklash: its bouncing can be chaotic (four shafts
     on springs and an undamped backlash, tests/data/chaotic_backlash.toml, are 91 % of a
@@ -229,7 +230,15 @@ def test_a_tight_tolerance_lies_in_the_tube_of_the_default_one(model: st.Model) 
     r = _run(model)
     if r is None:
         return
-    assert not _outside_tube(model, model.simulate(Tolerance=1e-9), r)
+    tight = model.simulate(Tolerance=1e-9)
+    if not _outside_tube(model, tight, r):
+        return
+    # About 1 drivetrain in 2000: an oscillation the default tolerance barely resolves
+    # (tests/data/coarse_oscillation.toml, 0.22 % of the range off): a wrong stick/slip
+    # decision would change the mode changes or keep its error at a tighter tolerance.
+    assert _changes(r) == _changes(tight)
+    closer = model.simulate(Tolerance=1e-8)
+    assert _distance(model, tight, closer) <= _distance(model, tight, r) / 10
 
 
 def _distance(model: st.Model, tight: st.Result, r: st.Result) -> float:
@@ -314,6 +323,20 @@ def test_a_backlash_amplifies_the_integration_error_that_a_tighter_tolerance_rem
     assert errors[0] > 5 * errors[1] > 25 * errors[2], errors
     if case != "damped_backlash":
         assert _outside_tube(model, tight, r)  # beyond any tube at the default Tolerance
+
+
+def test_an_oscillation_the_default_tolerance_barely_resolves_converges_with_the_tolerance() -> None:
+    """Found by `make soak` (1 in about 2000 drivetrains): two inertias on a stiff spring
+    (105 rad/s), driven by a sine, no friction. Tsit45 at the default Tolerance 1e-6 takes 76
+    steps for 17 periods and is 0.22 % of the speeds' range off — outside the MSL tube — and
+    the error falls about tenfold per decade of Tolerance, as the method's order says."""
+    from pathlib import Path
+
+    model = st.Model.load(Path(__file__).parent / "data" / "coarse_oscillation.toml")
+    r, tight = model.simulate(), model.simulate(Tolerance=1e-9)
+    assert _outside_tube(model, tight, r) and r.stats["events"] == 0
+    errors = [_distance(model, tight, model.simulate(Tolerance=tol)) for tol in (1e-6, 1e-7, 1e-8)]
+    assert errors[0] > 5 * errors[1] > 25 * errors[2], errors
 
 
 def test_a_brake_starting_backward_that_a_lossy_gear_turns_forward_stops_starting_there():

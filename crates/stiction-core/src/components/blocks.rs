@@ -165,6 +165,9 @@ impl Block for Sine {
                 before
             }
     }
+    fn time_scale(&self) -> f64 {
+        1.0 / self.f.abs()
+    }
 }
 
 pub fn sine(p: &Params) -> ModelResult<Box<dyn Component>> {

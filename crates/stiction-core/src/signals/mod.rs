@@ -6,6 +6,11 @@
 /// has not happened, even where the integrator evaluates a little beyond it.
 pub trait Block: Send + Sync {
     fn eval(&self, t: f64, horizon: f64, u: &[f64]) -> f64;
+    /// The time over which the output turns smoothly (a sine's period; infinite for outputs
+    /// that change only at time events or follow their inputs).
+    fn time_scale(&self) -> f64 {
+        f64::INFINITY
+    }
 }
 
 pub struct BlockElem {
@@ -23,6 +28,11 @@ pub struct SignalGraph {
 }
 
 impl SignalGraph {
+    /// The shortest time scale of the blocks' own variation (`Block::time_scale`).
+    pub fn time_scale(&self) -> f64 {
+        (self.blocks.iter()).fold(f64::INFINITY, |m, b| m.min(b.block.time_scale()))
+    }
+
     pub fn eval(&self, t: f64, horizon: f64, values: &mut [f64]) {
         let mut u = [0.0; 4];
         for b in &self.blocks {

@@ -43,21 +43,40 @@ const NEWTON_FAILS_PER_STEP: usize = 50;
 /// What a method needs renewed before each step.
 pub trait StepBudget {
     fn renew_budget(&mut self) {}
+    /// Keeps the next step at most `h_max` long (`stepper::max_step`).
+    fn limit_step(&mut self, h_max: f64);
 }
 
-impl StepBudget for ExplicitRk<'_, Eqn> {}
+/// The Runge–Kutta methods take a new step size as it is.
+fn limit_rk_step<'a, S: OdeSolverMethod<'a, Eqn>>(solver: &mut S, h_max: f64) {
+    if solver.state().h > h_max {
+        *solver.state_mut().h = h_max;
+    }
+}
+
+impl StepBudget for ExplicitRk<'_, Eqn> {
+    fn limit_step(&mut self, h_max: f64) {
+        limit_rk_step(self, h_max);
+    }
+}
 
 impl StepBudget for Bdf<'_, Eqn, LS> {
     fn renew_budget(&mut self) {
         let failures = self.get_statistics().number_of_nonlinear_solver_fails;
         self.config_mut().maximum_newton_fails = failures + NEWTON_FAILS_PER_STEP;
     }
+    /// Not limited: diffsol's BDF restarts at first order whenever its state is touched, which
+    /// would hold it at tiny steps for ever.
+    fn limit_step(&mut self, _h_max: f64) {}
 }
 
 impl StepBudget for Sdirk<'_, Eqn, LS> {
     fn renew_budget(&mut self) {
         let failures = self.get_statistics().number_of_nonlinear_solver_fails;
         self.config_mut().maximum_newton_fails = failures + NEWTON_FAILS_PER_STEP;
+    }
+    fn limit_step(&mut self, h_max: f64) {
+        limit_rk_step(self, h_max);
     }
 }
 

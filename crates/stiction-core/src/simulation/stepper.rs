@@ -25,6 +25,15 @@ use crate::system::System;
 
 /// The most state events and steps a run may take (a runaway, not a model, needs more).
 const MAX_STEPS: usize = 5_000_000;
+/// The longest step, a quarter of the signals' shortest time scale. A locked drivetrain's
+/// states do not move, so the integrator would take steps longer than a 5 Hz drive's period,
+/// and the crossing scan's samples could not follow a static limit that the drive crosses and
+/// recovers between them (found by the soak: a brake holding 0.33 N·m beyond its limit for
+/// 55 ms, tests/data/missed_breakaway.toml).
+fn max_step(sys: &System) -> f64 {
+    sys.signals.time_scale() / 4.0
+}
+
 /// Why a step of length 0 stops the run.
 const ZERO_STEP: &str = "the step size fell to 0: the derivatives are too large for floating point (a force or an input far beyond the model's scale?)";
 
@@ -115,6 +124,8 @@ pub(super) struct Stepper {
     pub(super) candidates: Vec<(usize, f64, f64)>,
     /// `advance` returns right after a state event (FMI 3.0's early return).
     pub(super) stop_at_events: bool,
+    /// The longest step: a quarter of the signals' shortest time scale (`max_step`).
+    pub(super) max_step: f64,
 }
 
 impl Stepper {
@@ -125,6 +136,7 @@ impl Stepper {
         x0: Vec<f64>,
     ) -> Self {
         let nz = indicator_count(&sys);
+        let max_step = max_step(&sys);
         let t0 = sys.experiment.start_time;
         let chatter = ChatterWatch::new(&sys.experiment);
         let grid_last = sys.experiment.grid_len();
@@ -179,6 +191,7 @@ impl Stepper {
             stiffness,
             candidates: Vec::new(),
             stop_at_events: false,
+            max_step,
         }
     }
 
@@ -309,6 +322,7 @@ impl Stepper {
         S: OdeSolverMethod<'a, Eqn> + StepBudget,
     {
         solver.renew_budget();
+        solver.limit_step(self.max_step);
         let reason = solver
             .step()
             .map_err(|e| integrator_error(self.t_prev, e))?;

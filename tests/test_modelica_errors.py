@@ -297,3 +297,22 @@ def test_reals_without_a_range_accept_any_finite_value() -> None:
         ]
     assert refused == []
     assert "startTime" in _free_reals()["Step"] and "J" not in _free_reals()["Inertia"]
+
+
+# Found by fuzzing (tests/test_fuzz_modelica.py): each crashed with a Python exception before.
+ARITHMETIC = [
+    ("a 400-digit literal", "9" * 400, ["Integer literal", "out of range"]),
+    ("1e400", "1e400", ["too large for a Real"]),
+    ("an Integer power too large", "10^400", ["too large"]),
+    ("division by zero", "1/0", ["division by zero"]),
+    ("nesting deeper than the stack", "(" * 5000 + "1" + ")" * 5000, ["nested too deeply"]),
+    ("a 20000-term sum", "1+" * 20000 + "1", ["deeper than 200 levels"]),
+]
+
+
+@pytest.mark.parametrize(("what", "value", "words"), ARITHMETIC, ids=[a[0] for a in ARITHMETIC])
+def test_values_python_cannot_hold_are_located_errors(what: str, value: str, words: list[str]) -> None:
+    message = _error(HEAD + f"  parameter Real p = {value};\n" + OK_BODY + "end M;")
+    assert message.startswith("<modelica>:3:"), message
+    for word in words:
+        assert word in message, (word, message)

@@ -63,3 +63,5 @@ def test_bench_scale_prints_a_row_per_model_and_size() -> None:
         ("ladder", "12"),
     ]
     assert all(float(r[2]) > 0 and int(r[5]) > 0 for r in rows)
+    bad = CliRunner().invoke(main, ["bench", "--scale", "4,x"])
+    assert bad.exit_code == 2 and "--scale" in bad.output and "'4,x'" in bad.output, bad.output

@@ -105,6 +105,22 @@ fn a_torque_input_spins_the_inertia_as_newton_says() {
             Status::Ok
         );
         let (mut event, mut stop, mut early, mut t) = (true, true, true, 0.0);
+        // found by fuzzing: a NaN communication point was taken for the current time
+        let nan = fmi3DoStep(
+            c,
+            f64::NAN,
+            0.5,
+            true,
+            &mut event,
+            &mut stop,
+            &mut early,
+            &mut t,
+        );
+        assert_eq!(nan, Status::Error);
+        assert!(
+            last(&log).contains("currentCommunicationPoint NaN"),
+            "{log:?}"
+        );
         let status = fmi3DoStep(c, 0.0, 0.5, true, &mut event, &mut stop, &mut early, &mut t);
         assert_eq!(status, Status::Ok);
         assert_eq!((event, stop, early, t), (false, false, false, 0.5));

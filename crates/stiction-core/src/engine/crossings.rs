@@ -6,6 +6,7 @@
 
 use crate::engine::eval::{DiscreteState, Workspace};
 use crate::switching::element::INDICATORS;
+use crate::system::law::MAX_LAW_RELATIONS;
 use crate::system::System;
 
 /// `INDICATORS` per switching element (what each means is the element's business), then one
@@ -29,9 +30,9 @@ pub fn indicators(sys: &System, disc: &DiscreteState, ws: &Workspace, z: &mut [f
     {
         e.indicators(st, v, &ws.signals, slot);
     }
-    let mut scratch = [0.0; 4];
+    let mut scratch = [0.0; MAX_LAW_RELATIONS];
     for (k, law) in sys.laws.iter().enumerate() {
-        let count = law.law.relation_count();
+        let count = law.relation_count;
         if count == 0 {
             continue;
         }
@@ -75,7 +76,7 @@ pub fn indicator_label(sys: &System, disc: &DiscreteState, i: usize) -> String {
     }
     let r = i - law_base(sys);
     for law in &sys.laws {
-        let count = law.law.relation_count();
+        let count = law.relation_count;
         if r >= law.relation_base && r < law.relation_base + count {
             return format!(
                 "{}: {}",

@@ -14,6 +14,7 @@ use crate::linalg::{LinearSolver, SizedLu};
 use crate::switching::element::SwitchState;
 use crate::switching::logic::Discrete;
 use crate::switching::relation::RelationSet;
+use crate::system::law::MAX_LAW_RELATIONS;
 use crate::system::System;
 
 /// Factored mode matrices by mode: a mode met again costs nothing.
@@ -172,9 +173,9 @@ pub fn iterate(
 /// previous mode's matrix may not even be regular, e.g. before initialization).
 fn law_relations_at(sys: &System, disc: &mut DiscreteState, at: &EventPoint, ws: &mut Workspace) {
     kinematics(sys, disc, at.t, at.x, at.horizon, ws);
-    let mut z = [0.0; 4];
+    let mut z = [0.0; MAX_LAW_RELATIONS];
     for (k, law) in sys.laws.iter().enumerate() {
-        let count = law.law.relation_count();
+        let count = law.relation_count;
         // a relation may depend on the law's others (an ElastoBacklash's switches inside a
         // contact on the contact): evaluated again until none changes, at most once each
         for _ in 0..count {

@@ -98,6 +98,7 @@ impl Builder {
     pub fn add_law(&mut self, rel: Rel, law: Box<dyn ForceLaw>) -> usize {
         let relation_base = self.sys.relation_count;
         let relation_count = law.relation_count();
+        debug_assert!(relation_count <= super::law::MAX_LAW_RELATIONS);
         self.sys.relation_count += relation_count;
         self.sys.laws.push(LawElem {
             owner: self.name().to_string(),

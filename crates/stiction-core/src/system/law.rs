@@ -26,6 +26,9 @@ pub enum EnergyRole {
     Source,
 }
 
+/// The most relations one force law has (an ElastoBacklash: two contacts, two switches).
+pub const MAX_LAW_RELATIONS: usize = 4;
+
 pub trait ForceLaw: Send + Sync {
     /// The element torque: the law exerts `−tau·row` on the nodes (for a two-flange element,
     /// `tau = flange_b.tau`; a torque source returns minus its accelerating torque).
@@ -48,6 +51,7 @@ pub trait ForceLaw: Send + Sync {
     fn linear(&self) -> Option<(f64, f64)> {
         None
     }
+    /// At most `MAX_LAW_RELATIONS` (the event scans keep them on the stack).
     fn relation_count(&self) -> usize {
         0
     }

@@ -124,12 +124,11 @@ class ExpressionParser:
 
     # --- expressions ------------------------------------------------------------------
     def expression(self) -> Expr:
-        saved = self.depth
-        try:
-            self.deeper()
-            return self._expression()
-        finally:
-            self.depth = saved
+        saved = self.depth  # an error ends the parse, so no restoring on the way out
+        self.deeper()
+        expr = self._expression()
+        self.depth = saved
+        return expr
 
     def deeper(self) -> None:
         """One level deeper in the expression tree: a nested expression or a chained operator."""

@@ -7,7 +7,7 @@
 use diffsol::OdeSolverMethod;
 
 use super::integrator::Eqn;
-use super::samples::{Hump, FD_STEP};
+use super::samples::{hermite_top, Hump, FD_STEP};
 use super::stepper::Stepper;
 use crate::engine::speed_rates;
 use crate::error::SimError;
@@ -189,7 +189,9 @@ impl Stepper {
     /// ends: the rate's zero, by bisection on the dense output (a speed's rate is its relative
     /// acceleration; others' rates are backward differences). A peak the tangents at both ends
     /// keep below zero is not searched: the tangents bound a concave hump from above, and
-    /// `TANGENT_MARGIN` allows for a hump that is not quite concave.
+    /// `TANGENT_MARGIN` allows for a hump that is not quite concave. One that is far from
+    /// concave (its rate grows before it falls) is searched where the cubic through both ends'
+    /// values and rates rises above zero, less a tenth of its rise (`hermite_top`).
     pub(super) fn peak_between<'a, S>(
         &mut self,
         solver: &S,
@@ -204,12 +206,15 @@ impl Stepper {
         let turning: Vec<usize> = (0..self.dz.len())
             .filter(|&i| {
                 let (za, zb, dza, dzb) = (self.z_scan[i], self.z[i], self.dz_scan[i], self.dz[i]);
+                let tangents = za + dza * reach > 0.0 && zb - dzb * reach > 0.0;
                 dza > 0.0
                     && dzb < 0.0
                     && za <= 0.0
                     && zb <= 0.0
-                    && za + dza * reach > 0.0
-                    && zb - dzb * reach > 0.0
+                    && (tangents || {
+                        let top = hermite_top(za, zb, dza, dzb, b - a);
+                        top + 0.1 * (top - za.min(zb)) > 0.0
+                    })
             })
             .collect();
         let mut earliest: Option<(f64, usize)> = None;
@@ -233,6 +238,42 @@ impl Stepper {
             }
         }
         Ok(earliest)
+    }
+
+    /// The crossing `found` in (a, b], or an earlier one that the samples did not show: an
+    /// indicator that is above zero at `found` though not at `a` (in `z_scan`) crossed in
+    /// between, in a hump too narrow for the samples at both ends of the interval (a brake
+    /// re-engaging with a vanishing normal force starts backward and its slip passes the
+    /// relation band within 0.1 ms of a 31 ms interval, while the start's end is what changes
+    /// sign at the samples: left there, the start ended and locked three bands away from zero).
+    /// One evaluation at `found`; each round moves the crossing earlier.
+    pub(super) fn earliest_before<'a, S>(
+        &mut self,
+        solver: &S,
+        a: f64,
+        mut found: (f64, usize),
+        candidates: &mut Vec<(usize, f64, f64)>,
+    ) -> Result<(f64, usize), SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        loop {
+            self.indicators_at(solver, found.0)?;
+            candidates.clear();
+            for (i, (&za, &z)) in self.z_scan.iter().zip(&self.z).enumerate() {
+                if i != found.1 && za <= 0.0 && z > 0.0 {
+                    candidates.push((i, za, z));
+                }
+            }
+            if candidates.is_empty() {
+                return Ok(found);
+            }
+            let earlier = self.locate(solver, a, found.0, candidates)?;
+            if earlier.0 >= found.0 {
+                return Ok(found);
+            }
+            found = earlier;
+        }
     }
 
     /// Earliest instant in (a, b] at which one of `candidates` becomes > 0: Illinois regula falsi

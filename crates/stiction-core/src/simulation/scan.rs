@@ -173,7 +173,8 @@ impl Stepper {
                 }
             }
             if !candidates.is_empty() {
-                return self.locate(solver, a, end, candidates).map(Some);
+                let found = self.locate(solver, a, end, candidates)?;
+                return self.earliest_before(solver, a, found, candidates).map(Some);
             }
             if let Some(found) = self.hump_before(solver, k)? {
                 candidates.clear();

@@ -252,13 +252,21 @@ impl SwitchingElement for FrictionElem {
                 flip(R::SA_BELOW_MAX, -v.sa - v.tau0_max),
             )
         } else if let Some(slip) = self.slip_indicator(st, v.w) {
+            // A start is held by sa beyond tau0_max, or by sa beyond tau0 while the element
+            // has not turned the other way (`logic::start_flags`): any of the three relations
+            // flipping may end it. Held by tau0_max alone (its speed already the other way),
+            // it ends when sa comes back inside: unwatched, a brake went on starting backward
+            // while its shaft turned forward to 1.2e-3 rad/s, and delivered energy.
             let end = if st.pre.mode != logic::STUCK {
                 NEVER
             } else if st.pre.start_forward {
-                // the start ends when sa falls below tau0 or the element turns backward
-                flip(R::SA_ABOVE, v.sa - v.tau0).max(flip(R::W_NEG, -v.w))
+                flip(R::SA_ABOVE_MAX, v.sa - v.tau0_max)
+                    .max(flip(R::SA_ABOVE, v.sa - v.tau0))
+                    .max(flip(R::W_NEG, -v.w))
             } else {
-                flip(R::SA_BELOW, -v.sa - v.tau0).max(flip(R::W_POS, v.w))
+                flip(R::SA_BELOW_MAX, -v.sa - v.tau0_max)
+                    .max(flip(R::SA_BELOW, -v.sa - v.tau0))
+                    .max(flip(R::W_POS, v.w))
             };
             (slip, end)
         } else {
@@ -302,7 +310,7 @@ impl SwitchingElement for FrictionElem {
             1 if st.pre.mode == logic::BACKWARD => "backward slip speed reached 0",
             1 if st.pre.start_forward => "started sliding forward (w > 0)",
             1 => "started sliding backward (w < 0)",
-            _ => "the start ended: its torque fell below the sliding torque, or it turned the other way",
+            _ => "the start's conditions changed: its torque against tau0 or tau0_max, or it turned the other way",
         }
     }
 }

@@ -219,7 +219,10 @@ def test_a_stuck_element_keeps_its_relative_speed_inside_the_relation_band(model
 def test_a_tight_tolerance_lies_in_the_tube_of_the_default_one(model: st.Model) -> None:
     """The same model at Tolerance 1e-9 stays inside the MSL tube (2e-3) around the default
     run, or — where the default tolerance's global error itself leaves the tube — the run
-    converges to it: the same mode changes, and a tenth of the error at Tolerance 1e-8.
+    converges to it: at Tolerance 1e-8 the same mode changes as at 1e-9, and a tenth of the
+    default's error. The default run may decide a near-tie the other way
+    (tests/data/near_tie_breakaway.toml); that its own decisions are right to its own
+    trajectory is what the invariants above assert.
 
     Not asked of a drivetrain with an ElastoBacklash: its bouncing can be chaotic (four shafts
     on springs and an undamped backlash, tests/data/chaotic_backlash.toml, are 91 % of a
@@ -236,8 +239,13 @@ def test_a_tight_tolerance_lies_in_the_tube_of_the_default_one(model: st.Model) 
     # About 1 drivetrain in 2000: an oscillation the default tolerance barely resolves
     # (tests/data/coarse_oscillation.toml, 0.22 % of the range off): a wrong stick/slip
     # decision would change the mode changes or keep its error at a tighter tolerance.
-    assert _changes(r) == _changes(tight)
+    _assert_converges(model, r, tight)
+
+
+def _assert_converges(model: st.Model, r: st.Result, tight: st.Result) -> None:
+    """At Tolerance 1e-8 the mode changes of the tight run, and a tenth of the error of r."""
     closer = model.simulate(Tolerance=1e-8)
+    assert _changes(closer) == _changes(tight)
     assert _distance(model, tight, closer) <= _distance(model, tight, r) / 10
 
 
@@ -336,6 +344,28 @@ def test_an_oscillation_the_default_tolerance_barely_resolves_converges_with_the
     assert _outside_tube(model, tight, r) and r.stats["events"] == 0
     errors = [_distance(model, tight, model.simulate(Tolerance=tol)) for tol in (1e-6, 1e-7, 1e-8)]
     assert errors[0] > 5 * errors[1] > 25 * errors[2], errors
+
+
+def test_a_near_tie_the_default_tolerance_does_not_resolve_converges_with_the_tolerance() -> None:
+    """Found by `make soak` (1 in about 10 000 drivetrains): brake2 holds its shaft while its
+    static limit falls; at the default Tolerance the torque it holds comes within 4e-5 of the
+    limit and it stays locked, at 1e-7 and tighter it breaks away at 0.8709 s. The held torque's
+    own error at the default Tolerance (2.4e-3 N·m at 0.870 s, from the spring and the lossy
+    gear beside it) exceeds that margin (2.1e-3 N·m at 0.871 s): the default run decides the
+    tie the other way, within its tolerance, as any tool would. It is outside the tube, and
+    converges."""
+    from pathlib import Path
+
+    model = st.Model.load(Path(__file__).parent / "data" / "near_tie_breakaway.toml")
+    r, tight = model.simulate(), model.simulate(Tolerance=1e-9)
+    assert _changes(r) != _changes(tight) and _outside_tube(model, tight, r)
+    held, limit = np.abs(r["brake2.tau"]), r["brake2.tau0_max"]
+    window = (r.time > 0.86) & (r.time < 0.872)
+    margin = float((limit - held)[window].min())
+    before = (r.time > 0.86) & (r.time < 0.8708)  # the tight run breaks away at 0.8709 s
+    error = float(np.abs(held - np.abs(np.interp(r.time, tight.time, tight["brake2.tau"])))[before].max())
+    assert 0 < margin < min(error, 1e-4 * float(limit[window].min())), (margin, error)
+    _assert_converges(model, r, tight)
 
 
 def test_a_locked_brake_breaks_away_when_a_fast_drive_exceeds_its_limit_between_long_steps() -> None:

@@ -23,7 +23,7 @@ impl Stepper {
     ) -> Result<(), SimError> {
         self.hump_back = None; // the indicators change meaning with the mode
         self.skip_grid_at(t);
-        if !(matches!(kind, EventKind::Input(..)) && self.last_row == t) {
+        if !(matches!(kind, EventKind::Input(..) | EventKind::Parameter) && self.last_row == t) {
             self.record_here(t);
         }
         let changes = {
@@ -65,7 +65,7 @@ impl Stepper {
         match kind {
             EventKind::State => self.stats.state_events += 1,
             EventKind::Time => self.stats.time_events += 1,
-            EventKind::Input(..) => self.stats.input_events += 1,
+            EventKind::Input(..) | EventKind::Parameter => self.stats.input_events += 1,
         }
         self.evaluate_here(t, true);
         self.z_prev.copy_from_slice(&self.z);

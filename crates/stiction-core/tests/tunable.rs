@@ -1,0 +1,237 @@
+//! Tunable parameters of a running `Simulation`: a change is an event at that instant (the
+//! same as an input's jump), it acts from there exactly as the closed form says, a saved state
+//! after it restores bit for bit, and a fixed parameter or a bad value is a typed error that
+//! leaves the run usable.
+
+use stiction_core::simulation::Simulation;
+use stiction_core::{ModelError, ModelSpec, SimError, SimResult};
+
+/// A flywheel (J = 2, w = 100) braked with a constant normal force: fn_max·f_normalized, the
+/// force a model input at `f` (so that a force step can also be an input's jump); mu = 0.4
+/// at every speed, cgeo = 0.1, no static peak.
+fn braked(fn_max: f64, f: f64) -> ModelSpec {
+    let text = format!(
+        r#"
+name = "braked"
+connect = [["flywheel.flange_b", "brake.flange_a"]]
+inputs = [{{ port = "brake.f_normalized", start = {f:?} }}]
+
+[experiment]
+StopTime = 6.0
+Interval = 0.01
+Tolerance = 1e-8
+
+[components]
+flywheel = {{ type = "Inertia", J = 2.0, phi = 0.0, w = 100.0 }}
+brake = {{ type = "Brake", fn_max = {fn_max:?}, mu_pos = [[0.0, 0.4]], peak = 1.0, cgeo = 0.1 }}
+"#
+    );
+    ModelSpec::from_toml(&text, ".").expect("the model parses")
+}
+
+/// The instant the brake locks the flywheel (its mode becomes Stuck = 0).
+fn stop_time(r: &SimResult) -> f64 {
+    (r.events.iter())
+        .find(|e| e.component == "brake" && e.new_mode == 0 && e.time > 0.0)
+        .map(|e| e.time)
+        .expect("the flywheel stops")
+}
+
+#[test]
+fn a_raised_brake_force_stops_the_shaft_when_the_closed_form_says() {
+    let mut sim = Simulation::from_spec(&braked(500.0, 1.0)).unwrap();
+    sim.advance_to(2.0).unwrap();
+    // decelerating at 0.4·0.1·500/2 = 10 rad/s²
+    assert!((sim.get("flywheel.w").unwrap() - 80.0).abs() < 1e-9);
+    sim.set_parameter("brake.fn_max", 2000.0).unwrap();
+    assert_eq!(sim.time(), 2.0);
+    sim.run().unwrap();
+    let r = sim.into_result();
+    // from 80 rad/s at 40 rad/s²: at rest 2 s later
+    assert!((stop_time(&r) - 4.0).abs() < 1e-9, "{}", stop_time(&r));
+    assert_eq!(r.stats.input_events, 1);
+    let change = (r.events.iter())
+        .find(|e| e.cause.starts_with("parameter brake.fn_max set to 2000"))
+        .map(|e| e.time);
+    assert_eq!(
+        change, None,
+        "the brake keeps sliding: no mode change at the event"
+    );
+    // both sides of the instant are recorded, each with its own parameters
+    let (t, fnorm) = (r.column("time").unwrap(), r.column("brake.fn").unwrap());
+    let k = t.iter().position(|&u| u == 2.0).unwrap();
+    assert_eq!(t[k + 1], 2.0);
+    assert_eq!((fnorm[k], fnorm[k + 1]), (500.0, 2000.0));
+    assert_eq!(fnorm[0], 500.0);
+}
+
+#[test]
+fn a_parameter_change_is_the_same_event_as_an_input_jump_bit_for_bit() {
+    // fn_max 500 → 2000 at f = 1, against fn_max = 2000 with f 0.25 → 1: the same normal
+    // force, exactly, before and after
+    let mut tuned = Simulation::from_spec(&braked(500.0, 1.0)).unwrap();
+    let mut input = Simulation::from_spec(&braked(2000.0, 0.25)).unwrap();
+    for t in [0.37, 1.234, 2.5] {
+        tuned.advance_to(t).unwrap();
+        input.advance_to(t).unwrap();
+    }
+    tuned.set_parameter("brake.fn_max", 2000.0).unwrap();
+    input.set_input("brake.f_normalized", 1.0).unwrap();
+    tuned.run().unwrap();
+    input.run().unwrap();
+    let (a, b) = (tuned.into_result(), input.into_result());
+    assert_eq!(a.rows(), b.rows());
+    for name in [
+        "time",
+        "flywheel.w",
+        "flywheel.phi",
+        "brake.tau",
+        "brake.mode",
+    ] {
+        let (x, y) = (a.column(name).unwrap(), b.column(name).unwrap());
+        let same = x.iter().zip(&y).all(|(u, v)| u.to_bits() == v.to_bits());
+        assert!(same, "{name} differs");
+    }
+    assert_eq!(stop_time(&a), stop_time(&b));
+}
+
+#[test]
+fn a_change_equals_a_force_that_steps_at_that_time() {
+    // the same brake with its force from a Step at 2 s (a time event): the same stop
+    let step = r#"
+name = "stepped"
+connect = [["flywheel.flange_b", "brake.flange_a"], ["press.y", "brake.f_normalized"]]
+
+[experiment]
+StopTime = 6.0
+Interval = 0.01
+Tolerance = 1e-8
+
+[components]
+flywheel = { type = "Inertia", J = 2.0, phi = 0.0, w = 100.0 }
+brake = { type = "Brake", fn_max = 2000.0, mu_pos = [[0.0, 0.4]], peak = 1.0, cgeo = 0.1 }
+press = { type = "Step", offset = 0.25, height = 0.75, startTime = 2.0 }
+"#;
+    let reference = stiction_core::simulate(&ModelSpec::from_toml(step, ".").unwrap()).unwrap();
+    let mut sim = Simulation::from_spec(&braked(500.0, 1.0)).unwrap();
+    sim.advance_to(2.0).unwrap();
+    sim.set_parameter("brake.fn_max", 2000.0).unwrap();
+    sim.run().unwrap();
+    let r = sim.into_result();
+    assert!((stop_time(&r) - stop_time(&reference)).abs() < 1e-9);
+    let (w, w_ref) = (
+        r.column("flywheel.w").unwrap(),
+        reference.column("flywheel.w").unwrap(),
+    );
+    let (t, t_ref) = (r.column("time").unwrap(), reference.column("time").unwrap());
+    let mut compared = 0;
+    for (k, u) in t_ref.iter().enumerate() {
+        if let Some(j) = t.iter().position(|v| v == u) {
+            assert!(
+                (w[j] - w_ref[k]).abs() < 1e-8,
+                "at {u}: {} vs {}",
+                w[j],
+                w_ref[k]
+            );
+            compared += 1;
+        }
+    }
+    assert!(compared > 500, "{compared}");
+}
+
+#[test]
+fn a_state_saved_after_a_change_restores_bit_for_bit() {
+    let mut sim = Simulation::from_spec(&braked(500.0, 1.0)).unwrap();
+    sim.advance_to(1.0).unwrap();
+    sim.set_parameter("brake.fn_max", 900.0).unwrap();
+    sim.advance_to(1.5).unwrap();
+    sim.set_input("brake.f_normalized", 0.5).unwrap();
+    sim.advance_to(2.25).unwrap();
+    sim.set_parameters(&[("brake.fn_max", 3000.0.into()), ("brake.cgeo", 0.2.into())])
+        .unwrap();
+    sim.advance_to(2.5).unwrap();
+    let saved = sim.state().unwrap();
+    assert_eq!(saved.parameters.len(), 2);
+    sim.advance_to(3.0).unwrap();
+    let later = sim.values().unwrap();
+    // in a fresh run of the model (its parameters as at the start), and after a reset
+    let mut other = Simulation::from_spec(&braked(500.0, 1.0)).unwrap();
+    other.set_state(&saved).unwrap();
+    other.advance_to(3.0).unwrap();
+    sim.reset().unwrap();
+    sim.set_state(&saved).unwrap();
+    sim.advance_to(3.0).unwrap();
+    for again in [other.values().unwrap(), sim.values().unwrap()] {
+        let same = later
+            .iter()
+            .zip(&again)
+            .all(|(u, v)| u.to_bits() == v.to_bits());
+        assert!(same, "{later:?} vs {again:?}");
+    }
+}
+
+#[test]
+fn fixed_parameters_and_bad_values_are_refused_by_name() {
+    let spec = braked(500.0, 1.0);
+    let mut sim = Simulation::from_spec(&spec).unwrap();
+    sim.advance_to(1.0).unwrap();
+    let w = sim.get("flywheel.w").unwrap();
+    let refused = |e: SimError, parameter: &str| match e {
+        SimError::Model(ModelError::Parameter {
+            component,
+            parameter: p,
+            ..
+        }) => assert_eq!(format!("{component}.{p}"), parameter),
+        other => panic!("{parameter}: {other:?}"),
+    };
+    // a start value, a Boolean that changes the ports, a value out of range
+    refused(
+        sim.set_parameter("flywheel.w", 3.0).unwrap_err(),
+        "flywheel.w",
+    );
+    let e = sim.set_parameters(&[("brake.useHeatPort", true.into())]);
+    refused(e.unwrap_err(), "brake.useHeatPort");
+    refused(
+        sim.set_parameter("brake.peak", 0.5).unwrap_err(),
+        "brake.peak",
+    );
+    refused(
+        sim.set_parameter("brake.nope", 1.0).unwrap_err(),
+        "brake.nope",
+    );
+    // an inertia that vanishes makes the shaft's speed algebraic: refused
+    refused(
+        sim.set_parameter("flywheel.J", 0.0).unwrap_err(),
+        "flywheel.J",
+    );
+    let e = sim.set_parameter("StopTime", 3.0).unwrap_err();
+    assert!(matches!(e, SimError::Model(ModelError::File(_))), "{e:?}");
+    // nothing changed: the run goes on as if no call had been made
+    assert_eq!(sim.get("flywheel.w").unwrap(), w);
+    assert!(sim.parameter_changes().is_empty());
+    sim.run().unwrap();
+    assert!((sim.get("flywheel.w").unwrap() - 40.0).abs() < 1e-9);
+}
+
+#[test]
+fn a_new_inertia_refactors_the_mode_and_acts_from_then_on() {
+    let mut sim = Simulation::from_spec(&braked(500.0, 1.0)).unwrap();
+    sim.advance_to(1.0).unwrap(); // w = 90
+    sim.set_parameter("flywheel.J", 4.0).unwrap(); // 5 rad/s² from now: at rest 18 s later
+    sim.advance_to(3.0).unwrap();
+    assert!((sim.get("flywheel.w").unwrap() - 80.0).abs() < 1e-9);
+    // a gear ratio is fixed: the angles it ties are positions the run has reached
+    let gear = r#"
+name = "geared"
+connect = [["a.flange_b", "gear.flange_a"], ["gear.flange_b", "b.flange_a"]]
+[components]
+a = { type = "Inertia", J = 1.0, w = 1.0 }
+gear = { type = "IdealGear", ratio = 2.0 }
+b = { type = "Inertia", J = 1.0 }
+"#;
+    let mut geared = Simulation::from_spec(&ModelSpec::from_toml(gear, ".").unwrap()).unwrap();
+    geared.advance_to(0.1).unwrap();
+    let e = geared.set_parameter("gear.ratio", 3.0).unwrap_err();
+    assert!(e.to_string().contains("'ratio'"), "{e}");
+    assert!(e.to_string().contains("fixed"), "{e}");
+}

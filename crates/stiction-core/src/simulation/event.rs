@@ -174,6 +174,20 @@ impl Stepper {
         self.restart(solver, t_event, order, implicit)
     }
 
+    /// Takes the run back to `now` for an event there (an input's or a parameter's): the
+    /// pending step is dropped and the state at `now` is the event's. Returns `now`.
+    pub(super) fn back_to_now<'a, S>(&mut self, solver: &mut S) -> Result<f64, SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let t = self.now;
+        let x = self.state_now(solver)?;
+        self.x.copy_from_slice(&x);
+        self.pending = None;
+        self.t_prev = t;
+        Ok(t)
+    }
+
     /// Sets model input `k` at the current time: the integrator goes back to `now` (a pending
     /// step is discarded), and the new value acts from there through an event.
     pub fn set_input<'a, S>(
@@ -188,11 +202,7 @@ impl Stepper {
     where
         S: OdeSolverMethod<'a, Eqn>,
     {
-        let t = self.now;
-        let x = self.state_now(solver)?;
-        self.x.copy_from_slice(&x);
-        self.pending = None;
-        self.t_prev = t;
+        let t = self.back_to_now(solver)?;
         let horizon = self.phase.borrow().horizon;
         let cause = format!("input {name} set to {value}");
         self.handle_event(t, horizon, EventKind::Input(k, value), &cause)?;

@@ -210,11 +210,7 @@ impl Stepper {
     where
         S: OdeSolverMethod<'a, Eqn>,
     {
-        let t = self.now;
-        let x = self.state_now(solver)?;
-        self.x.copy_from_slice(&x);
-        self.pending = None;
-        self.t_prev = t;
+        let t = self.back_to_now(solver)?;
         self.skip_grid_at(t);
         if self.last_row != t {
             self.record_here(t);

@@ -67,27 +67,11 @@ impl Simulation {
     /// and the parameter, and the run goes on unchanged; values equal to the ones in force
     /// change nothing.
     pub fn set_parameters(&mut self, changes: &[(&str, toml::Value)]) -> Result<(), SimError> {
-        let Some(tuning) = self.tuning.as_ref() else {
-            return Err(SimError::Usage(
-                "this run was made from an assembled system: make it from a model (Simulation::from_model) to change parameters".into(),
-            ));
-        };
-        for (name, _) in changes {
-            tuning.current.check_tunable(name)?;
-        }
-        let variant = tuning.current.with(changes)?;
-        let components = |m: &CompiledModel| -> Vec<toml::Table> {
-            (m.spec().components.iter())
-                .map(|c| c.params.clone())
-                .collect()
-        };
-        if components(&variant) == components(&tuning.current) {
+        let Some(variant) = self.checked_variant(changes)? else {
             return Ok(());
-        }
-        let sys = variant.system();
-        same_structure(&tuning.current, &self.stepper.sys, &sys, changes)?;
+        };
+        let (sys, old) = (variant.system(), self.stepper.sys.clone());
         let cause = describe(changes);
-        let old = self.stepper.sys.clone();
         let Simulation { cell, stepper, .. } = self;
         let boundary = cell.with_dependent_mut(|_, integ| {
             let (order, implicit) = (integ.order(), integ.implicit());
@@ -100,13 +84,42 @@ impl Simulation {
                 .map(|(n, v)| (n.to_string(), v.clone()))
                 .collect(),
         };
-        let tuning = self.tuning.as_mut().expect("checked above");
-        tuning.current = variant;
-        tuning.changes.push(record);
-        if boundary > 0 {
-            tuning.segments.push((boundary, old));
+        if let Some(tuning) = self.tuning.as_mut() {
+            tuning.current = variant;
+            tuning.changes.push(record);
+            if boundary > 0 {
+                tuning.segments.push((boundary, old));
+            }
         }
         Ok(())
+    }
+
+    /// The variant of the model in force with `changes`, each checked to be tunable, in
+    /// range and to keep the running structure; None if it changes no value.
+    fn checked_variant(
+        &self,
+        changes: &[(&str, toml::Value)],
+    ) -> Result<Option<CompiledModel>, SimError> {
+        let Some(tuning) = self.tuning.as_ref() else {
+            return Err(SimError::Usage(
+                "this run was made from an assembled system: make it from a model (Simulation::from_model) to change parameters".into(),
+            ));
+        };
+        for (name, _) in changes {
+            tuning.current.check_tunable(name)?;
+        }
+        let variant = tuning.current.with(changes)?;
+        let params = |m: &CompiledModel| -> Vec<toml::Table> {
+            (m.spec().components.iter())
+                .map(|c| c.params.clone())
+                .collect()
+        };
+        if params(&variant) == params(&tuning.current) {
+            return Ok(None);
+        }
+        let (old, new) = (&self.stepper.sys, variant.system());
+        same_structure(&tuning.current, old, &new, changes)?;
+        Ok(Some(variant))
     }
 
     /// A fresh run of the model this one was made from (its parameters before any change).

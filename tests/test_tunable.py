@@ -66,7 +66,7 @@ def test_a_raised_brake_force_stops_the_flywheel_when_the_closed_form_says() -> 
     sim = braked().simulation()
     sim.advance_to(1.5)
     assert sim["flywheel.w"] == pytest.approx(85.0, abs=1e-9)
-    sim.set_parameter("brake.fn_max", 10000.0)
+    sim.set_parameter("brake.fn_max", 10000)  # an int is a number too
     sim.run()
     r = sim.result()
     stops = [e.time for e in r.events if e.component == "brake" and e.new == "stuck"]

@@ -235,3 +235,23 @@ b = { type = "Inertia", J = 1.0 }
     assert!(e.to_string().contains("'ratio'"), "{e}");
     assert!(e.to_string().contains("fixed"), "{e}");
 }
+
+#[test]
+fn recorded_rows_keep_their_parameters_across_a_restore() {
+    let mut sim = Simulation::from_spec(&braked(500.0, 1.0)).unwrap();
+    sim.advance_to(1.0).unwrap();
+    let saved = sim.state().unwrap(); // before any change
+    sim.set_parameter("brake.fn_max", 2000.0).unwrap();
+    sim.advance_to(2.0).unwrap();
+    sim.set_state(&saved).unwrap(); // fn_max is 500 again from 1 s
+    sim.advance_to(3.0).unwrap();
+    assert_eq!(sim.get("brake.fn").unwrap(), 500.0);
+    let r = sim.into_result();
+    let (t, fnorm) = (r.column("time").unwrap(), r.column("brake.fn").unwrap());
+    // rows to 2 s as they were recorded (500, then 2000 from 1 s), then the restored run's
+    let at = |time: f64, after: usize| (after..t.len()).find(|&k| t[k] == time).unwrap();
+    let first = at(1.5, 0);
+    assert_eq!((fnorm[0], fnorm[first]), (500.0, 2000.0));
+    let again = at(1.5, first + 1);
+    assert_eq!((fnorm[again], fnorm[t.len() - 1]), (500.0, 500.0));
+}

@@ -255,3 +255,90 @@ fn recorded_rows_keep_their_parameters_across_a_restore() {
     let again = at(1.5, first + 1);
     assert_eq!((fnorm[again], fnorm[t.len() - 1]), (500.0, 500.0));
 }
+
+/// A spring (c = 100) in series with a damper to ground, the shaft between them without
+/// inertia: its speed is algebraic, c(φ1 − φn)/d, so the factorization depends on d.
+const SERIES: &str = r#"
+name = "series"
+connect = [
+  ["J1.flange_b", "spring.flange_a"],
+  ["spring.flange_b", "damper.flange_a"],
+  ["damper.flange_b", "fixed.flange"],
+]
+
+[experiment]
+StopTime = 0.5
+Interval = 0.01
+Tolerance = 1e-10
+
+[components]
+J1     = { type = "Inertia", J = 1.0, phi = 0.0, w = 1.0 }
+spring = { type = "Spring", c = 100.0, phi_rel = 0.0 }
+damper = { type = "Damper", d = 25.0 }
+fixed  = { type = "Fixed" }
+"#;
+
+/// (φ1, w1, φn) at `t_end` of J·w1' = −c(φ1 − φn), d·φn' = c(φ1 − φn) (J = 1, c = 100),
+/// d = 25 until `t1`, then `d2`; classical Runge–Kutta at 1e-5 s.
+fn series_reference(t1: f64, d2: f64, t_end: f64) -> [f64; 3] {
+    let f = |y: [f64; 3], d: f64| [y[1], -100.0 * (y[0] - y[2]), 100.0 / d * (y[0] - y[2])];
+    let (mut y, h) = ([0.0, 1.0, 0.0], 1e-5);
+    for k in 0..(t_end / h).round() as usize {
+        let d = if (k as f64) < (t1 / h).round() {
+            25.0
+        } else {
+            d2
+        };
+        let k1 = f(y, d);
+        let k2 = f(std::array::from_fn(|i| y[i] + 0.5 * h * k1[i]), d);
+        let k3 = f(std::array::from_fn(|i| y[i] + 0.5 * h * k2[i]), d);
+        let k4 = f(std::array::from_fn(|i| y[i] + h * k3[i]), d);
+        y = std::array::from_fn(|i| y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]));
+    }
+    y
+}
+
+#[test]
+fn a_new_damping_on_a_shaft_without_inertia_takes_its_algebraic_speed_anew() {
+    let mut sim = Simulation::from_spec(&ModelSpec::from_toml(SERIES, ".").unwrap()).unwrap();
+    sim.advance_to(0.2).unwrap();
+    sim.set_parameter("damper.d", 50.0).unwrap();
+    // right after the change the damper's speed is the new algebraic one, c(φ1 − φn)/d
+    let [phi1, _, phin] = series_reference(0.2, 50.0, 0.2);
+    let w_rel = sim.get("damper.w_rel").unwrap();
+    assert!((w_rel + 2.0 * (phi1 - phin)).abs() < 1e-8, "{w_rel}");
+    sim.run().unwrap();
+    let [_, w1, phin] = series_reference(0.2, 50.0, 0.5);
+    assert!((sim.get("J1.w").unwrap() - w1).abs() < 1e-8);
+    assert!((sim.get("damper.phi_rel").unwrap() + phin).abs() < 1e-8);
+}
+
+#[test]
+fn a_sine_source_takes_a_new_amplitude_and_frequency() {
+    // J = 1 driven by 2·sin(2π·1·t) until 0.3 s, then 5·sin(2π·4·t): w from the integrals
+    let text = r#"
+name = "driven"
+connect = [["sine.y", "torque.tau"], ["torque.flange", "J.flange_a"]]
+[experiment]
+StopTime = 1.0
+Tolerance = 1e-10
+[components]
+J = { type = "Inertia", J = 1.0, phi = 0.0, w = 0.0 }
+torque = { type = "Torque" }
+sine = { type = "Sine", amplitude = 2.0, f = 1.0 }
+"#;
+    let mut sim = Simulation::from_spec(&ModelSpec::from_toml(text, ".").unwrap()).unwrap();
+    sim.advance_to(0.3).unwrap();
+    let changes = [("sine.amplitude", 5.0.into()), ("sine.f", 4.0.into())];
+    sim.set_parameters(&changes).unwrap();
+    sim.run().unwrap();
+    let tau = std::f64::consts::TAU;
+    let cos = |f: f64, t: f64| (tau * f * t).cos();
+    let w1 = 2.0 / tau * (1.0 - cos(1.0, 0.3));
+    let w = w1 + 5.0 / (tau * 4.0) * (cos(4.0, 0.3) - cos(4.0, 1.0));
+    assert!(
+        (sim.get("J.w").unwrap() - w).abs() < 1e-7,
+        "{}",
+        sim.get("J.w").unwrap()
+    );
+}

@@ -342,3 +342,41 @@ sine = { type = "Sine", amplitude = 2.0, f = 1.0 }
         sim.get("J.w").unwrap()
     );
 }
+
+#[test]
+fn a_lowered_brake_force_releases_a_held_shaft_at_that_instant() {
+    // 10 N·m against a brake that holds up to 0.4·0.1·1000 = 40 N·m; from 1 s it holds 4
+    let text = r#"
+name = "held"
+connect = [["drive.flange", "flywheel.flange_a"], ["flywheel.flange_b", "brake.flange_a"],
+           ["press.y", "brake.f_normalized"]]
+[experiment]
+StopTime = 2.0
+Tolerance = 1e-10
+[components]
+flywheel = { type = "Inertia", J = 2.0, phi = 0.0, w = 0.0 }
+drive = { type = "ConstantTorque", tau_constant = 10.0 }
+brake = { type = "Brake", fn_max = 1000.0, mu_pos = [[0.0, 0.4]], peak = 1.0, cgeo = 0.1 }
+press = { type = "Constant", k = 1.0 }
+"#;
+    let mut sim = Simulation::from_spec(&ModelSpec::from_toml(text, ".").unwrap()).unwrap();
+    sim.advance_to(1.0).unwrap();
+    assert_eq!(sim.get("flywheel.w").unwrap(), 0.0);
+    sim.set_parameter("brake.fn_max", 100.0).unwrap();
+    sim.run().unwrap();
+    // sliding from 1 s at (10 − 4)/2 = 3 rad/s²
+    assert!((sim.get("flywheel.w").unwrap() - 3.0).abs() < 1e-9);
+    let r = sim.into_result();
+    // MSL's startForward is set at the change (the brake no longer locks); its mode becomes
+    // Forward as soon as the speed leaves zero
+    let release = (r.events.iter()).find(|e| e.component == "brake" && e.time > 0.0);
+    let release = release.expect("the brake lets go");
+    assert!(
+        release.time >= 1.0 && release.time - 1.0 < 1e-9,
+        "{release:?}"
+    );
+    let (t, a) = (r.column("time").unwrap(), r.column("flywheel.a").unwrap());
+    let k = t.iter().position(|&u| u == 1.0).unwrap();
+    assert_eq!((t[k + 1], a[k]), (1.0, 0.0), "left and right rows");
+    assert!((a[k + 1] - 3.0).abs() < 1e-12, "{}", a[k + 1]);
+}

@@ -111,7 +111,9 @@ def test_model_descriptions_pass_fmpy_validation(
     kinds = {v.name: (v.causality, v.variability) for v in md.modelVariables}
     assert kinds["brake.f_normalized"] == ("input", "continuous")
     assert kinds["flywheel.w"] == ("output", "continuous")
-    assert kinds["brake.fn_max"] == ("parameter", "fixed")
+    assert kinds["brake.fn_max"] == ("parameter", "tunable")
+    clutches = fmpy.read_model_description(clutches_any).modelVariables
+    assert {v.name: v.variability for v in clutches}["step1.startTime"] == "fixed"
     fn_max = next(v for v in md.modelVariables if v.name == "brake.fn_max")
     assert (float(fn_max.start), fn_max.unit) == (2000.0, "N")
 
@@ -192,8 +194,9 @@ def test_bad_calls_return_an_error_with_a_message(flywheel_fmu: Path) -> None:
     h.start(1.0)
     with pytest.raises(FMICallException):
         h.slave.doStep(0.0, -0.1)
-    with pytest.raises(FMICallException):
-        h.slave.setReal([h.vr["brake.fn_max"]], [10.0])  # parameters are fixed after initialization
+    with pytest.raises(FMICallException):  # a start value: fixed once initialization is over
+        h.slave.setReal([h.vr["flywheel.w"]], [10.0])
+    assert "setting the start value of flywheel.w is not allowed in state Step" in h.messages[-1]
     h.slave.doStep(0.0, 0.5)  # still usable after refused calls
     assert h.get("flywheel.w") == pytest.approx(100.0)
     with pytest.raises(FMICallException):

@@ -54,6 +54,10 @@ class Parameter:
     description: str
     range: str | None = None
     choices: tuple[str, ...] = ()
+    #: whether a running ``Simulation`` (``set_parameter``) and an FMU in step mode can take a
+    #: new value; fixed are those that decide the structure, a position or a time event, and
+    #: start values
+    tunable: bool = False
 
     @property
     def annotation(self) -> str:
@@ -167,6 +171,7 @@ def _info(raw: dict[str, Any]) -> ComponentInfo:
             description=p["description"],
             range=p["range"],
             choices=tuple(p.get("choices", ())),
+            tunable=p["tunable"],
         )
         for p in raw["parameters"]
     )

@@ -5,9 +5,11 @@ build of the engine: no Python in the importer's process) in ``binaries/<platfor
 ``resources/``, the model file and the table that maps value references to names. Inputs are
 the model's declared inputs; outputs are the chosen variables; parameters are the Real and
 Boolean parameters of the components with their MSL names, and the tables given in the model
-(FMI 3.0: an array variable; FMI 2.0: one Real per element, ``brake.mu_pos[2,1]``), all set
-before the end of initialization (``variability="fixed"``: the engine compiles them into the
-run). Boolean parameters that change a component's ports (``useSupport``, ``useHeatPort``, an
+(FMI 3.0: an array variable; FMI 2.0: one Real per element, ``brake.mu_pos[2,1]``). Those the
+catalogue marks tunable (``Parameter.tunable``: a brake's ``fn_max``, a spring's ``c``, an
+inertia's ``J``, a friction table) are ``variability="tunable"``: the host may set them between
+two ``doStep`` calls too, an event at the communication point; the others are ``fixed``, set
+before the end of initialization (the engine compiles them into the run). Boolean parameters that change a component's ports (``useSupport``, ``useHeatPort``, an
 adaptor's ``use_w``) stay in the model file: they decide what the compiled model is. The start
 values of the states (``J1.w``, a OneWayClutch's Boolean ``stuck``) are the FMI way: the
 state's variable (an output if chosen, else a local one) has ``initial="exact"`` (fixed) or
@@ -66,6 +68,8 @@ class FmuVariable:
     #: a table's rows and columns, and its values row after row (``start`` is unused)
     shape: tuple[int, int] | None = None
     values: tuple[float, ...] = ()
+    #: a parameter the host may set in step mode too (``variability="tunable"``)
+    tunable: bool = False
 
     @property
     def is_boolean(self) -> bool:
@@ -128,15 +132,15 @@ def _table(value: object) -> list[list[float]] | None:
 
 
 def _table_variables(
-    name: str, rows: list[list[float]], description: str, fmi_version: int
+    name: str, rows: list[list[float]], description: str, fmi_version: int, tunable: bool
 ) -> list[FmuVariable]:
     """FMI 3.0: one array variable; FMI 2.0: one Real per element, ``name[i,j]`` (1-based)."""
     if fmi_version == 3:
         values = tuple(float(x) for r in rows for x in r)
         shape = (len(rows), len(rows[0]))
-        return [FmuVariable(name, "table", 0.0, "", description, shape=shape, values=values)]
+        return [FmuVariable(name, "table", 0.0, "", description, shape=shape, values=values, tunable=tunable)]
     return [
-        FmuVariable(f"{name}[{i + 1},{j + 1}]", "element", float(x), "", description)
+        FmuVariable(f"{name}[{i + 1},{j + 1}]", "element", float(x), "", description, tunable=tunable)
         for i, r in enumerate(rows)
         for j, x in enumerate(r)
     ]
@@ -155,11 +159,13 @@ def _parameters(model: Model, components: dict[str, dict], fmi_version: int = 2)
             value = spec.get(p.name, p.default)
             full = f"{name}.{p.name}"
             if p.kind == "Real" and _is_number(value):
-                found.append(FmuVariable(full, "parameter", float(value), p.unit, p.description))
+                found.append(
+                    FmuVariable(full, "parameter", float(value), p.unit, p.description, tunable=p.tunable)
+                )
             elif p.kind == "Boolean" and isinstance(value, bool) and p.name not in _structural(info):
                 found.append(FmuVariable(full, "boolean", float(value), "", p.description))
             elif p.kind.startswith("table") and "file" not in spec and (rows := _table(value)) is not None:
-                found.extend(_table_variables(full, rows, p.description, fmi_version))
+                found.extend(_table_variables(full, rows, p.description, fmi_version, p.tunable))
     return found
 
 

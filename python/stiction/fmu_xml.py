@@ -2,8 +2,9 @@
 
 Inputs are continuous with their start value; outputs are calculated (``*.mode`` discrete);
 parameters (Real, Boolean, a table: FMI 3.0 an array with two ``Dimension``s, FMI 2.0 its
-elements) are ``fixed`` with ``initial="exact"``: they are compiled into the run at the end
-of initialization. A state with a start value (output or local) has ``initial="exact"`` where
+elements) have ``initial="exact"``: ``tunable`` where the catalogue says so (settable between
+two ``doStep`` calls: an event at the communication point), else ``fixed`` (compiled into the
+run at the end of initialization). A state with a start value (output or local) has ``initial="exact"`` where
 the start value is fixed, ``"approx"`` where it is a guess, settable until initialization ends. No event indicators, no derivatives; states can be saved and serialized.
 """
 
@@ -38,6 +39,8 @@ def _attributes(v: FmuVariable) -> str:
         attrs = f'causality="{causality}" variability="{variability}" initial="{initial}"'
         return attrs + (f" description={quoteattr(v.description)}" if v.description else "")
     attrs = ATTRIBUTES[v.kind]
+    if v.tunable:
+        attrs = attrs.replace('variability="fixed"', 'variability="tunable"')
     if v.kind == "output" and v.name.endswith(".mode"):
         attrs = attrs.replace("continuous", "discrete")
     return attrs + (f" description={quoteattr(v.description)}" if v.description else "")

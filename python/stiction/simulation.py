@@ -1,13 +1,15 @@
 """``Simulation``: a run that can be advanced in pieces, driven through inputs and read live.
 
 This is what a co-simulation master, an FMU host or an interactive session needs: advance to
-a time, set a model input (an event at that instant when its value jumps), read any variable,
-save and restore the whole state. Advancing in many small pieces gives exactly the result of
-one ``Model.simulate`` call: the integrator is not restarted where a piece ends.
+a time, set a model input (an event at that instant when its value jumps) or a tunable
+parameter (the same kind of event), read any variable, save and restore the whole state.
+Advancing in many small pieces gives exactly the result of one ``Model.simulate`` call: the
+integrator is not restarted where a piece ends.
 """
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING
 
 from .errors import UsageError
@@ -65,6 +67,23 @@ class Simulation:
     def set_input(self, name: str, value: float) -> None:
         """Set a model input from the current time on; a new value is an event now."""
         self._core.set_input(name, float(value))
+
+    def set_parameter(self, name: str, value: float | Sequence[Sequence[float]]) -> None:
+        """Set a tunable parameter (``"brake.fn_max"``) from the current time on.
+
+        The change is an event now, as an input's jump is: the row before it has the old
+        value, the modes are found anew with the new one and the integrator restarts. A
+        fixed parameter (a gear's ``ratio``, a ``startTime``, a Boolean, a start value; see
+        ``Parameter.tunable`` in ``stiction.catalogue``) or a value out of range raises
+        ``ModelError`` naming the component and the parameter, and the run goes on unchanged.
+        """
+        self.set_parameters({name: value})
+
+    def set_parameters(self, values: Mapping[str, float | Sequence[Sequence[float]]]) -> None:
+        """Set several tunable parameters (``{"brake.fn_max": 200.0, "spring.c": 1e4}``) from
+        the current time on, at one event; a table (``lossy.lossTable``) is given whole.
+        Nothing changes if one is refused (see ``set_parameter``)."""
+        self._core.set_parameters(dict(values))
 
     def get(self, name: str) -> float:
         """One variable at the current time, by its MSL name (``"J1.w"``)."""

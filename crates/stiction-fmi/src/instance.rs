@@ -9,7 +9,7 @@ use stiction_core::simulation::SimState;
 use stiction_core::{ModelSpec, Simulation};
 
 use crate::layout::{resource_dir, Kind, Layout};
-use crate::values::{bind, overrides, setting, Var};
+use crate::values::{bind, overrides, setting, settings_of, Var};
 
 pub type Fallible<T> = Result<T, String>;
 
@@ -32,11 +32,13 @@ pub struct Experiment {
     pub tolerance: Option<f64>,
 }
 
-/// A saved state: the run's, the values of the inputs and parameters and the experiment
-/// settings (a state restored into a fresh instance rebuilds its run from them).
+/// A saved state: the run's (with its parameter changes), the values of the variables now and
+/// when the run was built, and the experiment settings (a state restored into a fresh
+/// instance builds its run from the values it started with, then replays the changes).
 pub struct Snapshot {
     pub(crate) sim: SimState,
     pub(crate) values: Vec<Vec<f64>>,
+    pub(crate) base: Vec<Vec<f64>>,
     pub(crate) experiment: Experiment,
 }
 
@@ -48,12 +50,24 @@ pub struct Instance {
     stop_time: Option<f64>,
     tolerance: Option<f64>,
     sim: Option<Simulation>,
+    /// The variables' values the run was built with (tunable parameters set in step mode
+    /// change `vars`, not these).
+    base: Vec<Vec<f64>>,
     /// What a serialized state must carry to be restored here (`serial::fingerprint`).
     pub fingerprint: String,
     /// FMI 3.0 `earlyReturnAllowed`: `doStep` stops at the first friction event in the step.
     pub early_return: bool,
     /// Whether the last `doStep` stopped at such an event before its end.
     pub returned_early: bool,
+}
+
+/// What a set-up variable is, in messages.
+fn what(kind: Kind) -> &'static str {
+    match kind {
+        Kind::Start { .. } | Kind::FlagStart => "the start value of",
+        Kind::Element { .. } => "table element",
+        _ => "parameter",
+    }
 }
 
 fn read(dir: &Path, file: &str) -> Fallible<String> {
@@ -84,6 +98,7 @@ impl Instance {
             stop_time: None,
             tolerance: None,
             sim: None,
+            base: Vec::new(),
             fingerprint: crate::serial::fingerprint(guid),
             early_return: false,
             returned_early: false,
@@ -143,7 +158,7 @@ impl Instance {
     /// Builds the run from the current parameters and inputs, once.
     fn ensure_sim(&mut self) -> Fallible<&mut Simulation> {
         if self.sim.is_none() {
-            let mut sim = Simulation::new(self.variant()?.system()).map_err(|e| e.to_string())?;
+            let mut sim = Simulation::from_model(self.variant()?).map_err(|e| e.to_string())?;
             sim.set_recording(false);
             sim.set_stop_at_events(self.early_return);
             for v in self.vars.iter().filter(|v| v.kind == Kind::Input) {
@@ -151,6 +166,7 @@ impl Instance {
                     .map_err(|e| e.to_string())?;
             }
             self.sim = Some(sim);
+            self.base = self.vars.iter().map(|v| v.value.clone()).collect();
         }
         Ok(self.sim.as_mut().expect("built above"))
     }
@@ -222,11 +238,70 @@ impl Instance {
                 shapes.join(", ")
             ));
         }
+        if self.mode == Mode::Step && vars.iter().any(|v| v.kind.is_setup()) {
+            return self.tune(vrs, values);
+        }
         let mut at = 0;
         for &vr in vrs {
             let n = self.var(vr)?.kind.size();
             self.set_value(vr, &values[at..at + n])?;
             at += n;
+        }
+        Ok(())
+    }
+
+    /// Step mode: the tunable parameters among `vrs` change together, at one event at the
+    /// communication point (a table's FMI 2.0 elements with it); inputs follow, each its
+    /// event. A fixed parameter refuses the whole call and changes nothing.
+    fn tune(&mut self, vrs: &[u32], values: &[f64]) -> Fallible<()> {
+        let mut next: Vec<Vec<f64>> = self.vars.iter().map(|v| v.value.clone()).collect();
+        let mut parameters: Vec<String> = Vec::new();
+        let mut at = 0;
+        for &vr in vrs {
+            let v = self.var(vr)?;
+            let value = &values[at..at + v.kind.size()];
+            at += v.kind.size();
+            if let Some(bad) = value.iter().find(|x| !x.is_finite()) {
+                return Err(format!("{}: {bad} is not a finite number", v.name));
+            }
+            match v.kind {
+                Kind::Output | Kind::Independent => {
+                    return Err(format!(
+                        "{} is computed by the FMU: it cannot be set",
+                        v.name
+                    ))
+                }
+                Kind::Input => {}
+                _ => {
+                    let parameter = v.parameter().to_string();
+                    if let Err(e) = self.model.check_tunable(&parameter) {
+                        return Err(format!(
+                            "setting {} {} is not allowed in state Step: {e}",
+                            what(v.kind),
+                            v.name
+                        ));
+                    }
+                    if !parameters.contains(&parameter) {
+                        parameters.push(parameter);
+                    }
+                }
+            }
+            next[vr as usize] = value.to_vec();
+        }
+        let settings = settings_of(&self.vars, &next, &parameters);
+        let sim = self.sim.as_mut().expect("a run exists in step mode");
+        let set: Vec<(&str, toml::Value)> = settings
+            .iter()
+            .map(|(n, v)| (n.as_str(), v.clone()))
+            .collect();
+        sim.set_parameters(&set).map_err(|e| e.to_string())?;
+        for &vr in vrs {
+            let v = &self.vars[vr as usize];
+            if v.kind == Kind::Input {
+                sim.set_input(&v.name, next[vr as usize][0])
+                    .map_err(|e| e.to_string())?;
+            }
+            self.vars[vr as usize].value.clone_from(&next[vr as usize]);
         }
         Ok(())
     }
@@ -257,12 +332,7 @@ impl Instance {
     /// checked at once.
     fn set_parameter(&mut self, name: &str, kind: Kind, value: &[f64]) -> Fallible<()> {
         let allowed = [Mode::Instantiated, Mode::Initialization];
-        let what = match kind {
-            Kind::Start { .. } | Kind::FlagStart => "the start value of",
-            Kind::Element { .. } => "table element",
-            _ => "parameter",
-        };
-        self.expect(&allowed, &format!("setting {what} {name}"))?;
+        self.expect(&allowed, &format!("setting {} {name}", what(kind)))?;
         // an element is checked with its table at the end of initialization: one element at
         // a time, a table passes through shapes the model refuses (x no longer increasing)
         if let Some(setting) = setting(kind, value) {
@@ -333,6 +403,7 @@ impl Instance {
         Ok(Snapshot {
             sim: sim.state().map_err(|e| e.to_string())?,
             values: self.vars.iter().map(|v| v.value.clone()).collect(),
+            base: self.base.clone(),
             experiment,
         })
     }
@@ -349,19 +420,21 @@ impl Instance {
             Mode::Failed,
         ];
         self.expect(&allowed, "setFMUstate")?;
-        if snap.values.len() != self.vars.len() {
-            return Err("the FMU state belongs to another model".into());
-        }
-        let fits = (self.vars.iter().zip(&snap.values)).all(|(v, s)| s.len() == v.kind.size());
-        if !fits {
+        let fits = |values: &[Vec<f64>]| {
+            values.len() == self.vars.len()
+                && (self.vars.iter().zip(values)).all(|(v, s)| s.len() == v.kind.size())
+        };
+        if !fits(&snap.values) || !fits(&snap.base) {
             return Err("the FMU state belongs to another model".into());
         }
         let bits = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
-        let same_setup = self.experiment() == snap.experiment
-            && (self.vars.iter().zip(&snap.values))
-                .all(|(v, saved)| !v.kind.is_setup() || bits(&v.value, saved));
+        // the run this instance has was built from `self.base`; the state's from `snap.base`
+        let same_setup = self.sim.is_some()
+            && self.experiment() == snap.experiment
+            && (self.vars.iter().zip(&self.base).zip(&snap.base))
+                .all(|((v, mine), saved)| !v.kind.is_setup() || bits(mine, saved));
         if !same_setup || self.mode == Mode::Failed {
-            for (v, value) in self.vars.iter_mut().zip(&snap.values) {
+            for (v, value) in self.vars.iter_mut().zip(&snap.base) {
                 v.value.clone_from(value);
             }
             let e = snap.experiment;

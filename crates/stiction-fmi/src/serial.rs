@@ -2,8 +2,9 @@
 //!
 //! Layout, little-endian: the magic `STICFMUS`, the format version (u32), the fingerprint of the
 //! model (the FMU's GUID, itself a hash of the model and its variable table, and the runtime's
-//! version, each a u32 length and UTF-8), the snapshot (every variable's values, the
-//! experiment, the run's input events and what it reached), then an FNV-1a 64 checksum of all
+//! version, each a u32 length and UTF-8), the snapshot (every variable's values now and when
+//! the run was built, the experiment, the run's input events and parameter changes and what it
+//! reached), then an FNV-1a 64 checksum of all
 //! that precedes it. Numbers are f64 bit patterns, so a restored state is the saved one exactly.
 //!
 //! Written by hand: the snapshot is a few vectors of plain fields, and a serialization crate
@@ -13,7 +14,7 @@
 //! truncated or corrupted bytes give an error (never a panic or a huge allocation).
 
 use stiction_core::engine::eval::DiscreteState;
-use stiction_core::simulation::{Cursor, InputChange, SimState};
+use stiction_core::simulation::{Cursor, InputChange, ParameterChange, SimState};
 use stiction_core::switching::element::SwitchState;
 use stiction_core::switching::logic::Discrete;
 use stiction_core::switching::relation::{RelationSet, MAX_RELATIONS};
@@ -21,9 +22,10 @@ use stiction_core::switching::relation::{RelationSet, MAX_RELATIONS};
 use crate::instance::{Experiment, Fallible, Snapshot};
 
 const MAGIC: &[u8; 8] = b"STICFMUS";
-/// 2: the run's input events (a restored state replays them) and the values of array and
-/// Boolean variables; 1 had the integrator's step size.
-const VERSION: u32 = 2;
+/// 3: the parameter changes of step mode and the values the run was built with; 2: the run's
+/// input events (a restored state replays them) and the values of array and Boolean
+/// variables; 1 had the integrator's step size.
+const VERSION: u32 = 3;
 
 /// What a state must have been saved with to be restored here.
 pub fn fingerprint(guid: &str) -> String {
@@ -43,8 +45,10 @@ pub fn to_bytes(snap: &Snapshot, model: &str) -> Vec<u8> {
     w.0.extend_from_slice(MAGIC);
     w.u32(VERSION);
     w.text(model);
-    w.count(snap.values.len());
-    snap.values.iter().for_each(|v| w.floats(v));
+    for values in [&snap.values, &snap.base] {
+        w.count(values.len());
+        values.iter().for_each(|v| w.floats(v));
+    }
     for v in [
         snap.experiment.start,
         snap.experiment.stop,
@@ -85,6 +89,8 @@ pub fn from_bytes(bytes: &[u8], model: &str) -> Fallible<Snapshot> {
     }
     let n = r.count(4)?;
     let values = (0..n).map(|_| r.floats()).collect::<Fallible<_>>()?;
+    let n = r.count(4)?;
+    let base = (0..n).map(|_| r.floats()).collect::<Fallible<_>>()?;
     let experiment = Experiment {
         start: r.option()?,
         stop: r.option()?,
@@ -97,6 +103,7 @@ pub fn from_bytes(bytes: &[u8], model: &str) -> Fallible<Snapshot> {
     Ok(Snapshot {
         sim,
         values,
+        base,
         experiment,
     })
 }
@@ -156,6 +163,50 @@ impl Writer {
             self.f64(change.time);
             self.u64(change.input as u64);
             self.f64(change.value);
+        }
+        self.count(s.parameters.len());
+        for change in &s.parameters {
+            self.f64(change.time);
+            self.u64(change.after_inputs as u64);
+            self.count(change.values.len());
+            for (name, value) in &change.values {
+                self.text(name);
+                self.value(value);
+            }
+        }
+    }
+    /// A model-file value: a tag, then the number, flag, text or items.
+    fn value(&mut self, v: &toml::Value) {
+        match v {
+            toml::Value::Float(x) => {
+                self.0.push(0);
+                self.f64(*x);
+            }
+            toml::Value::Integer(i) => {
+                self.0.push(1);
+                self.u64(*i as u64);
+            }
+            toml::Value::Boolean(b) => {
+                self.0.push(2);
+                self.flag(*b);
+            }
+            toml::Value::Array(items) => {
+                self.0.push(3);
+                self.count(items.len());
+                items.iter().for_each(|item| self.value(item));
+            }
+            toml::Value::Table(t) => {
+                self.0.push(4);
+                self.count(t.len());
+                for (key, item) in t {
+                    self.text(key);
+                    self.value(item);
+                }
+            }
+            other => {
+                self.0.push(5);
+                self.text(&other.to_string());
+            }
         }
     }
 }
@@ -246,6 +297,49 @@ impl Reader<'_> {
             value: self.f64()?,
         })
     }
+    fn parameter_change(&mut self) -> Fallible<ParameterChange> {
+        let (time, after_inputs) = (self.f64()?, self.usize()?);
+        let n = self.count(6)?;
+        let values = (0..n)
+            .map(|_| Ok((self.text()?, self.value(0)?)))
+            .collect::<Fallible<_>>()?;
+        Ok(ParameterChange {
+            time,
+            after_inputs,
+            values,
+        })
+    }
+    /// A model-file value (`Writer::value`), nested at most a few levels as tables are.
+    fn value(&mut self, depth: usize) -> Fallible<toml::Value> {
+        if depth > 8 {
+            return Err("the serialized FMU state is not valid: values nested too deep".into());
+        }
+        Ok(match self.u8()? {
+            0 => toml::Value::Float(self.f64()?),
+            1 => toml::Value::Integer(self.u64()? as i64),
+            2 => toml::Value::Boolean(self.flag()?),
+            3 => {
+                let n = self.count(1)?;
+                let items = (0..n).map(|_| self.value(depth + 1));
+                toml::Value::Array(items.collect::<Fallible<_>>()?)
+            }
+            4 => {
+                let n = self.count(5)?;
+                let mut t = toml::Table::new();
+                for _ in 0..n {
+                    let key = self.text()?;
+                    t.insert(key, self.value(depth + 1)?);
+                }
+                toml::Value::Table(t)
+            }
+            5 => toml::Value::String(self.text()?),
+            tag => {
+                return Err(format!(
+                    "the serialized FMU state is not valid: value tag {tag}"
+                ))
+            }
+        })
+    }
     fn sim(&mut self) -> Fallible<SimState> {
         let x = self.floats()?;
         let n = self.count(5 + MAX_RELATIONS)?;
@@ -265,8 +359,13 @@ impl Reader<'_> {
         let changes = (0..n)
             .map(|_| self.input_change())
             .collect::<Fallible<_>>()?;
+        let n = self.count(20)?;
+        let parameters = (0..n)
+            .map(|_| self.parameter_change())
+            .collect::<Fallible<_>>()?;
         Ok(SimState {
             inputs: changes,
+            parameters,
             x,
             disc: DiscreteState {
                 switching,

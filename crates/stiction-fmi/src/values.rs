@@ -100,21 +100,38 @@ pub fn setting(kind: Kind, value: &[f64]) -> Option<toml::Value> {
     })
 }
 
-/// The table the FMI 2.0 elements named `name[i,j]` make, with their current values.
-fn elements(vars: &[Var], name: &str) -> toml::Value {
-    let of_table = || vars.iter().filter(|v| v.parameter() == name);
+/// The table the FMI 2.0 elements named `name[i,j]` make, with the values `value` gives.
+fn elements<'a>(vars: &'a [Var], name: &str, value: impl Fn(usize) -> &'a [f64]) -> toml::Value {
+    let of_table = || (vars.iter().enumerate()).filter(|(_, v)| v.parameter() == name);
     let index = |v: &Var| match v.kind {
         Kind::Element { row, col } => (row, col),
         _ => (0, 0),
     };
-    let rows = of_table().map(|v| index(v).0).max().unwrap_or(0);
-    let cols = of_table().map(|v| index(v).1).max().unwrap_or(0);
+    let rows = of_table().map(|(_, v)| index(v).0).max().unwrap_or(0);
+    let cols = of_table().map(|(_, v)| index(v).1).max().unwrap_or(0);
     let mut values = vec![0.0; rows * cols];
-    for v in of_table() {
+    for (k, v) in of_table() {
         let (r, c) = index(v);
-        values[(r - 1) * cols + c - 1] = v.value[0];
+        values[(r - 1) * cols + c - 1] = value(k)[0];
     }
     table(rows, cols, &values)
+}
+
+/// The model-file values of `parameters` (each a parameter or a table of FMI 2.0 elements)
+/// with the variables' values `values`.
+pub fn settings_of(
+    vars: &[Var],
+    values: &[Vec<f64>],
+    parameters: &[String],
+) -> Vec<(String, toml::Value)> {
+    let one = |p: &String| {
+        let whole = (vars.iter().zip(values))
+            .find(|(v, _)| v.name == *p)
+            .and_then(|(v, value)| setting(v.kind, value));
+        let value = whole.unwrap_or_else(|| elements(vars, p, |k| &values[k]));
+        (p.clone(), value)
+    };
+    parameters.iter().map(one).collect()
 }
 
 /// Every set-up value that differs from the FMU's start, as the model file writes it.
@@ -124,7 +141,7 @@ pub fn overrides(vars: &[Var]) -> Vec<(String, toml::Value)> {
         let value = match setting(v.kind, &v.value) {
             Some(value) => value,
             None if out.iter().any(|(n, _)| n == v.parameter()) => continue,
-            None => elements(vars, v.parameter()),
+            None => elements(vars, v.parameter(), |k| &vars[k].value),
         };
         out.push((v.parameter().to_string(), value));
     }

@@ -130,11 +130,25 @@ fn a_torque_input_spins_the_inertia_as_newton_says() {
             Status::Ok
         );
         assert!((w[0] - 4.0 / 2.0 * 0.5).abs() < 1e-9, "{}", w[0]);
+        // J is tunable: 4 from now on, half the acceleration
         assert_eq!(
             fmi3SetFloat64(c, [2].as_ptr(), 1, tau.as_ptr(), 1),
+            Status::Ok
+        );
+        let status = fmi3DoStep(c, 0.5, 0.5, true, &mut event, &mut stop, &mut early, &mut t);
+        assert_eq!(status, Status::Ok);
+        assert_eq!(
+            fmi3GetFloat64(c, [1].as_ptr(), 1, w.as_mut_ptr(), 1),
+            Status::Ok
+        );
+        assert!((w[0] - (1.0 + 4.0 / 4.0 * 0.5)).abs() < 1e-9, "{}", w[0]);
+        // but not to zero: the shaft's speed would become algebraic
+        let zero = [0.0];
+        assert_eq!(
+            fmi3SetFloat64(c, [2].as_ptr(), 1, zero.as_ptr(), 1),
             Status::Error
         );
-        assert!(last(&log).contains("setting parameter J.J"), "{log:?}");
+        assert!(last(&log).contains("parameter 'J'"), "{log:?}");
         assert_eq!(fmi3Terminate(c), Status::Ok);
         fmi3FreeInstance(c);
     }

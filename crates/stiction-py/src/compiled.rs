@@ -16,7 +16,7 @@ use crate::{advance_interruptibly, guarded, model_err, py_error, RawResult};
 
 /// A Python value as the model file would hold it: a number, a Boolean, a string, a (nested)
 /// list, or a table such as `{"start": 1.0, "fixed": True}`.
-fn to_toml(value: &Bound<'_, PyAny>) -> PyResult<toml::Value> {
+pub(crate) fn to_toml(value: &Bound<'_, PyAny>) -> PyResult<toml::Value> {
     if value.is_instance_of::<PyBool>() {
         return Ok(toml::Value::Boolean(value.extract()?));
     }

@@ -53,6 +53,7 @@ fn type_info<'py>(py: Python<'py>, t: &TypeInfo) -> PyResult<Bound<'py, PyDict>>
         d.set_item("unit", &p.unit)?;
         d.set_item("description", &p.description)?;
         d.set_item("range", &p.range)?;
+        d.set_item("tunable", p.tunable())?;
         params.append(d)?;
     }
     out.set_item("parameters", params)?;

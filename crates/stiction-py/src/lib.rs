@@ -387,6 +387,18 @@ impl PySimulation {
         guarded(|| sim.set_input(name, value))
     }
 
+    /// Sets tunable parameters (`{"brake.fn_max": 200.0}`) from now on, at one event.
+    fn set_parameters(&mut self, values: &Bound<'_, PyDict>) -> PyResult<()> {
+        let mut pairs: Vec<(String, toml::Value)> = Vec::new();
+        for (name, value) in values.iter() {
+            pairs.push((name.extract()?, compiled::to_toml(&value)?));
+        }
+        let refs: Vec<(&str, toml::Value)> =
+            pairs.iter().map(|(n, v)| (n.as_str(), v.clone())).collect();
+        let sim = self.sim()?;
+        guarded(|| sim.set_parameters(&refs))
+    }
+
     fn names(&mut self) -> PyResult<Vec<String>> {
         Ok(self.sim()?.names())
     }

@@ -82,6 +82,38 @@ impl CompiledModel {
         names
     }
 
+    /// Checks that `name` (`component.parameter`) may change in a running simulation: a
+    /// parameter of a component of this model that leaves the compiled structure alone
+    /// (`ParamInfo::tunable`). An experiment setting or a fixed parameter is refused, named.
+    pub fn check_tunable(&self, name: &str) -> ModelResult<()> {
+        let Some((component, parameter)) = name.split_once('.') else {
+            return Err(ModelError::File(format!(
+                "'{name}' is not a parameter (component.parameter): experiment settings are fixed in a running simulation"
+            )));
+        };
+        let ci = self.component_index(component)?;
+        let type_name = &self.spec.components[ci].type_name;
+        let registry = components::registry();
+        let entry = registry.iter().find(|e| e.name == type_name.as_str());
+        let info = entry.and_then(|entry| {
+            let (params, _) = components::declared(entry, false);
+            params.into_iter().find(|p| p.name == parameter)
+        });
+        let error = |message: String| ModelError::Parameter {
+            component: component.to_string(),
+            type_name: type_name.clone(),
+            parameter: parameter.to_string(),
+            message,
+        };
+        match info.map(|p| p.fixed_because()) {
+            None => Err(error("no such parameter".into())),
+            Some(Some(why)) => Err(error(format!(
+                "fixed ({why}): it cannot change in a running simulation"
+            ))),
+            Some(None) => Ok(()),
+        }
+    }
+
     /// A variant with `overrides` applied (each value as it would be written in the model
     /// file). Every name and value is checked before anything is built.
     pub fn with(&self, overrides: &[(&str, toml::Value)]) -> ModelResult<Self> {

@@ -57,6 +57,55 @@ pub struct ParamInfo {
     pub range: Option<String>,
 }
 
+/// Real parameters a running simulation cannot take anew, each with the reason: they fix a
+/// position (a gear's ratio ties the angles, a ground's angle, a prescribed speed) or the
+/// instants of the time events, which the run has planned (a TimeTable's `table` holds its
+/// abscissae).
+const FIXED: &[(&str, &str)] = &[
+    (
+        "ratio",
+        "the gear's position constraint holds from the start",
+    ),
+    (
+        "phi0",
+        "the ground's angle is a position the run has reached",
+    ),
+    (
+        "w_fixed",
+        "the prescribed speed is a state the run has reached",
+    ),
+    ("startTime", "it places a time event"),
+    ("period", "it places time events"),
+    ("width", "it places time events"),
+    ("nperiod", "it places time events"),
+    ("duration", "it places a time event"),
+    ("shiftTime", "it places time events"),
+    ("timeScale", "it places time events"),
+    ("table", "its abscissae place time events"),
+];
+
+impl ParamInfo {
+    /// Why the parameter cannot change in a running simulation, or None if it can (it is
+    /// *tunable*): Booleans, strings and choices change the structure, start values act
+    /// only at initialization, and some Real parameters fix positions or time events.
+    pub fn fixed_because(&self) -> Option<&'static str> {
+        match self.kind {
+            ParamKind::Real | ParamKind::Table(_) => (FIXED.iter())
+                .find(|(name, _)| *name == self.name)
+                .map(|(_, why)| *why),
+            ParamKind::Start | ParamKind::BooleanStart => {
+                Some("a start value acts at initialization only")
+            }
+            _ => Some("it decides the structure of the compiled model"),
+        }
+    }
+
+    /// Whether a running simulation (and an FMU in step mode) can take a new value.
+    pub fn tunable(&self) -> bool {
+        self.fixed_because().is_none()
+    }
+}
+
 /// Splits `"name [unit] description"` into its three parts (unit and description may be empty).
 pub fn parse_decl(decl: &str) -> (&str, &str, &str) {
     let decl = decl.trim();

@@ -54,7 +54,7 @@ impl SimResult {
         let tr = &self.trajectory;
         let mut flange_tau = vec![0.0; sys.flange_torques.ports()];
         let mut scratch = Vec::new();
-        self.visit_rows(|r, row| {
+        self.visit_rows(|r, sys, row| {
             let Some((ws, disc)) = row else {
                 return;
             };

@@ -98,6 +98,9 @@ pub struct SimResult {
     pub events: Vec<EventRecord>,
     pub stats: Stats,
     system: Arc<System>,
+    /// The systems of the rows before parameter changes (`Simulation::set_parameters`): rows
+    /// below each index were evaluated with its system; the rest with `system`.
+    earlier: Vec<(usize, Arc<System>)>,
     trajectory: Trajectory,
     discs: Vec<DiscreteState>,
     table: OnceLock<Vec<f64>>,
@@ -118,10 +121,37 @@ impl SimResult {
             events,
             stats,
             system,
+            earlier: Vec::new(),
             trajectory,
             discs,
             table: OnceLock::new(),
         }
+    }
+
+    /// The result of a run whose parameters changed: rows below each index were computed with
+    /// the system given with it (in increasing order), so they are evaluated with it.
+    pub fn with_earlier_systems(mut self, earlier: Vec<(usize, Arc<System>)>) -> Self {
+        self.earlier = earlier;
+        self
+    }
+
+    /// The system row `r` was computed with.
+    fn system_at(&self, r: usize) -> &System {
+        (self.earlier.iter())
+            .find(|(end, _)| r < *end)
+            .map_or(&*self.system, |(_, sys)| &**sys)
+    }
+
+    /// The rows of each system, in order: (first row, end, system).
+    fn segments(&self) -> Vec<(usize, usize, &System)> {
+        let mut out = Vec::with_capacity(self.earlier.len() + 1);
+        let mut start = 0;
+        for (end, sys) in &self.earlier {
+            out.push((start, *end, &**sys));
+            start = *end;
+        }
+        out.push((start, self.trajectory.rows(), &*self.system));
+        out
     }
 
     pub fn rows(&self) -> usize {
@@ -170,15 +200,29 @@ impl SimResult {
         })
     }
 
-    /// Evaluates the system at every recorded row (each mode factored once) and hands row `r`'s
-    /// workspace and discrete state to `visit`, or None where the mode cannot be factored.
-    fn visit_rows(&self, mut visit: impl FnMut(usize, Option<(&Workspace, &DiscreteState)>)) {
-        let sys = &*self.system;
+    /// Evaluates every recorded row with the system it was computed with (`earlier`; each mode
+    /// factored once per system) and hands `visit` row `r`, that system and the row's
+    /// workspace and discrete state, or None where the mode cannot be factored.
+    fn visit_rows(
+        &self,
+        mut visit: impl FnMut(usize, &System, Option<(&Workspace, &DiscreteState)>),
+    ) {
+        for (first, end, sys) in self.segments() {
+            self.visit_segment(first..end, sys, &mut visit);
+        }
+    }
+
+    fn visit_segment(
+        &self,
+        rows: std::ops::Range<usize>,
+        sys: &System,
+        visit: &mut impl FnMut(usize, &System, Option<(&Workspace, &DiscreteState)>),
+    ) {
         let tr = &self.trajectory;
         let mut ws = Workspace::new(sys);
         let mut cache = ModeCache::default();
         let mut modes: Vec<Option<Rc<ModeMatrix>>> = vec![None; self.discs.len()];
-        for r in 0..tr.rows() {
+        for r in rows {
             let id = tr.disc[r] as usize;
             let disc = &self.discs[id];
             if modes[id].is_none() {
@@ -188,9 +232,9 @@ impl SimResult {
             match modes[id].as_ref() {
                 Some(mm) => {
                     evaluate(sys, mm, disc, tr.t[r], tr.x(r), tr.horizon[r], &mut ws);
-                    visit(r, Some((&ws, disc)));
+                    visit(r, sys, Some((&ws, disc)));
                 }
-                None => visit(r, None),
+                None => visit(r, sys, None),
             }
         }
     }

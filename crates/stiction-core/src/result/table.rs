@@ -28,7 +28,13 @@ impl SimResult {
         let width = flat.len() + 1;
         let mut data = vec![0.0; tr.rows() * width];
         let mut block = Block::new(sys, &flat, general);
-        self.visit_rows(|r, row| {
+        let mut block_sys: *const System = sys;
+        self.visit_rows(|r, sys, row| {
+            if !std::ptr::eq(block_sys, sys) {
+                // a block holds rows of one system (a parameter change starts another)
+                block.flush(self, &flat, &mut data, width);
+                block_sys = sys;
+            }
             block.push(sys, r, row);
             if block.rows.len() == BLOCK {
                 block.flush(self, &flat, &mut data, width);
@@ -133,7 +139,7 @@ impl Block {
 
     /// Fills every column of the held rows into `data` and empties the block.
     fn flush(&mut self, result: &SimResult, flat: &[Flat], data: &mut [f64], width: usize) {
-        let sys = &*result.system;
+        let sys = &*result.system; // the shapes, the same for every system of the run
         let tr = &result.trajectory;
         let Some(&(first, _)) = self.rows.first() else {
             return;
@@ -176,7 +182,7 @@ impl Block {
         width: usize,
     ) {
         let SwitchColumn { k, var, s, col } = column;
-        let element = &*result.system.switching[k];
+        let element = &*result.system_at(self.rows[0].0).switching[k];
         let (tr, discs) = (&result.trajectory, &result.discs);
         let ne = result.system.switching.len();
         let first = self.rows[0].0;
@@ -274,7 +280,7 @@ mod tests {
         let sys = &*r.system;
         let width = r.names.len();
         let mut recorder = Recorder::new(sys, r.rows());
-        r.visit_rows(|row, evaluated| match evaluated {
+        r.visit_rows(|row, sys, evaluated| match evaluated {
             Some((ws, disc)) => recorder.record(sys, ws, disc),
             None => {
                 recorder.data.push(r.trajectory.t[row]);

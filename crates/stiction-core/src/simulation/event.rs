@@ -23,7 +23,7 @@ impl Stepper {
     ) -> Result<(), SimError> {
         self.hump_back = None; // the indicators change meaning with the mode
         self.skip_grid_at(t);
-        if !(matches!(kind, EventKind::Input(..)) && self.last_row == t) {
+        if !(matches!(kind, EventKind::Input(..) | EventKind::Parameter) && self.last_row == t) {
             self.record_here(t);
         }
         let changes = {
@@ -65,7 +65,7 @@ impl Stepper {
         match kind {
             EventKind::State => self.stats.state_events += 1,
             EventKind::Time => self.stats.time_events += 1,
-            EventKind::Input(..) => self.stats.input_events += 1,
+            EventKind::Input(..) | EventKind::Parameter => self.stats.input_events += 1,
         }
         self.evaluate_here(t, true);
         self.z_prev.copy_from_slice(&self.z);
@@ -174,6 +174,20 @@ impl Stepper {
         self.restart(solver, t_event, order, implicit)
     }
 
+    /// Takes the run back to `now` for an event there (an input's or a parameter's): the
+    /// pending step is dropped and the state at `now` is the event's. Returns `now`.
+    pub(super) fn back_to_now<'a, S>(&mut self, solver: &mut S) -> Result<f64, SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let t = self.now;
+        let x = self.state_now(solver)?;
+        self.x.copy_from_slice(&x);
+        self.pending = None;
+        self.t_prev = t;
+        Ok(t)
+    }
+
     /// Sets model input `k` at the current time: the integrator goes back to `now` (a pending
     /// step is discarded), and the new value acts from there through an event.
     pub fn set_input<'a, S>(
@@ -188,11 +202,7 @@ impl Stepper {
     where
         S: OdeSolverMethod<'a, Eqn>,
     {
-        let t = self.now;
-        let x = self.state_now(solver)?;
-        self.x.copy_from_slice(&x);
-        self.pending = None;
-        self.t_prev = t;
+        let t = self.back_to_now(solver)?;
         let horizon = self.phase.borrow().horizon;
         let cause = format!("input {name} set to {value}");
         self.handle_event(t, horizon, EventKind::Input(k, value), &cause)?;

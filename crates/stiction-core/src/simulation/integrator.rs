@@ -145,8 +145,8 @@ pub fn integrator_error(time: f64, e: impl std::fmt::Display) -> SimError {
     }
 }
 
-/// The problem: `dx/dt` from one evaluation of the system in the current phase, and a
-/// Jacobian-vector product by forward differences for the implicit methods.
+/// The problem: `dx/dt` from one evaluation of the phase's system (a parameter change swaps it,
+/// `tune.rs`), and a Jacobian-vector product by forward differences for the implicit methods.
 pub fn problem(
     sys: &std::sync::Arc<System>,
     phase: &Rc<RefCell<Phase>>,
@@ -155,10 +155,12 @@ pub fn problem(
     tolerance: f64,
 ) -> Result<Problem, SimError> {
     let n = x0.len();
-    let (ph, sy) = (phase.clone(), sys.clone());
+    debug_assert!(std::sync::Arc::ptr_eq(sys, &phase.borrow().sys));
+    let ph = phase.clone();
     let rhs: RhsFn = Box::new(move |x, _p, t, y| {
         let mut guard = ph.borrow_mut();
         let Phase {
+            sys: sy,
             disc,
             mm,
             ws,
@@ -167,13 +169,14 @@ pub fn problem(
             ..
         } = &mut *guard;
         *rhs_calls += 1;
-        evaluate(&sy, mm, disc, t, x, *horizon, ws);
-        derivative(&sy, ws, y);
+        evaluate(sy, mm, disc, t, x, *horizon, ws);
+        derivative(sy, ws, y);
     });
-    let (ph, sy) = (phase.clone(), sys.clone());
+    let ph = phase.clone();
     let jac_vec: JacFn = Box::new(move |x, _p, t, v, y| {
         let mut guard = ph.borrow_mut();
         let Phase {
+            sys: sy,
             disc,
             mm,
             ws,
@@ -197,8 +200,8 @@ pub fn problem(
         if !(*f0_t == t && f0_x[..] == x[..]) {
             *jacobians += 1;
             *rhs_calls += 1;
-            evaluate(&sy, mm, disc, t, x, horizon, ws);
-            derivative(&sy, ws, f0);
+            evaluate(sy, mm, disc, t, x, horizon, ws);
+            derivative(sy, ws, f0);
             *f0_t = t;
             f0_x.copy_from_slice(x);
         }
@@ -206,8 +209,8 @@ pub fn problem(
         for i in 0..x.len() {
             probe[i] = x[i] + eps * v[i];
         }
-        evaluate(&sy, mm, disc, t, probe, horizon, ws);
-        derivative(&sy, ws, y);
+        evaluate(sy, mm, disc, t, probe, horizon, ws);
+        derivative(sy, ws, y);
         for i in 0..y.len() {
             y[i] = (y[i] - f0[i]) / eps;
         }

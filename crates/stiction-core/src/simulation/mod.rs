@@ -19,6 +19,7 @@ mod samples;
 mod saved;
 mod scan;
 mod stepper;
+mod tune;
 
 use std::cell::RefCell;
 use std::rc::Rc;
@@ -31,11 +32,12 @@ use diffsol::OdeSolverMethod;
 pub use init::{check_model, initial_state, initial_state_and_guesses, InitialState};
 pub use saved::{InputChange, SimState};
 pub use stepper::Cursor;
+pub use tune::ParameterChange;
 
 use integrator::{solver_for, with_solver, IntegratorCell};
 use stepper::Stepper;
 
-use crate::assembly::assemble;
+use crate::assembly::{assemble, CompiledModel};
 use crate::engine::eval::{consistent_speeds, evaluate, DiscreteState, Workspace};
 use crate::engine::kkt::ModeMatrix;
 use crate::engine::{iterate, EventPoint, ModeCache};
@@ -59,6 +61,8 @@ pub fn run(sys: Arc<System>) -> Result<SimResult, SimError> {
 /// What the right-hand side reads: the frozen discrete state, its factored mode matrix and the
 /// workspace. Changed only between steps, at events.
 pub(crate) struct Phase {
+    /// The system the right-hand side evaluates: the stepper's (a parameter change swaps both).
+    sys: Arc<System>,
     disc: DiscreteState,
     /// The first time event not handled yet: signals switch there only once it is handled
     /// (Modelica freezes `time >= t0` between events), wherever the integrator evaluates.
@@ -128,6 +132,9 @@ pub struct Simulation {
     started: Instant,
     /// Every input event so far: with the model, what a saved state replays (`saved.rs`).
     input_events: Vec<InputChange>,
+    /// The compiled model and the parameter changes so far, for a run made from a model
+    /// (`from_model`): what `set_parameters` builds on (`tune.rs`).
+    tuning: Option<tune::Tuning>,
 }
 
 /// Rows are kept in memory (states, and all variables once asked for): refuse what cannot fit.
@@ -191,6 +198,7 @@ impl Simulation {
         consistent_speeds(&sys, &mm, &disc, t0, &mut x0, first_horizon, &mut ws);
         let n = sys.state_len();
         let phase = Rc::new(RefCell::new(Phase {
+            sys: sys.clone(),
             horizon: first_horizon,
             disc,
             mm,
@@ -214,12 +222,22 @@ impl Simulation {
             stepper,
             started,
             input_events: Vec::new(),
+            tuning: None,
         })
     }
 
-    /// Assembles a model and initializes a run of it.
+    /// Assembles a model and initializes a run of it; its tunable parameters can change
+    /// during the run (`set_parameters`).
     pub fn from_spec(spec: &ModelSpec) -> Result<Self, SimError> {
-        Self::new(Arc::new(assemble(spec)?))
+        Self::from_model(CompiledModel::new(spec.clone())?)
+    }
+
+    /// Initializes a run of a compiled model, keeping the model so that its tunable
+    /// parameters can change during the run (`set_parameters`).
+    pub fn from_model(model: CompiledModel) -> Result<Self, SimError> {
+        let mut sim = Self::new(model.system())?;
+        sim.tuning = Some(tune::Tuning::new(model));
+        Ok(sim)
     }
 
     pub fn system(&self) -> &Arc<System> {
@@ -425,7 +443,7 @@ impl Simulation {
 
     /// Back to the start: initialized anew, with the same observer and recording setting.
     pub fn reset(&mut self) -> Result<(), SimError> {
-        let mut fresh = Simulation::new(self.stepper.sys.clone())?;
+        let mut fresh = self.fresh()?;
         fresh.stepper.observer = self.stepper.observer.take();
         fresh.stepper.notify_start_row();
         fresh.stepper.recording = self.stepper.recording;
@@ -438,6 +456,7 @@ impl Simulation {
 
     /// The recorded rows, the event log and the run's statistics.
     pub fn into_result(mut self) -> SimResult {
+        let earlier = self.tuning.take().map(|t| t.segments).unwrap_or_default();
         let mut all = self.stepper.stiffness.retired;
         self.cell
             .with_dependent_mut(|_, integ| with_solver!(integ, s => all.add(s.get_statistics())));
@@ -451,6 +470,6 @@ impl Simulation {
         stats.jacobian_evals = st.phase.borrow().jacobians;
         stats.factorizations = st.cache.factorizations;
         stats.wall_ms = self.started.elapsed().as_secs_f64() * 1e3;
-        SimResult::new(st.sys, st.trajectory, st.discs, st.log, stats)
+        SimResult::new(st.sys, st.trajectory, st.discs, st.log, stats).with_earlier_systems(earlier)
     }
 }

@@ -18,7 +18,7 @@
 //! differently, is refused rather than continued from somewhere else.
 
 use super::integrator::with_solver;
-use super::{Cursor, Simulation};
+use super::{Cursor, ParameterChange, Simulation};
 use crate::engine::eval::DiscreteState;
 use crate::error::SimError;
 
@@ -36,6 +36,9 @@ pub struct InputChange {
 pub struct SimState {
     /// Every input event from the start to now, in order.
     pub inputs: Vec<InputChange>,
+    /// Every parameter change from the start to now, in order (each says how many input
+    /// events came before it).
+    pub parameters: Vec<ParameterChange>,
     /// What the run reached at `cursor.now` (the replay must reach the same).
     pub x: Vec<f64>,
     pub disc: DiscreteState,
@@ -61,6 +64,7 @@ impl Simulation {
         let phase = self.stepper.phase.borrow();
         Ok(SimState {
             inputs: self.input_events.clone(),
+            parameters: self.parameter_changes().to_vec(),
             x,
             disc: phase.disc.clone(),
             horizon: phase.horizon,
@@ -75,7 +79,7 @@ impl Simulation {
         if state.x.len() != sys.state_len() || !state.disc.fits(&sys) {
             return Err(another_model("its states do not fit"));
         }
-        let mut run = Simulation::new(sys)?;
+        let mut run = self.fresh()?;
         run.set_recording(false);
         run.replay(state)?;
         if run.state()? != *state {
@@ -93,9 +97,14 @@ impl Simulation {
         cell.with_dependent_mut(|_, integ| with_solver!(integ, s => stepper.state_now(s)))
     }
 
-    /// Advances a fresh run through the saved input events to the saved time.
+    /// Advances a fresh run through the saved input events and parameter changes, in their
+    /// order, to the saved time.
     fn replay(&mut self, state: &SimState) -> Result<(), SimError> {
-        for change in &state.inputs {
+        let mut tunes = state.parameters.iter().peekable();
+        for (k, change) in state.inputs.iter().enumerate() {
+            while let Some(tune) = tunes.next_if(|p| p.after_inputs <= k) {
+                self.replay_parameters(tune)?;
+            }
             let Some(input) = self.stepper.sys.inputs.get(change.input) else {
                 return Err(another_model("an input it sets does not exist"));
             };
@@ -106,7 +115,21 @@ impl Simulation {
             }
             self.set_input(&name, change.value)?;
         }
+        for tune in tunes {
+            self.replay_parameters(tune)?;
+        }
         self.advance_to(state.cursor.now)
+    }
+
+    fn replay_parameters(&mut self, tune: &ParameterChange) -> Result<(), SimError> {
+        self.advance_to(tune.time)?;
+        if self.stepper.now != tune.time {
+            return Err(another_model("its parameter changes are out of order"));
+        }
+        let values: Vec<(&str, toml::Value)> = (tune.values.iter())
+            .map(|(n, v)| (n.as_str(), v.clone()))
+            .collect();
+        self.set_parameters(&values)
     }
 
     /// Becomes `run` (a replay), keeping what belongs to this session: the recorded rows and
@@ -123,6 +146,10 @@ impl Simulation {
         theirs.cancel = mine.cancel.clone();
         theirs.started = mine.started;
         run.started = self.started;
+        // the rows kept were computed with this session's systems up to now
+        let (rows, old) = (theirs.trajectory.rows(), mine.sys.clone());
+        let segments = self.take_segments();
+        run.keep_segments(segments, rows, old);
         *self = run;
     }
 }

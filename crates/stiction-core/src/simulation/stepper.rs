@@ -30,7 +30,7 @@ const MAX_STEPS: usize = 5_000_000;
 /// and the crossing scan's samples could not follow a static limit that the drive crosses and
 /// recovers between them (found by the soak: a brake holding 0.33 N·m beyond its limit for
 /// 55 ms, tests/data/missed_breakaway.toml).
-fn max_step(sys: &System) -> f64 {
+pub(super) fn max_step(sys: &System) -> f64 {
     sys.signals.time_scale() / 4.0
 }
 
@@ -54,6 +54,8 @@ pub(super) enum EventKind {
     Time,
     /// A model input set to a new value (input index, value).
     Input(usize, f64),
+    /// Parameters set to new values (`tune.rs`; the system was swapped before).
+    Parameter,
 }
 
 /// Where a run stands, apart from its continuous and discrete state (part of a saved state).

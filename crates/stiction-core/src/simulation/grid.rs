@@ -124,6 +124,7 @@ impl Stepper {
         S: OdeSolverMethod<'a, Eqn>,
     {
         let eps = 1e-12 * limit.abs().max(1.0);
+        let plain = self.plain_rows();
         while self.grid_k <= self.grid_len() {
             let tg = self.grid_time(self.grid_k);
             let due = if inclusive {
@@ -134,14 +135,42 @@ impl Stepper {
             if !due {
                 break;
             }
-            let mut x = std::mem::take(&mut self.x);
-            let r = self.interpolate_row(solver, tg.min(t_step_end), &mut x);
-            self.x = x;
-            r?;
+            let t = tg.min(t_step_end);
+            if self.poly_wanted && self.poly.fitted() {
+                self.poly.eval(t, &mut self.x);
+            } else {
+                let mut x = std::mem::take(&mut self.x);
+                let r = self.interpolate_row(solver, t, &mut x);
+                self.x = x;
+                r?;
+            }
+            if let Some(horizon) = plain {
+                // what `record_here` does for such a row, without its checks
+                self.last_row = tg;
+                let id = (self.discs.len() - 1) as u32;
+                self.trajectory.push(tg, horizon, id, &self.x);
+                self.grid_k += 1;
+                continue;
+            }
             self.record_here(tg);
             self.grid_k += 1;
         }
         Ok(())
+    }
+
+    /// The horizon, when a row needs nothing but the state pushed (`record_here`'s other
+    /// work does nothing): recording, no observer, the discrete state recorded, no speeds to
+    /// project (no shaft without inertia in this mode, no prescribed motion). A run records
+    /// thousands of grid rows, so these checks are made once per call of `emit_grid`.
+    fn plain_rows(&self) -> Option<f64> {
+        let phase = self.phase.borrow();
+        let plain = self.recording
+            && self.observer.is_none()
+            && self.disc_recorded
+            && self.trajectory.rows() > 0
+            && phase.mm.massless.is_none()
+            && !self.prescribes;
+        plain.then_some(phase.horizon)
     }
 
     /// Records the grid points up to `target` while a step is processed only that far, leaving

@@ -166,11 +166,16 @@ pub fn problem(
             ws,
             rhs_calls,
             horizon,
+            rhs_t,
+            rhs_x,
+            rhs_stamp,
             ..
         } = &mut *guard;
         *rhs_calls += 1;
         evaluate(sy, mm, disc, t, x, *horizon, ws);
         derivative(sy, ws, y);
+        (*rhs_t, *rhs_stamp) = (t, ws.rhs_evals);
+        rhs_x.copy_from_slice(x);
     });
     let ph = phase.clone();
     let jac_vec: JacFn = Box::new(move |x, _p, t, v, y| {

@@ -80,6 +80,11 @@ pub(crate) struct Phase {
     jacobians: usize,
     /// For `project`, so that `ws` keeps what the stepper evaluated last.
     scratch: Option<Workspace>,
+    /// The integrator's last right-hand side: its (t, x) and the workspace's evaluation count
+    /// right after it, so the crossing scan can tell the workspace still holds it (`fsal`).
+    rhs_t: f64,
+    rhs_x: Vec<f64>,
+    rhs_stamp: usize,
 }
 
 impl Phase {
@@ -90,6 +95,14 @@ impl Phase {
             let ws = self.scratch.get_or_insert_with(|| Workspace::new(sys));
             consistent_speeds(sys, &self.mm, &self.disc, t, x, self.horizon, ws);
         }
+    }
+
+    /// Whether the workspace holds the evaluation at (t, x): the integrator's last right-hand
+    /// side was taken there and nothing was evaluated since. An explicit Runge–Kutta step's
+    /// last stage is its end point (first same as last), so the crossing scan's sample at the
+    /// step's end need not evaluate again.
+    fn holds(&self, t: f64, x: &[f64]) -> bool {
+        self.rhs_t == t && self.ws.rhs_evals == self.rhs_stamp && self.rhs_x[..] == x[..]
     }
 }
 
@@ -210,6 +223,9 @@ impl Simulation {
             f0_x: vec![0.0; n],
             jacobians: 0,
             scratch: None,
+            rhs_t: f64::NAN,
+            rhs_x: vec![0.0; n],
+            rhs_stamp: usize::MAX,
         }));
         let problem = integrator::problem(&sys, &phase, t0, x0.clone(), exp.tolerance)?;
         let mut cell = integrator::integrator(problem, &exp.solver)?;

@@ -1,5 +1,7 @@
-//! Scanning one integrator step for crossings. The step is sampled at three interior points of
-//! its dense output and at its end, each sample evaluated once and kept; only then is it
+//! Scanning one integrator step for crossings. The step is sampled at its end (the
+//! integrator's own last evaluation when the workspace still holds it) and its midpoint; when
+//! every indicator stays clearly below zero over those (`quiet`) nothing more is needed. Else
+//! the quarter points are sampled too, each sample evaluated once and kept; only then is it
 //! decided whether the indicators without an analytic rate (a locked element's torque against
 //! its static limit) need backward-difference rates, which double the evaluations. They do
 //! when one of them comes near zero within the step, measured against how much it moves in the
@@ -12,7 +14,7 @@ use diffsol::{OdeSolverMethod, VectorCommon};
 use super::integrator::Eqn;
 use super::samples::{Hump, FD_STEP, SAMPLES};
 use super::stepper::Stepper;
-use crate::engine::speed_rates;
+use crate::engine::{indicators, speed_rates};
 use crate::error::SimError;
 use crate::switching::element::NEVER;
 
@@ -23,10 +25,22 @@ use crate::switching::element::NEVER;
 /// the quartic does not capture of a step the integrator resolved.
 const NEAR: f64 = 3.0;
 
+/// A step whose indicators all stay below zero by more than `QUIET` times their spread over
+/// its start, midpoint and end (or the reach of their analytic rates over the whole step, if
+/// larger) is not sampled at its quarter points. The parabola through three equidistant
+/// samples rises at most a quarter spread above the largest (Lebesgue constant 1.25), and a
+/// curve with those end rates at most an eighth of the reach between two samples, so `NEAR`'s
+/// margin of 3 is ample here too.
+const QUIET: f64 = NEAR;
+
+/// The step's midpoint among the samples, taken in every step.
+const MIDDLE: usize = SAMPLES / 2;
+
 impl Stepper {
     /// Looks for a crossing in the last step (t_prev, t_now]; a relation that flips and flips
     /// back within one step (a freewheel touching lock for a millisecond) is still seen. Leaves
-    /// the indicators and rates at the step end in `z` and `dz`, evaluated there.
+    /// the indicators and rates at the step end in `z` and `dz`, and its state in `x` (the
+    /// workspace is left wherever the scan last evaluated: every reader evaluates first).
     pub(super) fn scan_step<'a, S>(
         &mut self,
         solver: &S,
@@ -37,59 +51,101 @@ impl Stepper {
     where
         S: OdeSolverMethod<'a, Eqn>,
     {
-        self.sample_step(solver, t_prev, t_now)?;
-        let differences = self.needs_differences();
-        if differences {
-            self.difference_rates(solver, t_prev, t_now)?;
-        }
-        let found = self.search_samples(solver, candidates)?;
+        let found = if self.sample_step(solver, t_prev, t_now)? {
+            // nothing comes near zero: the last interior sample taken is the midpoint
+            self.hump_back = Some(self.samples.t[MIDDLE]);
+            self.z_back.copy_from_slice(self.samples.at(MIDDLE).0);
+            None
+        } else {
+            if self.needs_differences() {
+                self.difference_rates(solver, t_prev, t_now)?;
+            }
+            self.search_samples(solver, candidates)?
+        };
         if found.is_none() {
             let (z, dz) = self.samples.at(SAMPLES);
             self.z.copy_from_slice(z);
             self.dz.copy_from_slice(dz);
-            if differences || self.probed {
-                // probes moved the evaluation away from the step end
-                self.x.copy_from_slice(solver.state().y.inner().as_slice());
-                self.evaluate_here(t_now, false);
-            }
+            self.x.copy_from_slice(solver.state().y.inner().as_slice());
         }
         Ok(found)
     }
 
     /// Evaluates the samples of the step (feeding the grid rows' fit) and keeps their
-    /// indicators and analytic rates; sample 0 is the step's start.
-    fn sample_step<'a, S>(&mut self, solver: &S, t_prev: f64, t_now: f64) -> Result<(), SimError>
+    /// indicators and analytic rates; sample 0 is the step's start. The end and the midpoint
+    /// come first; the quarter points only when an indicator may come near zero (`quiet`).
+    /// Returns whether the step is quiet (the quarter points were left out).
+    fn sample_step<'a, S>(&mut self, solver: &S, t_prev: f64, t_now: f64) -> Result<bool, SimError>
     where
         S: OdeSolverMethod<'a, Eqn>,
     {
         let nz = self.z.len();
-        let mut samples = std::mem::take(&mut self.samples);
-        samples.z.resize((SAMPLES + 1) * nz, 0.0);
-        samples.dz.resize((SAMPLES + 1) * nz, f64::NAN);
-        samples.t[0] = t_prev;
-        let (z0, dz0) = samples.at_mut(0);
-        z0.copy_from_slice(&self.z_prev);
-        dz0.copy_from_slice(&self.dz); // the last sample's rates (analytic only after events)
-        for k in 1..=SAMPLES {
-            let t = if k == SAMPLES {
-                self.x.copy_from_slice(solver.state().y.inner().as_slice());
+        self.samples.z.resize((SAMPLES + 1) * nz, 0.0);
+        self.samples.dz.resize((SAMPLES + 1) * nz, f64::NAN);
+        for k in 0..=SAMPLES {
+            self.samples.t[k] = if k == SAMPLES {
                 t_now
             } else {
-                let t = t_prev + (t_now - t_prev) * k as f64 / SAMPLES as f64;
-                self.load(solver, t)?;
-                self.offer_sample(t);
-                t
+                t_prev + (t_now - t_prev) * k as f64 / SAMPLES as f64
             };
-            self.evaluate_here(t, true);
-            samples.t[k] = t;
-            let (z, dz) = samples.at_mut(k);
-            z.copy_from_slice(&self.z);
-            let guard = self.phase.borrow();
-            speed_rates(&self.sys, &guard.disc, &guard.ws, dz);
         }
-        self.samples = samples;
+        let (z0, dz0) = self.samples.at_mut(0);
+        z0.copy_from_slice(&self.z_prev);
+        dz0.copy_from_slice(&self.dz); // the last sample's rates (analytic only after events)
+                                       // the end first, while the workspace may still hold the integrator's evaluation there
+        self.x.copy_from_slice(solver.state().y.inner().as_slice());
+        self.evaluate_end(t_now);
+        self.keep_sample(SAMPLES);
+        self.take_sample(solver, MIDDLE)?;
         self.probed = false;
+        let quiet = self.quiet(t_now - t_prev);
+        if !quiet {
+            for k in (1..SAMPLES).filter(|&k| k != MIDDLE) {
+                self.take_sample(solver, k)?;
+            }
+        }
+        Ok(quiet)
+    }
+
+    /// The indicators at the step's end (t, `x`): from the integrator's own evaluation there
+    /// when the workspace still holds it (`Phase::holds`: an explicit step's last stage), else
+    /// evaluated. Bit for bit the same either way.
+    fn evaluate_end(&mut self, t: f64) {
+        if !self.phase.borrow().holds(t, &self.x) {
+            self.evaluate_here(t, true);
+            return;
+        }
+        let guard = self.phase.borrow();
+        indicators(&self.sys, &guard.disc, &guard.ws, &mut self.z);
+    }
+
+    /// Loads and evaluates interior sample `k` and keeps it.
+    fn take_sample<'a, S>(&mut self, solver: &S, k: usize) -> Result<(), SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let t = self.samples.t[k];
+        self.load(solver, t)?;
+        self.offer_sample(t);
+        self.evaluate_here(t, true);
+        self.keep_sample(k);
         Ok(())
+    }
+
+    /// Keeps the indicators in `z` and the analytic rates of the workspace as sample `k`.
+    fn keep_sample(&mut self, k: usize) {
+        let (z, dz) = self.samples.at_mut(k);
+        z.copy_from_slice(&self.z);
+        let guard = self.phase.borrow();
+        speed_rates(&self.sys, &guard.disc, &guard.ws, dz);
+    }
+
+    /// Whether every indicator stays clearly below zero over the step (`stays_below`), judged
+    /// from the start, the midpoint and the end: such a step cannot hold a crossing, a hump or
+    /// a rate-less indicator near its limit, so the quarter points are not needed.
+    fn quiet(&self, h: f64) -> bool {
+        let at = [0, MIDDLE, SAMPLES].map(|k| self.samples.at(k));
+        (0..self.z.len()).all(|i| stays_below(at.map(|s| s.0[i]), at.map(|s| s.1[i]), h))
     }
 
     /// Whether an armed indicator without an analytic rate comes near zero in this step.
@@ -216,5 +272,54 @@ impl Stepper {
         let found = self.hump(solver, t_back, self.samples.t[0], self.samples.t[k])?;
         self.z.copy_from_slice(self.samples.at(k).0);
         Ok(found)
+    }
+}
+
+/// Whether an indicator sampled at a step's start, midpoint and end (`z`, with its analytic
+/// rates `dz` there, NaN where it has none) stays clearly below zero over the step of length
+/// `h`: its largest sample lies more than `QUIET` times its spread below zero, the spread
+/// taken over the samples and, where a rate is known, as far as that rate reaches over the
+/// whole step. An indicator held exactly (a frozen signal's engagement at 0) cannot rise:
+/// steps are kept below a quarter of the signals' time scale.
+fn stays_below(z: [f64; 3], dz: [f64; 3], h: f64) -> bool {
+    if z.iter().any(|v| !v.is_finite()) {
+        return false;
+    }
+    let hi = z.iter().fold(f64::NEG_INFINITY, |m, &v| m.max(v));
+    let lo = z.iter().fold(f64::INFINITY, |m, &v| m.min(v));
+    let reach = (dz.iter().filter(|r| !r.is_nan())).fold(0.0f64, |m, r| m.max(r.abs() * h));
+    // an infinite rate makes the reach infinite: not quiet
+    (hi == lo && hi <= 0.0 && reach == 0.0) || hi + QUIET * (hi - lo).max(reach) < 0.0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const NO_RATE: [f64; 3] = [f64::NAN; 3];
+
+    #[test]
+    fn far_or_held_indicators_are_quiet() {
+        // NEVER, a disengaged clutch's frozen 0, a limit far below that barely moves
+        assert!(stays_below([NEVER; 3], NO_RATE, 0.02));
+        assert!(stays_below([0.0; 3], NO_RATE, 0.02));
+        assert!(stays_below([-4.0, -3.8, -3.5], NO_RATE, 0.02));
+        // a slip speed far from zero whose acceleration cannot bring it there in the step
+        assert!(stays_below([-4.0, -3.8, -3.5], [10.0, 12.0, 15.0], 0.02));
+    }
+
+    #[test]
+    fn indicators_that_may_reach_zero_are_not_quiet() {
+        // the same values, but a rate that could carry the indicator to zero within the step
+        assert!(!stays_below([-4.0, -3.8, -3.5], [50.0, 60.0, 55.0], 0.024));
+        // a limit whose hump over three samples comes within three spreads of zero
+        assert!(!stays_below([-0.5, -0.3, -0.5], NO_RATE, 0.02));
+        // a crossing, a value touching zero with a rate, a held value above zero
+        assert!(!stays_below([-0.1, 0.2, 0.4], NO_RATE, 0.02));
+        assert!(!stays_below([0.0; 3], [1.0, 0.0, 0.0], 0.02));
+        assert!(!stays_below([1e-3; 3], NO_RATE, 0.02));
+        // anything not finite
+        assert!(!stays_below([-1.0, f64::NAN, -1.0], NO_RATE, 0.02));
+        assert!(!stays_below([-1.0; 3], [f64::INFINITY, 0.0, 0.0], 0.02));
     }
 }

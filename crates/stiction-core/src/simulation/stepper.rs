@@ -128,6 +128,8 @@ pub(super) struct Stepper {
     pub(super) stop_at_events: bool,
     /// The longest step: a quarter of the signals' shortest time scale (`max_step`).
     pub(super) max_step: f64,
+    /// Whether the system has prescribed motions (rows then project their speeds).
+    pub(super) prescribes: bool,
 }
 
 impl Stepper {
@@ -139,6 +141,7 @@ impl Stepper {
     ) -> Self {
         let nz = indicator_count(&sys);
         let max_step = max_step(&sys);
+        let sys_prescribes = sys.prescribes();
         let t0 = sys.experiment.start_time;
         let chatter = ChatterWatch::new(&sys.experiment);
         let grid_last = sys.experiment.grid_len();
@@ -194,6 +197,7 @@ impl Stepper {
             candidates: Vec::new(),
             stop_at_events: false,
             max_step,
+            prescribes: sys_prescribes,
         }
     }
 

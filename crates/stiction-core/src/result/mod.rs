@@ -3,9 +3,11 @@
 
 mod audit;
 pub mod csv;
+mod flanges;
 pub mod mat;
 pub mod metric;
 mod probe;
+mod source;
 mod table;
 
 use std::rc::Rc;

@@ -114,12 +114,12 @@ impl FlangeTorques {
         self.ports
     }
 
-    /// The expressions of the known torques, in the order `solve_with` takes their values.
+    /// The expressions of the known torques, in the order `solve_rows` takes their values.
     pub fn known_outs(&self) -> impl Iterator<Item = &Out> {
         self.known.iter().map(|(_, out)| out)
     }
 
-    /// The expressions of the component sums (an Inertia's `J·a`), in `solve_with`'s order.
+    /// The expressions of the component sums (an Inertia's `J·a`), in `solve_rows`' order.
     pub fn total_outs(&self) -> impl Iterator<Item = &Out> {
         self.eq_total.iter().flatten()
     }
@@ -127,21 +127,28 @@ impl FlangeTorques {
     /// Fills `tau[port]` for every mechanical port, given a way to evaluate outputs; `rhs` is
     /// scratch space, so a result row allocates nothing.
     pub fn solve(&self, eval: impl Fn(&Out) -> f64, tau: &mut [f64], rhs: &mut Vec<f64>) {
-        let known = |i: usize| eval(&self.known[i].1);
-        let mut totals = self.total_outs();
-        let total = |_| eval(totals.next().expect("one value per total"));
-        self.solve_by(known, total, tau, rhs);
+        for (p, out) in &self.known {
+            tau[*p] = eval(out);
+        }
+        rhs.resize(self.eq_total.len(), 0.0);
+        for (r, (known, total)) in self.eq_known.iter().zip(&self.eq_total).enumerate() {
+            let known: f64 = known.iter().map(|&p| tau[p]).sum();
+            rhs[r] = match total {
+                Some(out) => eval(out) - known,
+                None => -known,
+            };
+        }
+        for &p in &self.unknown {
+            tau[p] = 0.0;
+        }
+        for b in &self.blocks {
+            for (&c, pinv) in b.cols.iter().zip(b.pinv.chunks_exact(b.rows.len())) {
+                tau[self.unknown[c]] = (b.rows.iter().zip(pinv)).map(|(&r, p)| p * rhs[r]).sum();
+            }
+        }
     }
 
-    /// `solve` from the values of `known_outs` and `total_outs`, for a caller that evaluates
-    /// them its own way (the result table, compiled).
-    pub fn solve_with(&self, known: &[f64], totals: &[f64], tau: &mut [f64], rhs: &mut Vec<f64>) {
-        let mut totals = totals.iter();
-        let total = |_| *totals.next().expect("one value per total");
-        self.solve_by(|i| known[i], total, tau, rhs);
-    }
-
-    /// `solve_with` for `n` rows at once, every quantity a plane of `n` values (row after
+    /// `solve` for `n` rows at once, every quantity a plane of `n` values (row after
     /// row): the known torques `known[i·n..]`, the sums `totals[j·n..]`, the torques into
     /// `tau[port·n..]`. Each row's arithmetic is `solve`'s (each sum from the neutral element
     /// `sum` starts with, the terms in the same order); a loop runs over rows in each step.
@@ -188,36 +195,6 @@ impl FlangeTorques {
                         .zip(&rhs[plane(r)])
                         .for_each(|(o, x)| *o += p * x);
                 }
-            }
-        }
-    }
-
-    /// The arithmetic of both: `known(i)` is the i-th known torque, `total(())` the next sum.
-    #[inline]
-    fn solve_by(
-        &self,
-        known: impl Fn(usize) -> f64,
-        mut total: impl FnMut(()) -> f64,
-        tau: &mut [f64],
-        rhs: &mut Vec<f64>,
-    ) {
-        for (i, (p, _)) in self.known.iter().enumerate() {
-            tau[*p] = known(i);
-        }
-        rhs.resize(self.eq_total.len(), 0.0);
-        for (r, (known, t)) in self.eq_known.iter().zip(&self.eq_total).enumerate() {
-            let known: f64 = known.iter().map(|&p| tau[p]).sum();
-            rhs[r] = match t {
-                Some(_) => total(()) - known,
-                None => -known,
-            };
-        }
-        for &p in &self.unknown {
-            tau[p] = 0.0;
-        }
-        for b in &self.blocks {
-            for (&c, pinv) in b.cols.iter().zip(b.pinv.chunks_exact(b.rows.len())) {
-                tau[self.unknown[c]] = (b.rows.iter().zip(pinv)).map(|(&r, p)| p * rhs[r]).sum();
             }
         }
     }

@@ -68,27 +68,36 @@ impl BlockFlanges {
 
     /// Every port's torque at each of the block's `n` rows, into `tau`.
     pub(super) fn solve(&mut self, sys: &System, n: usize, planes: &Planes) {
-        let (nodes, laws, ne) = (sys.nodes, sys.laws.len(), sys.switching.len());
-        self.values.clear();
+        let (nodes, laws, ne) = (sys.nodes.max(1), sys.laws.len(), sys.switching.len());
+        let values = &mut self.values;
+        values.clear();
         let mut other = 0;
+        // one `match` per source, then a loop over the rows
         for s in &self.sources {
-            let read = |j: usize| match &s.read {
-                Read::Field(k, f) => f(&planes.elements[j * ne + k]),
-                Read::LawTau(k) => planes.law_tau[j * laws + k],
-                Read::Accel(rel) => rel.dot(&planes.a[j * nodes..(j + 1) * nodes]),
-                Read::Const(c) => *c,
+            match &s.read {
+                Read::Field(k, f) => {
+                    let rows = planes.elements[*k..].iter().step_by(ne).take(n);
+                    values.extend(rows.map(|v| s.scaled(f(v))));
+                }
+                Read::LawTau(k) => {
+                    let rows = planes.law_tau[*k..].iter().step_by(laws).take(n);
+                    values.extend(rows.map(|&x| s.scaled(x)));
+                }
+                Read::Accel(rel) => {
+                    let rows = planes.a.chunks_exact(nodes).take(n);
+                    values.extend(rows.map(|a| s.scaled(rel.dot(a))));
+                }
+                Read::Const(c) => values.extend(std::iter::repeat_n(s.scaled(*c), n)),
                 // read at `push`, factor included
-                _ => self.pending[j * self.others + other],
-            };
-            if s.in_block() {
-                self.values.extend((0..n).map(|j| s.scaled(read(j))));
-            } else {
-                self.values.extend((0..n).map(read));
-                other += 1;
+                _ => {
+                    let rows = self.pending[other..].iter().step_by(self.others).take(n);
+                    values.extend(rows);
+                    other += 1;
+                }
             }
         }
         let ft = &sys.flange_torques;
-        self.tau.clear();
+        // every mechanical port's torque is written; the others are never read
         self.tau.resize(ft.ports() * n, 0.0);
         let (known, totals) = self.values.split_at(self.known * n);
         ft.solve_rows(n, known, totals, &mut self.tau, &mut self.rhs);

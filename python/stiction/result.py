@@ -219,6 +219,10 @@ class Result:
             if name in self._extra:
                 return self._extra[name]
             if name not in self._columns:
+                if not self._source.is_direct(name):
+                    # the engine computes every variable for the first algebraic one: keep
+                    # the whole table, so that reading the others is a view, not a copy each
+                    return self.data[:, column]
                 self._columns[name] = np.asarray(self._source.column(name), dtype=np.float64)
             return self._columns[name]
         except KeyError:

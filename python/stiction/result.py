@@ -220,9 +220,11 @@ class Result:
                 return self._extra[name]
             if name not in self._columns:
                 if not self._source.is_direct(name):
-                    # the engine computes every variable for the first algebraic one: keep
-                    # the whole table, so that reading the others is a view, not a copy each
-                    return self.data[:, column]
+                    # the engine computes every variable for the first algebraic one and keeps
+                    # the table (the same array at every call): a column of it is a view, not
+                    # a copy each (not `self.data`, which derived columns, still being
+                    # computed from these, extend)
+                    return np.asarray(self._source.table(), dtype=np.float64)[:, column]
                 self._columns[name] = np.asarray(self._source.column(name), dtype=np.float64)
             return self._columns[name]
         except KeyError:

@@ -14,15 +14,19 @@ import stiction as st
 T_LOCK, E_LOSS = 0.4, 100.0
 
 
-@pytest.fixture(scope="module")
-def braked() -> st.Result:
+def braked_model() -> st.Model:
     m = st.Model("braked")
     m.add("J", st.Inertia(J=2.0, phi=0.0, w=10.0))
     m.add("brake", st.Brake(fn_max=100.0, mu_pos=[[0.0, 0.5]]))
     m.add("press", st.Constant(k=1.0))
     m.connect("J.flange_b", "brake.flange_a")
     m.connect("press.y", "brake.f_normalized")
-    return m.simulate(StopTime=1.0, Interval=1e-3)
+    return m
+
+
+@pytest.fixture(scope="module")
+def braked() -> st.Result:
+    return braked_model().simulate(StopTime=1.0, Interval=1e-3)
 
 
 def test_energy_of_one_component_is_its_dissipated_work(braked: st.Result) -> None:
@@ -93,3 +97,20 @@ def test_model_set_checks_like_construction() -> None:
         with pytest.raises(st.ModelError, match=message):
             m.set(name, value)
     assert m["brake"].params == {"fn_max": 1800}
+
+
+def test_every_name_of_a_fresh_result_is_its_table_column() -> None:
+    """Reading names one by one (states from the rows, the first algebraic one computing the
+    table, the rest views of it) gives the table's columns bit for bit, and the closed form:
+    the brake's friction torque is 50 N·m while the flywheel slides."""
+    m = braked_model()
+    fresh, whole = m.simulate(StopTime=1.0, Interval=1e-3), m.simulate(StopTime=1.0, Interval=1e-3)
+    raw = fresh._source
+    assert raw.is_direct("J.w") and raw.is_direct("brake.mode") and not raw.is_direct("brake.tau")
+    with pytest.raises(KeyError):
+        raw.is_direct("J.nothing")
+    columns = {name: fresh[name] for name in fresh.names}
+    for i, name in enumerate(whole.names):
+        assert np.array_equal(columns[name], whole.data[:, i], equal_nan=True), name
+    sliding = fresh.time < T_LOCK - 1e-3
+    assert np.allclose(np.abs(columns["brake.tau"][sliding]), 50.0, rtol=1e-12)

@@ -49,6 +49,9 @@ class RawResult:
         """One variable over all rows; KeyError for an unknown name."""
     def table(self) -> npt.NDArray[np.float64]:
         """All variables, shape (rows, len(names)); event instants appear twice."""
+    def is_direct(self, name: str) -> bool:
+        """Whether a variable is read from the states without evaluating the system (an angle,
+        a speed, a mode, a flag); any other is a column of ``table()``."""
 
 def simulate(
     model_toml: str, base_dir: str = ".", overrides: dict[str, float] | None = None, solver: str | None = None

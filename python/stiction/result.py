@@ -95,6 +95,7 @@ class Result:
         self._source = source
         self._data: np.ndarray | None = None
         self._columns: dict[str, np.ndarray] = {}
+        self._engine_table: np.ndarray | None = None  # the engine's table, once computed
         self._extra: dict[str, np.ndarray] = {}  # derived variables of a lazy result
         if data is not None or source is None:
             table = np.asarray(data, dtype=np.float64)
@@ -218,8 +219,17 @@ class Result:
                 return self._data[:, column]
             if name in self._extra:
                 return self._extra[name]
-            if name not in self._columns:
-                self._columns[name] = np.asarray(self._source.column(name), dtype=np.float64)
+            if name in self._columns:
+                return self._columns[name]
+            if self._engine_table is None and not self._source.is_direct(name):
+                # the engine computes every variable for the first algebraic one: keep its
+                # table (not `self.data`, which derived columns, still being computed from
+                # these, extend), so that every later column is a view, not a copy each
+                self._engine_table = np.asarray(self._source.table(), dtype=np.float64)
+            if self._engine_table is not None:
+                return self._engine_table[:, column]
+            # an angle, speed, mode or flag: read from the states, no table needed
+            self._columns[name] = np.asarray(self._source.column(name), dtype=np.float64)
             return self._columns[name]
         except KeyError:
             close = difflib.get_close_matches(name, self.names, n=5, cutoff=0.5)

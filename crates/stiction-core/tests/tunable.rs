@@ -380,3 +380,58 @@ press = { type = "Constant", k = 1.0 }
     assert_eq!((t[k + 1], a[k]), (1.0, 0.0), "left and right rows");
     assert!((a[k + 1] - 3.0).abs() < 1e-12, "{}", a[k + 1]);
 }
+
+#[test]
+fn every_variable_of_a_row_is_computed_with_the_parameters_of_its_time() {
+    let mut sim = Simulation::from_spec(&braked(500.0, 1.0)).unwrap();
+    sim.advance_to(1.0).unwrap(); // w = 90 at 10 rad/s²
+    sim.set_parameter("flywheel.J", 4.0).unwrap(); // 5 rad/s² from now
+    sim.advance_to(3.0).unwrap();
+    let r = sim.into_result();
+    let t = r.column("time").unwrap();
+    let energy = r.column("system.kineticEnergy").unwrap();
+    let accel = r.column("flywheel.a").unwrap();
+    let at = |time: f64| t.iter().position(|&x| (x - time).abs() < 1e-12).unwrap();
+    // ½·J·w² with the J of each row's time, however the table is filled (blocks of rows)
+    let (before, after) = (at(0.5), at(2.0));
+    assert!(
+        (energy[before] - 0.5 * 2.0 * 95.0 * 95.0).abs() < 1e-6,
+        "{}",
+        energy[before]
+    );
+    assert!(
+        (energy[after] - 0.5 * 4.0 * 85.0 * 85.0).abs() < 1e-6,
+        "{}",
+        energy[after]
+    );
+    assert!((accel[before] + 10.0).abs() < 1e-9 && (accel[after] + 5.0).abs() < 1e-9);
+}
+
+#[test]
+fn flange_torques_of_a_row_split_the_drive_by_the_inertias_of_its_time() {
+    let geared = r#"
+name = "geared"
+connect = [["drive.flange", "a.flange_a"], ["a.flange_b", "gear.flange_a"], ["gear.flange_b", "b.flange_a"]]
+[experiment]
+StopTime = 2.0
+Interval = 0.01
+[components]
+drive = { type = "ConstantTorque", tau_constant = 2.0 }
+a = { type = "Inertia", J = 1.0 }
+gear = { type = "IdealGear", ratio = 1.0 }
+b = { type = "Inertia", J = 1.0 }
+"#;
+    let mut sim = Simulation::from_spec(&ModelSpec::from_toml(geared, ".").unwrap()).unwrap();
+    sim.advance_to(1.0).unwrap();
+    sim.set_parameter("b.J", 3.0).unwrap();
+    sim.advance_to(2.0).unwrap();
+    let r = sim.into_result();
+    let (t, cut) = (
+        r.column("time").unwrap(),
+        r.column("b.flange_a.tau").unwrap(),
+    );
+    let at = |time: f64| t.iter().position(|&x| (x - time).abs() < 1e-12).unwrap();
+    // the gear passes J_b/(J_a + J_b) of the drive's 2 N·m: 1 N·m, then 1.5 N·m
+    assert!((cut[at(0.5)] - 1.0).abs() < 1e-12, "{}", cut[at(0.5)]);
+    assert!((cut[at(1.5)] - 1.5).abs() < 1e-12, "{}", cut[at(1.5)]);
+}

@@ -156,6 +156,13 @@ impl RawResult {
         Ok(PyArray1::from_vec(py, values))
     }
 
+    /// Whether variable `name` is read from the states without evaluating the system (an
+    /// angle, a speed, a mode, a flag); any other is a column of `table()`. KeyError for an
+    /// unknown name.
+    fn is_direct(&self, name: &str) -> PyResult<bool> {
+        (self.result.is_direct(name)).ok_or_else(|| PyKeyError::new_err(name.to_string()))
+    }
+
     /// A metric of this run (`max(J1.w)`, `time_of(clutch2.locked)`, …), as a sweep computes it.
     fn metric(&self, text: &str) -> PyResult<f64> {
         self.result.metric(text).map_err(model_err)

@@ -3,9 +3,11 @@
 
 mod audit;
 pub mod csv;
+mod flanges;
 pub mod mat;
 pub mod metric;
 mod probe;
+mod source;
 mod table;
 
 use std::rc::Rc;
@@ -187,6 +189,18 @@ impl SimResult {
         }
         let w = self.names.len();
         Some(self.table().iter().skip(c).step_by(w).copied().collect())
+    }
+
+    /// Whether variable `name` is read from the recorded states without evaluating the system
+    /// (an angle, a speed, a mode, a flag, time); None for an unknown name. Any other variable
+    /// is a column of the table, which computes every variable at once.
+    pub fn is_direct(&self, name: &str) -> Option<bool> {
+        let c = self.names.iter().position(|n| n == name)?;
+        if c == 0 {
+            return Some(true);
+        }
+        let mut general = Vec::new();
+        Some(compile(&self.system.outputs[c - 1].1, 1.0, &mut general).is_direct())
     }
 
     /// Variables that need no evaluation of the system: node angles and speeds, modes, flags.

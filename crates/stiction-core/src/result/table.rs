@@ -2,15 +2,18 @@
 //! of a row went through a `match` on its kind, bounds checks and a call per switching-element
 //! variable, which cost more than the row's evaluation itself. Here the rows are evaluated in
 //! blocks: each evaluation only copies the workspace arrays the columns read (angles, speeds,
-//! accelerations, signals, law torques, element values) and computes the flange cut torques;
-//! then each column is filled for the whole block in one tight loop. The arithmetic of each
-//! value is the row recorder's (`s * x + offset`, the same calls), so the values are bit for bit
-//! those of `Recorder::record`.
+//! accelerations, signals, law torques, element values); then the flange cut torques are solved
+//! for the whole block (`flanges.rs`) and each column is filled for the block in one tight loop
+//! (an element's continuous variable read as a field of its values, a mode or flag once per run
+//! of rows in one discrete state). The arithmetic of each value is the row recorder's
+//! (`s * x + offset`, the same calls), so the values are bit for bit those of `Recorder::record`.
 
-use super::{compile, value, Flat, SimResult};
+use super::flanges::{BlockFlanges, Planes};
+use super::source::Source;
+use super::{compile, Flat, SimResult};
 use crate::engine::eval::{DiscreteState, Workspace};
-use crate::switching::element::{is_discrete, ElementValues, SwitchVar};
-use crate::system::{Out, System};
+use crate::switching::element::{is_discrete, value_field, ElementValues, SwitchVar};
+use crate::system::System;
 
 /// Rows evaluated before their columns are filled: enough to amortize a column's dispatch,
 /// few enough that the copied workspaces stay in cache and memory stays bounded.
@@ -19,28 +22,26 @@ const BLOCK: usize = 64;
 impl SimResult {
     /// All variables, row-major (`rows × names.len()`), filled column by column.
     pub(super) fn compute_table(&self) -> Vec<f64> {
-        let sys = &*self.system;
         let tr = &self.trajectory;
-        let mut general = Vec::new();
-        let flat: Vec<Flat> = (sys.outputs.iter())
-            .map(|(_, out)| compile(out, 1.0, &mut general))
-            .collect();
-        let width = flat.len() + 1;
+        let width = self.system.outputs.len() + 1;
         let mut data = vec![0.0; tr.rows() * width];
-        let mut block = Block::new(sys, &flat, general);
-        let mut block_sys: *const System = sys;
-        self.visit_rows(|r, sys, row| {
-            if !std::ptr::eq(block_sys, sys) {
-                // a block holds rows of one system (a parameter change starts another)
-                block.flush(self, &flat, &mut data, width);
-                block_sys = sys;
-            }
-            block.push(sys, r, row);
-            if block.rows.len() == BLOCK {
-                block.flush(self, &flat, &mut data, width);
-            }
-        });
-        block.flush(self, &flat, &mut data, width);
+        // Each stretch of rows between parameter changes is filled from its own system: the
+        // values (an inertia's J, a law's constants) enter the compiled columns and the flange
+        // torques' terms, the shapes are the same throughout.
+        for (first, end, sys) in self.segments() {
+            let mut general = Vec::new();
+            let flat: Vec<Flat> = (sys.outputs.iter())
+                .map(|(_, out)| compile(out, 1.0, &mut general))
+                .collect();
+            let mut block = Block::new(sys, &flat, &general);
+            self.visit_segment(first..end, sys, &mut |r, sys, row| {
+                block.push(sys, r, row);
+                if block.rows.len() == BLOCK {
+                    block.flush(sys, self, &flat, &mut data, width);
+                }
+            });
+            block.flush(sys, self, &flat, &mut data, width);
+        }
         data
     }
 }
@@ -56,21 +57,20 @@ struct Block {
     signals: Vec<f64>,
     law_tau: Vec<f64>,
     elements: Vec<ElementValues>,
-    flange: Vec<f64>,
     general_values: Vec<f64>,
-    general: Vec<Out>,
-    needs_flanges: bool,
+    general: Vec<Source>,
+    /// The flange cut torques, if a column reads them.
+    flanges: Option<BlockFlanges>,
     needs_elements: bool,
-    flange_tau: Vec<f64>,
-    scratch: Vec<f64>,
 }
 
 impl Block {
-    fn new(sys: &System, flat: &[Flat], general: Vec<Out>) -> Self {
-        let needs_flanges = sys.flange_torques.ports() > 0
-            && (flat.iter()).any(|f| matches!(f, Flat::Flange(..) | Flat::General(..)));
-        let needs_elements =
-            (flat.iter()).any(|f| matches!(f, Flat::Switch(_, var, _) if !is_discrete(*var)));
+    fn new(sys: &System, flat: &[Flat], general: &[crate::system::Out]) -> Self {
+        let flanges = (sys.flange_torques.ports() > 0
+            && (flat.iter()).any(|f| matches!(f, Flat::Flange(..))))
+        .then(|| BlockFlanges::new(sys));
+        let needs_elements = flanges.as_ref().is_some_and(|f| f.reads_elements())
+            || (flat.iter()).any(|f| matches!(f, Flat::Switch(_, var, _) if !is_discrete(*var)));
         Self {
             rows: Vec::with_capacity(BLOCK),
             phi: Vec::new(),
@@ -79,13 +79,10 @@ impl Block {
             signals: Vec::new(),
             law_tau: Vec::new(),
             elements: Vec::new(),
-            flange: Vec::new(),
             general_values: Vec::new(),
-            general,
-            needs_flanges,
+            general: general.iter().map(Source::of).collect(),
+            flanges,
             needs_elements,
-            flange_tau: vec![0.0; sys.flange_torques.ports()],
-            scratch: Vec::new(),
         }
     }
 
@@ -105,16 +102,11 @@ impl Block {
         if self.needs_elements {
             self.elements.extend_from_slice(&ws.elements);
         }
-        if self.needs_flanges {
-            sys.flange_torques.solve(
-                |out: &Out| value(out, sys, ws, disc, &[]),
-                &mut self.flange_tau,
-                &mut self.scratch,
-            );
+        if let Some(f) = &mut self.flanges {
+            f.push(sys, ws, disc);
         }
-        self.flange.extend_from_slice(&self.flange_tau);
-        let tau = &self.flange_tau;
-        (self.general_values).extend(self.general.iter().map(|g| value(g, sys, ws, disc, tau)));
+        // outputs are `Scaled` trees that `compile` unwraps: none left here reads a flange torque
+        (self.general_values).extend(self.general.iter().map(|g| g.eval(sys, ws, disc, &[])));
     }
 
     /// Keeps the arrays aligned for a row without an evaluation (its values are not read).
@@ -131,22 +123,40 @@ impl Block {
             let e = self.elements.len() + sys.switching.len();
             self.elements.resize(e, ElementValues::default());
         }
-        self.flange
-            .resize(self.flange.len() + self.flange_tau.len(), 0.0);
+        if let Some(f) = &mut self.flanges {
+            f.pad();
+        }
         let g = self.general_values.len() + self.general.len();
         self.general_values.resize(g, 0.0);
     }
 
     /// Fills every column of the held rows into `data` and empties the block.
-    fn flush(&mut self, result: &SimResult, flat: &[Flat], data: &mut [f64], width: usize) {
-        let sys = &*result.system; // the shapes, the same for every system of the run
+    fn flush(
+        &mut self,
+        sys: &System,
+        result: &SimResult,
+        flat: &[Flat],
+        data: &mut [f64],
+        width: usize,
+    ) {
+        // the shapes, the same for every system of the run
         let tr = &result.trajectory;
         let Some(&(first, _)) = self.rows.first() else {
             return;
         };
+        let n = self.rows.len();
         for &(r, _) in &self.rows {
             data[r * width] = tr.t[r];
         }
+        if let Some(f) = &mut self.flanges {
+            let planes = Planes {
+                a: &self.a,
+                law_tau: &self.law_tau,
+                elements: &self.elements,
+            };
+            f.solve(sys, n, &planes);
+        }
+        let tau = self.flanges.as_ref().map_or(&[][..], |f| &f.tau);
         for (c, f) in flat.iter().enumerate() {
             let fill = match *f {
                 Flat::Phi(node, s, offset) => column(&self.phi, sys.nodes, node, s, Some(offset)),
@@ -154,7 +164,13 @@ impl Block {
                 Flat::A(node, s) => column(&self.a, sys.nodes, node, s, None),
                 Flat::Signal(slot, s) => column(&self.signals, sys.signals.slots, slot, s, None),
                 Flat::LawTau(k, s) => column(&self.law_tau, sys.laws.len(), k, s, None),
-                Flat::Flange(p, s) => column(&self.flange, self.flange_tau.len(), p, s, None),
+                // the torques are port after port: a port's rows are consecutive
+                Flat::Flange(p, s) => ColumnFill {
+                    plane: &tau[p * n..],
+                    stride: 1,
+                    s,
+                    offset: None,
+                },
                 Flat::General(i, s) => column(&self.general_values, self.general.len(), i, s, None),
                 Flat::Switch(k, var, s) => {
                     let col = c + 1;
@@ -162,7 +178,7 @@ impl Block {
                     continue;
                 }
             };
-            fill.write(first, self.rows.len(), c + 1, data, width);
+            fill.write(first, n, c + 1, data, width);
         }
         for &(r, ok) in &self.rows {
             if !ok {
@@ -200,6 +216,12 @@ impl Block {
                 }
                 row[col] = v;
             }
+        } else if let Some(field) = value_field(var) {
+            // a continuous variable is a field of the values (`variable` would return it)
+            let values = self.elements.iter().skip(k).step_by(ne);
+            for (row, v) in rows.zip(values) {
+                row[col] = s * field(v);
+            }
         } else {
             let values = self.elements.iter().skip(k).step_by(ne);
             for ((row, &id), v) in rows.zip(ids).zip(values) {
@@ -219,7 +241,6 @@ impl Block {
             &mut self.a,
             &mut self.signals,
             &mut self.law_tau,
-            &mut self.flange,
             &mut self.general_values,
         ] {
             plane.clear();
@@ -236,12 +257,11 @@ struct SwitchColumn {
     col: usize,
 }
 
-/// One column read from a copied array: entry `i` of each row's `len` values, times `s`, plus
-/// an angle's `offset` (added even when 0, as the row recorder does: −0 + 0 is +0).
+/// One column read from a copied array: every `stride`-th value of `plane`, times `s`, plus an
+/// angle's `offset` (added even when 0, as the row recorder does: −0 + 0 is +0).
 struct ColumnFill<'a> {
     plane: &'a [f64],
-    len: usize,
-    i: usize,
+    stride: usize,
     s: f64,
     offset: Option<f64>,
 }
@@ -249,9 +269,8 @@ struct ColumnFill<'a> {
 /// The column of entry `i` of `plane`'s rows of `len` values.
 fn column(plane: &[f64], len: usize, i: usize, s: f64, offset: Option<f64>) -> ColumnFill<'_> {
     ColumnFill {
-        plane,
-        len,
-        i,
+        plane: &plane[i..],
+        stride: len.max(1),
         s,
         offset,
     }
@@ -260,12 +279,16 @@ fn column(plane: &[f64], len: usize, i: usize, s: f64, offset: Option<f64>) -> C
 impl ColumnFill<'_> {
     /// Writes column `col` of the consecutive rows from `first` (`data` is row-major).
     fn write(&self, first: usize, rows: usize, col: usize, data: &mut [f64], width: usize) {
-        let out = data[first * width..(first + rows) * width].chunks_exact_mut(width);
-        let cells = out.zip(self.plane.chunks_exact(self.len.max(1)));
-        let (i, s) = (self.i, self.s);
+        // strided iterators rather than row slices: no bounds check per cell
+        let out = data[first * width + col..]
+            .iter_mut()
+            .step_by(width)
+            .take(rows);
+        let cells = out.zip(self.plane.iter().step_by(self.stride));
+        let s = self.s;
         match self.offset {
-            Some(offset) => cells.for_each(|(row, x)| row[col] = s * x[i] + offset),
-            None => cells.for_each(|(row, x)| row[col] = s * x[i]),
+            Some(offset) => cells.for_each(|(y, x)| *y = s * x + offset),
+            None => cells.for_each(|(y, x)| *y = s * x),
         }
     }
 }
@@ -288,6 +311,88 @@ mod tests {
             }
         });
         recorder.data
+    }
+
+    /// Every element's continuous variables are the fields `value_field` reads (the table's
+    /// shortcut past the virtual `variable`), on values that differ in every field.
+    #[test]
+    fn continuous_variables_are_fields() {
+        use crate::switching::element::SwitchVar as V;
+        use crate::switching::element::{is_discrete, value_field, ElementValues, Losses};
+        let all = [
+            V::Phi,
+            V::W,
+            V::A,
+            V::Tau,
+            V::Sa,
+            V::LossPower,
+            V::Tau0,
+            V::Tau0Max,
+            V::Fn,
+            V::Mu,
+            V::TauB,
+            V::TauSupport,
+            V::TauLoss,
+            V::TauEta,
+            V::Eta1,
+            V::Eta2,
+            V::Tbf1,
+            V::Tbf2,
+            V::TbfA,
+            V::Mode,
+            V::Locked,
+            V::StartForward,
+            V::StartBackward,
+            V::Free,
+            V::Stuck,
+            V::TauEtaPos,
+        ];
+        let v = ElementValues {
+            phi: 1.5,
+            w: 2.5,
+            a: 3.5,
+            tau: 4.5,
+            sa: 5.5,
+            loss: 6.5,
+            held: true,
+            tau0: 7.5,
+            tau0_max: 8.5,
+            fn_: 9.5,
+            mu: 10.5,
+            tau_b: 11.5,
+            tau_support: 12.5,
+            tau_loss: 13.5,
+            tau_eta: 14.5,
+            slope: 15.5,
+            losses: Losses {
+                eta1: 16.5,
+                eta2: 17.5,
+                tbf1: 18.5,
+                tbf2: 19.5,
+                tbf_a: 20.5,
+            },
+        };
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/msl");
+        let text = std::fs::read_to_string(format!("{dir}/HeatLosses.toml")).expect("example");
+        let spec = ModelSpec::from_toml(&text, dir).expect("valid model");
+        let sys = crate::assembly::CompiledModel::new(spec)
+            .expect("builds")
+            .system();
+        assert!(
+            sys.switching.len() >= 5,
+            "friction, brake, one-way clutch, lossy gear"
+        );
+        for e in &sys.switching {
+            let st = e.initial_state();
+            for var in all {
+                let field = value_field(var);
+                assert_eq!(field.is_none(), is_discrete(var), "{var:?}");
+                if let Some(field) = field {
+                    let (a, b) = (e.variable(&st, &v, var), field(&v));
+                    assert_eq!(a.to_bits(), b.to_bits(), "{} {var:?}", e.name());
+                }
+            }
+        }
     }
 
     /// Column by column gives the row recorder's values bit for bit (more rows than a block,

@@ -238,7 +238,8 @@ pub trait SwitchingElement: Send + Sync {
     fn indicator_label(&self, st: &SwitchState, slot: usize) -> &'static str;
 
     // ---- its result variables
-    /// The value of a result variable .
+    /// The value of a result variable. Only a mode or flag may differ from
+    /// `common_variable`: the result table reads continuous ones through `value_field`.
     fn variable(&self, st: &SwitchState, v: &ElementValues, var: SwitchVar) -> f64 {
         common_variable(st, v, var)
     }
@@ -276,6 +277,37 @@ pub fn common_variable(st: &SwitchState, v: &ElementValues, var: SwitchVar) -> f
         V::Stuck => flag(st.pre.mode == super::logic::STUCK),
         V::TauEtaPos => f64::NAN,
     }
+}
+
+/// A continuous variable as the field of the values it is (what `common_variable` returns for
+/// it), None for a discrete one. Every element's continuous variables are the common ones (an
+/// element overrides `variable` only for a mode or flag), so the result table reads them
+/// through this without a virtual call per cell.
+pub fn value_field(var: SwitchVar) -> Option<fn(&ElementValues) -> f64> {
+    use SwitchVar as V;
+    let field: fn(&ElementValues) -> f64 = match var {
+        V::Phi => |v| v.phi,
+        V::W => |v| v.w,
+        V::A => |v| v.a,
+        V::Tau => |v| v.tau,
+        V::Sa => |v| v.sa,
+        V::LossPower => |v| v.loss,
+        V::Tau0 => |v| v.tau0,
+        V::Tau0Max => |v| v.tau0_max,
+        V::Fn => |v| v.fn_,
+        V::Mu => |v| v.mu,
+        V::TauB => |v| v.tau_b,
+        V::TauSupport => |v| v.tau_support,
+        V::TauLoss => |v| v.tau_loss,
+        V::TauEta => |v| v.tau_eta,
+        V::Eta1 => |v| v.losses.eta1,
+        V::Eta2 => |v| v.losses.eta2,
+        V::Tbf1 => |v| v.losses.tbf1,
+        V::Tbf2 => |v| v.losses.tbf2,
+        V::TbfA => |v| v.losses.tbf_a,
+        _ => return None,
+    };
+    Some(field)
 }
 
 /// The discrete variables: a function of the state alone (no evaluation needed).

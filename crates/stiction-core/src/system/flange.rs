@@ -114,6 +114,16 @@ impl FlangeTorques {
         self.ports
     }
 
+    /// The expressions of the known torques, in the order `solve_rows` takes their values.
+    pub fn known_outs(&self) -> impl Iterator<Item = &Out> {
+        self.known.iter().map(|(_, out)| out)
+    }
+
+    /// The expressions of the component sums (an Inertia's `J·a`), in `solve_rows`' order.
+    pub fn total_outs(&self) -> impl Iterator<Item = &Out> {
+        self.eq_total.iter().flatten()
+    }
+
     /// Fills `tau[port]` for every mechanical port, given a way to evaluate outputs; `rhs` is
     /// scratch space, so a result row allocates nothing.
     pub fn solve(&self, eval: impl Fn(&Out) -> f64, tau: &mut [f64], rhs: &mut Vec<f64>) {
@@ -134,6 +144,57 @@ impl FlangeTorques {
         for b in &self.blocks {
             for (&c, pinv) in b.cols.iter().zip(b.pinv.chunks_exact(b.rows.len())) {
                 tau[self.unknown[c]] = (b.rows.iter().zip(pinv)).map(|(&r, p)| p * rhs[r]).sum();
+            }
+        }
+    }
+
+    /// `solve` for `n` rows at once, every quantity a plane of `n` values (row after
+    /// row): the known torques `known[i·n..]`, the sums `totals[j·n..]`, the torques into
+    /// `tau[port·n..]`. Each row's arithmetic is `solve`'s (each sum from the neutral element
+    /// `sum` starts with, the terms in the same order); a loop runs over rows in each step.
+    pub fn solve_rows(
+        &self,
+        n: usize,
+        known: &[f64],
+        totals: &[f64],
+        tau: &mut [f64],
+        rhs: &mut Vec<f64>,
+    ) {
+        let zero: f64 = std::iter::empty::<f64>().sum();
+        let plane = |i: usize| i * n..(i + 1) * n;
+        for (i, (p, _)) in self.known.iter().enumerate() {
+            tau[plane(*p)].copy_from_slice(&known[plane(i)]);
+        }
+        rhs.clear();
+        rhs.resize(self.eq_total.len() * n, zero);
+        let mut totals = totals.chunks_exact(n.max(1));
+        for (r, (ports, t)) in self.eq_known.iter().zip(&self.eq_total).enumerate() {
+            let out = &mut rhs[plane(r)];
+            for &p in ports {
+                out.iter_mut()
+                    .zip(&tau[plane(p)])
+                    .for_each(|(o, x)| *o += x);
+            }
+            match t {
+                Some(_) => {
+                    let total = totals.next().expect("one plane per total");
+                    out.iter_mut().zip(total).for_each(|(o, t)| *o = t - *o);
+                }
+                None => out.iter_mut().for_each(|o| *o = -*o),
+            }
+        }
+        for &p in &self.unknown {
+            tau[plane(p)].fill(0.0);
+        }
+        for b in &self.blocks {
+            for (&c, pinv) in b.cols.iter().zip(b.pinv.chunks_exact(b.rows.len())) {
+                let out = &mut tau[plane(self.unknown[c])];
+                out.fill(zero);
+                for (&r, p) in b.rows.iter().zip(pinv) {
+                    out.iter_mut()
+                        .zip(&rhs[plane(r)])
+                        .for_each(|(o, x)| *o += p * x);
+                }
             }
         }
     }

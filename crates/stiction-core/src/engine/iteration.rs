@@ -12,7 +12,7 @@ use crate::engine::kkt::ModeMatrix;
 use crate::engine::slots::ModeSolver;
 use crate::error::SimError;
 use crate::linalg::LinearSolver;
-use crate::switching::element::SwitchState;
+use crate::switching::element::{ModeKey, SwitchState};
 use crate::switching::logic::Discrete;
 use crate::switching::relation::RelationSet;
 use crate::system::law::MAX_LAW_RELATIONS;
@@ -61,10 +61,7 @@ impl ModeCache {
         t: f64,
     ) -> Result<Rc<ModeMatrix>, SimError> {
         let keys = disc.mode_keys(sys);
-        let key: Vec<u64> = keys
-            .iter()
-            .flat_map(|k| [k.locked as u64, k.slope.to_bits()])
-            .collect();
+        let key = packed(&keys);
         self.uses += 1;
         if let Some((mm, used)) = self.map.get_mut(&key) {
             *used = self.uses;
@@ -88,6 +85,21 @@ impl ModeCache {
             }
         }
     }
+}
+
+/// A mode's key for the map: the locked flags as bits, then (element, slope bits) for each
+/// nonzero slope — a few words to hash per lookup instead of two per element.
+fn packed(keys: &[ModeKey]) -> Vec<u64> {
+    let mut key = vec![0u64; keys.len().div_ceil(64)];
+    for (k, mk) in keys.iter().enumerate() {
+        key[k / 64] |= (mk.locked as u64) << (k % 64);
+    }
+    for (k, mk) in keys.iter().enumerate() {
+        if mk.slope.to_bits() != 0 {
+            key.extend([k as u64, mk.slope.to_bits()]);
+        }
+    }
+    key
 }
 
 /// An element changed its mode at an event.

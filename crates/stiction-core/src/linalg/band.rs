@@ -94,32 +94,36 @@ impl Banded {
         self.pivot_abs.iter().copied().fold(f64::INFINITY, f64::min)
     }
 
-    /// Solves in the factored order, in place. Plain index loops over the stored rows: the
-    /// bandwidths of drivetrains are 1–4, where iterator adaptors cost more than the arithmetic.
+    /// Solves in the factored order, in place.
     pub fn solve(&self, y: &mut [f64]) {
-        let (n, kl, width) = (self.n, self.kl, self.width);
-        let y = &mut y[..n];
-        if kl > 0 {
-            for k in 0..n {
-                let p = self.pivot_row[k];
+        let (kl, width) = (self.kl, self.width);
+        // row by row through the stored factors (no index arithmetic per entry); the zips
+        // stop at the matrix's last row
+        if kl == 1 {
+            // the common bandwidth of a drivetrain's modes: one multiplier per step
+            let steps = self.lower.iter().zip(&self.pivot_row).enumerate();
+            for (k, (m, &p)) in steps.take(self.n.saturating_sub(1)) {
                 y.swap(k, p);
-                let yk = y[k];
-                let end = (k + 1 + kl).min(n);
-                let lower = &self.lower[k * kl..k * kl + (end - k - 1)];
-                for (yi, m) in y[k + 1..end].iter_mut().zip(lower) {
+                y[k + 1] -= m * y[k];
+            }
+        } else if kl > 1 {
+            let steps = self.lower.chunks_exact(kl).zip(&self.pivot_row);
+            for (k, (lower, &p)) in steps.enumerate() {
+                y.swap(k, p);
+                let (head, below) = y.split_at_mut(k + 1);
+                let yk = head[k];
+                for (yi, m) in below.iter_mut().zip(lower) {
                     *yi -= m * yk;
                 }
             }
         }
-        let reach = width - kl - 1;
-        for k in (0..n).rev() {
-            let row = &self.band[k * width + kl..(k + 1) * width];
-            let len = reach.min(n - 1 - k);
-            let mut s = 0.0;
-            for (u, v) in row[1..1 + len].iter().zip(&y[k + 1..k + 1 + len]) {
-                s += u * v;
-            }
-            y[k] = (y[k] - s) / row[0];
+        let rows = self.band[..self.n * width].chunks_exact(width);
+        for (k, row) in rows.enumerate().rev() {
+            let (head, right) = y.split_at_mut(k + 1);
+            let s: f64 = (row[kl + 1..].iter().zip(right.iter()))
+                .map(|(u, v)| u * v)
+                .sum();
+            head[k] = (head[k] - s) / row[kl];
         }
     }
 }
@@ -188,9 +192,8 @@ pub fn positions(perm: &[usize]) -> Vec<usize> {
 }
 
 /// The largest entry's magnitude (the scale pivots are judged against).
-pub fn largest(values: &[f64]) -> f64 {
-    values
-        .iter()
+pub fn largest<'a>(values: impl IntoIterator<Item = &'a f64>) -> f64 {
+    (values.into_iter())
         .fold(0.0f64, |a, v| a.max(v.abs()))
         .max(1e-300)
 }

@@ -71,20 +71,27 @@ impl RowBasis {
         }
     }
 
-    /// The row as an edge of the shaft graph (vertex `dim` is the housing), if it is one.
+    /// The row as an edge of the shaft graph (vertex `dim` is the housing), if it is one. The
+    /// terms are merged by node in a small array (no allocation per row: a mode change offers
+    /// every lock); a row over more than four nodes is a general one.
     fn edge(&self, terms: &[(usize, f64)]) -> Edge {
-        let mut nz: Vec<(usize, f64)> = Vec::with_capacity(2);
+        let mut nz = [(0usize, 0.0f64); 4];
+        let mut len = 0;
         for &(i, c) in terms {
-            match nz.iter_mut().find(|(j, _)| *j == i) {
+            match nz[..len].iter_mut().find(|(j, _)| *j == i) {
                 Some(t) => t.1 += c,
-                None => nz.push((i, c)),
+                None if len == 4 => return Edge::General,
+                None => {
+                    nz[len] = (i, c);
+                    len += 1;
+                }
             }
         }
-        nz.retain(|&(_, c)| c != 0.0);
-        match nz[..] {
-            [] => Edge::Zero,
-            [(i, _)] => Edge::Between(i, self.dim),
-            [(i, a), (j, b)] if a == -b => Edge::Between(i, j),
+        let mut kept = nz[..len].iter().filter(|&&(_, c)| c != 0.0);
+        match (kept.next(), kept.next(), kept.next()) {
+            (None, _, _) => Edge::Zero,
+            (Some(&(i, _)), None, _) => Edge::Between(i, self.dim),
+            (Some(&(i, a)), Some(&(j, b)), None) if a == -b => Edge::Between(i, j),
             _ => Edge::General,
         }
     }

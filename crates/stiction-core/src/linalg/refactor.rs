@@ -16,6 +16,7 @@
 //! scratch in the same order.
 
 use std::cell::RefCell;
+use std::rc::Rc;
 
 use super::band::{bandwidths, largest, positions, rcm_order, Banded};
 use super::{Factorization, Singular, Triplets, PIVOT_TOLERANCE};
@@ -52,20 +53,21 @@ impl SlotLayout {
     /// The mode's matrix (`slots[i]`: the slot of its unknown i) in band storage, and the mode's
     /// unknown at each position (`ABSENT`: an identity row).
     fn assemble(&self, matrix: &Triplets, slots: &[usize]) -> (Vec<f64>, Vec<usize>) {
-        let mut lu = Banded::zeros(self.size(), self.kl, self.ku);
+        let (kl, width) = (self.kl, 2 * self.kl + self.ku + 1);
+        let mut band = vec![0.0; (self.size() + kl) * width];
         let mut unknown_at = vec![ABSENT; self.size()];
         for (i, &s) in slots.iter().enumerate() {
             unknown_at[self.pos[s]] = i;
         }
+        // entry (i, j) at i·width + j + kl − i, as `Banded::at`
         for &(r, c, v) in &matrix.entries {
-            let k = lu.at(self.pos[slots[r]], self.pos[slots[c]]);
-            lu.band[k] += v;
+            let (i, j) = (self.pos[slots[r]], self.pos[slots[c]]);
+            band[i * width + j + kl - i] += v;
         }
         for (p, _) in unknown_at.iter().enumerate().filter(|(_, &u)| u == ABSENT) {
-            let k = lu.at(p, p);
-            lu.band[k] = 1.0;
+            band[p * width + kl] = 1.0;
         }
-        (lu.band, unknown_at)
+        (band, unknown_at)
     }
 }
 
@@ -73,7 +75,7 @@ impl SlotLayout {
 struct SlotFactors {
     unknown_at: Vec<usize>,
     unknowns: usize,
-    lu: Banded,
+    lu: Rc<Banded>,
     scratch: RefCell<Vec<f64>>,
 }
 
@@ -102,7 +104,7 @@ impl Factorization for SlotFactors {
 /// The last factorization, which the next one resumes: its matrix and saved windows.
 struct Last {
     a: Vec<f64>,
-    lu: Banded,
+    lu: Rc<Banded>,
     windows: Vec<f64>,
 }
 
@@ -131,21 +133,31 @@ impl Refactor {
         slots: &[usize],
     ) -> Result<Box<dyn Factorization>, Singular> {
         let (a, unknown_at) = self.layout.assemble(matrix, slots);
-        let n = self.layout.size();
-        let mut lu = Banded::zeros(n, self.layout.kl, self.layout.ku);
-        let mut windows = vec![0.0; (n / EVERY + 1) * lu.kl * lu.width];
+        let (n, kl, ku) = (self.layout.size(), self.layout.kl, self.layout.ku);
         let last = self.last.take();
-        self.steps = match &last {
-            Some(old) => match changed_rows(&old.a, &a, lu.width) {
-                Some(rows) => resume(&mut lu, &a, &mut windows, Some((old, rows))),
-                None => {
-                    (lu, windows) = (old.lu.clone(), old.windows.clone());
-                    0
+        let (lu, windows, steps) = match &last {
+            Some(old) => match changed_rows(&old.a, &a, old.lu.width) {
+                Some(rows) => {
+                    let (mut lu, mut windows) = ((*old.lu).clone(), old.windows.clone());
+                    let steps = resume(&mut lu, &a, &mut windows, Some((old, rows)));
+                    (Rc::new(lu), windows, steps)
                 }
+                None => (old.lu.clone(), old.windows.clone(), 0),
             },
-            None => resume(&mut lu, &a, &mut windows, None),
+            None => {
+                let mut lu = Banded::zeros(n, kl, ku);
+                let mut windows = vec![0.0; (n / EVERY + 1) * kl * lu.width];
+                let steps = resume(&mut lu, &a, &mut windows, None);
+                (Rc::new(lu), windows, steps)
+            }
         };
-        let (scale, smallest) = (largest(&a), lu.smallest_pivot());
+        self.steps = steps;
+        // judged against the mode's own entries, as a factorization of it alone (not the 1s
+        // of the identity rows)
+        let rows = a.chunks_exact(lu.width).zip(&unknown_at);
+        let used = rows.filter(|(_, &u)| u != ABSENT).flat_map(|(row, _)| row);
+        let scale = largest(used);
+        let smallest = lu.smallest_pivot();
         if n > 0 && smallest <= PIVOT_TOLERANCE * scale {
             // the saved windows are this matrix's now: the next mode starts afresh
             return Err(Singular {
@@ -184,8 +196,8 @@ fn changed_rows(old: &[f64], new: &[f64], width: usize) -> Option<(usize, usize)
 }
 
 /// Runs the elimination of `a` into `lu`, saving windows every `EVERY` steps. With the last
-/// factorization and the rows where `a` differs from its matrix, it starts from the last factors
-/// (copied) at the saved window before the first changed row, and stops at the first saved
+/// factorization and the rows where `a` differs from its matrix, `lu` and `windows` hold the
+/// last factors and windows (copies) and it starts at the saved window before the first changed row, and stops at the first saved
 /// window after the last changed row that equals the old one. Returns the steps taken.
 fn resume(
     lu: &mut Banded,
@@ -200,8 +212,6 @@ fn resume(
         Some((old, (first, _))) => {
             // rows before `first` are unchanged: so are the steps before `first − kl`
             let start = first.saturating_sub(kl) / EVERY * EVERY;
-            lu.clone_from(&old.lu);
-            windows.copy_from_slice(&old.windows);
             if start > 0 {
                 lu.band[window(start)].copy_from_slice(&old.windows[saved(start)]);
             }
@@ -243,4 +253,62 @@ fn same_window(lu: &Banded, saved: &[f64], k: usize) -> bool {
         // row k + d stores column j at offset j + kl − (k + d): columns from k at kl − d on
         (row[kl - d..].iter().zip(&old[kl - d..])).all(|(x, y)| x.to_bits() == y.to_bits())
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::linalg::{DenseLu, LinearSolver};
+
+    /// A chain of `n` masses (mass `mass(i)`) with a lock slot between each pair: the locks in
+    /// `locked` hold; slots: nodes, then lock k at `n + k`.
+    fn chain(n: usize, locked: &[usize], mass: impl Fn(usize) -> f64) -> (Triplets, Vec<usize>) {
+        let mut m = Triplets::new(n + locked.len());
+        (0..n).for_each(|i| m.add(i, i, mass(i)));
+        let mut slots: Vec<usize> = (0..n).collect();
+        for (r, &k) in locked.iter().enumerate() {
+            for (i, c) in [(k, 1.0), (k + 1, -1.0 - 0.1 * k as f64)] {
+                m.add(n + r, i, c);
+                m.add(i, n + r, c);
+            }
+            slots.push(n + k);
+        }
+        (m, slots)
+    }
+
+    #[test]
+    fn a_singular_mode_is_refused_and_the_next_one_starts_afresh() {
+        let n = 50;
+        let pattern = chain(n, &(0..n - 1).collect::<Vec<_>>(), |_| 1.0).0;
+        let layout = SlotLayout::new(pattern.size, &pattern.entries);
+        let mut refactor = Refactor::new(layout.clone());
+        for (locked, massless) in [
+            (vec![3, 4, 20], None),
+            (vec![3, 20], Some(30)),
+            (vec![3], None),
+        ] {
+            let mass = |i: usize| {
+                if Some(i) == massless {
+                    0.0
+                } else {
+                    1.0 + i as f64
+                }
+            };
+            let (m, slots) = chain(n, &locked, mass);
+            let got = refactor.factor(&m, &slots);
+            let fresh = Refactor::new(layout.clone()).factor(&m, &slots);
+            assert_eq!(got.is_err(), massless.is_some());
+            assert_eq!(fresh.is_err(), massless.is_some());
+            let (Ok(got), Ok(fresh)) = (got, fresh) else {
+                continue;
+            };
+            let b: Vec<f64> = (0..m.size).map(|i| (i as f64).cos()).collect();
+            let (mut x, mut y, mut z) = (b.clone(), b.clone(), b.clone());
+            got.solve_in_place(&mut x);
+            fresh.solve_in_place(&mut y);
+            DenseLu.factor(&m).expect("regular").solve_in_place(&mut z);
+            assert!(x.iter().zip(&y).all(|(p, q)| p.to_bits() == q.to_bits()));
+            assert!(x.iter().zip(&z).all(|(p, q)| (p - q).abs() < 1e-12));
+        }
+    }
 }

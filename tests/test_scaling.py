@@ -78,7 +78,9 @@ def test_bench_scale_prints_a_refused_size_and_goes_on(monkeypatch: pytest.Monke
 
     def guarded(kind: str, n: int) -> stiction.bench.ScaleRow:
         if n > 10:
-            raise st.ModelError("experiment: Interval = 0.0015 gives about 11002 rows, more than fits in memory")
+            raise st.ModelError(
+                "experiment: Interval = 0.0015 gives about 11002 rows, more than fits in memory"
+            )
         return real(kind, n)
 
     monkeypatch.setattr(stiction.bench, "bench_scale", guarded)

@@ -7,13 +7,35 @@
 
 use super::RANK_TOLERANCE;
 
-type Row = Vec<(usize, f64)>;
+/// The kept rows' terms one after another, and where each row ends (one allocation for all:
+/// a mode change offers every lock).
+#[derive(Default)]
+struct Rows {
+    terms: Vec<(usize, f64)>,
+    ends: Vec<usize>,
+}
+
+impl Rows {
+    fn push(&mut self, terms: &[(usize, f64)]) {
+        self.terms.extend_from_slice(terms);
+        self.ends.push(self.terms.len());
+    }
+
+    fn len(&self) -> usize {
+        self.ends.len()
+    }
+
+    fn iter(&self) -> impl Iterator<Item = &[(usize, f64)]> {
+        let starts = std::iter::once(0).chain(self.ends.iter().copied());
+        starts.zip(&self.ends).map(|(a, &b)| &self.terms[a..b])
+    }
+}
 
 /// Rows offered in priority order are kept when independent of those kept before.
 pub struct RowBasis {
     dim: usize,
     /// While every kept row is a graph edge: the forest of kept edges and the rows, in order.
-    graph: Option<(Forest, Vec<Row>)>,
+    graph: Option<(Forest, Rows)>,
     dense: Dense,
 }
 
@@ -21,7 +43,7 @@ impl RowBasis {
     pub fn new(dim: usize) -> Self {
         Self {
             dim,
-            graph: Some((Forest::new(dim + 1), Vec::new())),
+            graph: Some((Forest::new(dim + 1), Rows::default())),
             dense: Dense::new(dim),
         }
     }
@@ -45,7 +67,7 @@ impl RowBasis {
             (Edge::Between(a, b), Some((forest, rows))) => {
                 let joined = forest.union(a, b);
                 if joined {
-                    rows.push(terms.to_vec());
+                    rows.push(terms);
                 }
                 joined
             }
@@ -65,8 +87,8 @@ impl RowBasis {
 
     fn switch_to_general(&mut self) {
         if let Some((_, rows)) = self.graph.take() {
-            for row in rows {
-                self.dense.accept(&row);
+            for row in rows.iter() {
+                self.dense.accept(row);
             }
         }
     }

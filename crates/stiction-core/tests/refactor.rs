@@ -2,7 +2,7 @@
 //! `engine::ModeSolver`): over a sequence of modes of a large ladder — locks added and removed
 //! one or several at a time, two brakes on one shaft whose second lock is dependent — the
 //! incremental factors solve bit for bit as a factorization from scratch in the same order, and
-//! to round-off as the dense LU; a change of one element redoes a few elimination steps only.
+//! to round-off as the dense LU (a LossyGear's non-symmetric column included); a change of one element redoes a few elimination steps only.
 
 use stiction_core::assembly::CompiledModel;
 use stiction_core::engine::kkt::ModeMatrix;
@@ -12,8 +12,9 @@ use stiction_core::switching::element::ModeKey;
 use stiction_core::system::System;
 use stiction_core::ModelSpec;
 
-/// N inertias joined alternately by clutches and spring-dampers, a brake on every fourth, and a
-/// second brake on the last inertia's shaft (its lock is dependent when both hold).
+/// N inertias joined alternately by clutches and spring-dampers, a brake on every fourth, a
+/// second brake on the last inertia's shaft (its lock is dependent when both hold) and a
+/// LossyGear from it to one more inertia.
 fn ladder(n: usize) -> String {
     let mut comps = vec![
         "drive = { type = \"ConstantTorque\", tau_constant = 10.0 }".to_string(),
@@ -47,6 +48,14 @@ fn ladder(n: usize) -> String {
         }
     }
     comps.push("extra = { type = \"Brake\", fn_max = 50.0 }".into());
+    // a LossyGear: a permanent row whose column follows the loss slope (non-symmetric)
+    comps.push(
+        "gear = { type = \"LossyGear\", ratio = 2.0, lossTable = [[0.0, 0.8, 0.7, 1.0, 1.0]] }"
+            .into(),
+    );
+    comps.push("Jg = { type = \"Inertia\", J = 0.5 }".into());
+    conns.push(format!("[\"J{}.flange_b\", \"gear.flange_a\"]", n - 1));
+    conns.push("[\"gear.flange_b\", \"Jg.flange_a\"]".into());
     conns.push(format!("[\"J{}.flange_b\", \"extra.flange_a\"]", n - 1));
     conns.push("[\"on.y\", \"extra.f_normalized\"]".into());
     format!(
@@ -87,6 +96,7 @@ fn incremental_factors_equal_factors_from_scratch() {
         named("extra").expect("extra"),
         named("brake79").expect("brake79"),
     );
+    let gear = named("gear").expect("gear");
     // a pseudo-random walk over modes: mostly one element at a time, sometimes several
     let mut seed: u64 = 12345;
     let mut small_changes = Vec::new();
@@ -104,7 +114,13 @@ fn incremental_factors_equal_factors_from_scratch() {
             locked[x] = true;
             locked[y] = true;
         }
-        let mode = keys(&locked);
+        let mut mode = keys(&locked);
+        // the gear rolling with a loss slope, stuck, or ideal: changed with the several flips
+        // (steps 9, 19, …)
+        mode[gear] = ModeKey {
+            locked: (step + 1) / 10 % 3 == 2,
+            slope: [0.25, -0.4, 0.0][(step + 1) / 10 % 3],
+        };
         let a = ModeMatrix::factor(&sys, &mode, 0.0, &mut incremental).expect("regular");
         let b = ModeMatrix::factor(&sys, &mode, 0.0, &mut ModeSolver::default()).expect("regular");
         let dense = ModeSolver::with(Box::new(DenseLu));

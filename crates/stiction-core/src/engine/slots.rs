@@ -111,11 +111,15 @@ impl ModeSolver {
         });
         let constraints = sys.nodes + sys.constraints.len();
         let of_row = |&(k, lock): &(usize, bool)| match lock {
-            true => slots.lock[k],
-            false => slots.permanent[k].expect("a permanent row has a slot"),
+            true => Some(slots.lock[k]),
+            false => slots.permanent[k],
         };
-        let index: Vec<usize> = (0..constraints).chain(rows.iter().map(of_row)).collect();
-        refactor.factor(matrix, &index)
+        let all = (0..constraints).map(Some).chain(rows.iter().map(of_row));
+        match all.collect::<Option<Vec<usize>>>() {
+            Some(index) => refactor.factor(matrix, &index),
+            // a permanent row that neither probe key showed: no slot, so from scratch
+            None => SizedLu.factor(matrix),
+        }
     }
 
     /// Elimination steps of the last banded factorization (tests: what a mode change redid).

@@ -65,3 +65,32 @@ def test_bench_scale_prints_a_row_per_model_and_size() -> None:
     assert all(float(r[2]) > 0 and int(r[5]) > 0 for r in rows)
     bad = CliRunner().invoke(main, ["bench", "--scale", "4,x"])
     assert bad.exit_code == 2 and "--scale" in bad.output and "'4,x'" in bad.output, bad.output
+
+
+def test_bench_scale_prints_a_refused_size_and_goes_on(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A size the engine refuses (its memory guard) is one row saying why; the others still run."""
+    from click.testing import CliRunner
+
+    import stiction.bench
+    from stiction.cli import main
+
+    real = stiction.bench.bench_scale
+
+    def guarded(kind: str, n: int) -> stiction.bench.ScaleRow:
+        if n > 10:
+            raise st.ModelError(
+                "experiment: Interval = 0.0015 gives about 11002 rows, more than fits in memory"
+            )
+        return real(kind, n)
+
+    monkeypatch.setattr(stiction.bench, "bench_scale", guarded)
+    out = CliRunner().invoke(main, ["bench", "--scale", "4,20"])
+    assert out.exit_code == 0, out.output
+    rows = [line.split() for line in out.output.splitlines()[1:]]
+    assert [r[:3] for r in rows] == [
+        ["chain", "4", rows[0][2]],
+        ["chain", "20", "refused:"],
+        ["ladder", "4", rows[2][2]],
+        ["ladder", "20", "refused:"],
+    ]
+    assert "more than fits in memory" in out.output

@@ -12,7 +12,10 @@ __all__ = ["print_scale", "print_stiff", "print_sweeps"]
 
 
 def print_scale(sizes: str) -> None:
+    """One row per generated chain and ladder of each size; a size the engine refuses prints
+    its reason in place of the numbers."""
     from .bench import bench_scale
+    from .errors import StictionError
 
     try:
         ns = [int(s) for s in sizes.split(",") if s.strip()]
@@ -24,7 +27,12 @@ def print_scale(sizes: str) -> None:
     )
     for kind in ("chain", "ladder"):
         for n in ns:
-            row = bench_scale(kind, n)
+            try:
+                row = bench_scale(kind, n)
+            except StictionError as e:
+                # a size the engine refuses (the memory guard) is a row of the table, not the end of it
+                click.echo(f"{kind:<8} {n:>6} refused: {str(e).splitlines()[0]}")
+                continue
             click.echo(
                 f"{kind:<8} {n:>6} {row.ms:>10.1f} {row.steps:>7} {row.rhs_evals:>10} {row.events:>7} "
                 f"{row.us_per_step_element:>13.3f} {row.ms_per_event:>9.3f}"

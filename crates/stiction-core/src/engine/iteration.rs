@@ -9,32 +9,47 @@ use std::rc::Rc;
 
 use crate::engine::eval::{evaluate, kinematics, DiscreteState, Workspace};
 use crate::engine::kkt::ModeMatrix;
+use crate::engine::slots::ModeSolver;
 use crate::error::SimError;
-use crate::linalg::{LinearSolver, SizedLu};
-use crate::switching::element::SwitchState;
+use crate::linalg::LinearSolver;
+use crate::switching::element::{ModeKey, SwitchState};
 use crate::switching::logic::Discrete;
 use crate::switching::relation::RelationSet;
 use crate::system::law::MAX_LAW_RELATIONS;
 use crate::system::System;
 
-/// Factored mode matrices by mode: a mode met again costs nothing.
+/// Factored mode matrices by mode: a mode met again costs nothing while it is kept. At most
+/// `CACHE_BYTES` of factors are kept (a drivetrain of 10⁴ elements has thousands of modes of a
+/// megabyte each); beyond that the least recently used modes are dropped.
 pub struct ModeCache {
-    map: HashMap<Vec<u64>, Rc<ModeMatrix>>,
-    solver: Box<dyn LinearSolver>,
+    map: HashMap<Vec<u64>, (Rc<ModeMatrix>, u64)>,
+    solver: ModeSolver,
+    bytes: usize,
+    uses: u64,
     pub factorizations: usize,
 }
 
+/// The factors a `ModeCache` keeps at most (bytes).
+pub const CACHE_BYTES: usize = 256 << 20;
+
 impl Default for ModeCache {
     fn default() -> Self {
-        Self::new(Box::new(SizedLu))
+        Self::with_solver(ModeSolver::default())
     }
 }
 
 impl ModeCache {
+    /// Every mode factored from scratch by `solver`.
     pub fn new(solver: Box<dyn LinearSolver>) -> Self {
+        Self::with_solver(ModeSolver::with(solver))
+    }
+
+    fn with_solver(solver: ModeSolver) -> Self {
         Self {
             map: HashMap::new(),
             solver,
+            bytes: 0,
+            uses: 0,
             factorizations: 0,
         }
     }
@@ -46,18 +61,45 @@ impl ModeCache {
         t: f64,
     ) -> Result<Rc<ModeMatrix>, SimError> {
         let keys = disc.mode_keys(sys);
-        let key: Vec<u64> = keys
-            .iter()
-            .flat_map(|k| [k.locked as u64, k.slope.to_bits()])
-            .collect();
-        if let Some(mm) = self.map.get(&key) {
+        let key = packed(&keys);
+        self.uses += 1;
+        if let Some((mm, used)) = self.map.get_mut(&key) {
+            *used = self.uses;
             return Ok(mm.clone());
         }
-        let mm = Rc::new(ModeMatrix::factor(sys, &keys, t, &*self.solver)?);
+        let mm = Rc::new(ModeMatrix::factor(sys, &keys, t, &mut self.solver)?);
         self.factorizations += 1;
-        self.map.insert(key, mm.clone());
+        self.bytes += mm.bytes();
+        while self.bytes > CACHE_BYTES && !self.map.is_empty() {
+            self.drop_least_recent();
+        }
+        self.map.insert(key, (mm.clone(), self.uses));
         Ok(mm)
     }
+
+    fn drop_least_recent(&mut self) {
+        let oldest = (self.map.iter()).min_by_key(|(_, (_, used))| *used);
+        if let Some(key) = oldest.map(|(key, _)| key.clone()) {
+            if let Some((mm, _)) = self.map.remove(&key) {
+                self.bytes -= mm.bytes();
+            }
+        }
+    }
+}
+
+/// A mode's key for the map: the locked flags as bits, then (element, slope bits) for each
+/// nonzero slope — a few words to hash per lookup instead of two per element.
+fn packed(keys: &[ModeKey]) -> Vec<u64> {
+    let mut key = vec![0u64; keys.len().div_ceil(64)];
+    for (k, mk) in keys.iter().enumerate() {
+        key[k / 64] |= (mk.locked as u64) << (k % 64);
+    }
+    for (k, mk) in keys.iter().enumerate() {
+        if mk.slope.to_bits() != 0 {
+            key.extend([k as u64, mk.slope.to_bits()]);
+        }
+    }
+    key
 }
 
 /// An element changed its mode at an event.

@@ -19,8 +19,9 @@ use std::cell::RefCell;
 use nalgebra::{DMatrix, DVector};
 
 use super::massless::Massless;
+use super::slots::{column_entries, ModeSolver};
 use crate::error::SimError;
-use crate::linalg::{Factorization, LinearSolver, RowBasis, Triplets};
+use crate::linalg::{Factorization, RowBasis, Triplets};
 use crate::switching::element::{Column, ModeKey};
 use crate::system::{Rel, System};
 
@@ -64,7 +65,7 @@ impl ModeMatrix {
         sys: &System,
         keys: &[ModeKey],
         time: f64,
-        solver: &dyn LinearSolver,
+        solver: &mut ModeSolver,
     ) -> Result<Self, SimError> {
         let (mut rows, element_rows) = mode_rows(sys, keys);
         let g: Vec<&Rel> = rows.iter().map(|(rel, _)| *rel).collect();
@@ -76,10 +77,12 @@ impl ModeMatrix {
             rows.extend(ml.basis.iter().map(|v| (v, Column::Same)));
         }
         let m = kkt_matrix(sys, &rows);
-        let factors = solver.factor(&m).map_err(|_| SimError::SingularMode {
-            time,
-            detail: singular_detail(sys, keys, &massless_nodes(sys)),
-        })?;
+        let owners = (massless.is_none()).then(|| row_owners(sys, &element_rows, rows.len()));
+        let factors =
+            (solver.factor(sys, &m, owners.as_deref())).map_err(|_| SimError::SingularMode {
+                time,
+                detail: singular_detail(sys, keys, &massless_nodes(sys)),
+            })?;
         let sloped = (sys.switching.iter().zip(keys).enumerate())
             .filter(|(k, (e, key))| {
                 !key.locked && element_rows[*k].permanent.is_some() && e.slope_column().is_some()
@@ -95,6 +98,11 @@ impl ModeMatrix {
             scratch: RefCell::new(Vec::new()),
             massless,
         })
+    }
+
+    /// Memory held by the factors (bytes, about).
+    pub fn bytes(&self) -> usize {
+        self.factors.bytes()
     }
 
     /// Solves in place: on entry `[f; 0]`, on exit `[a; λ]`.
@@ -242,23 +250,27 @@ fn kkt_matrix(sys: &System, rows: &[(&Rel, Column)]) -> Triplets {
         for &(i, c) in &row.terms {
             m.add(n + r, i, c);
         }
-        let (same, extra) = match *column {
-            Column::Same => (true, None),
-            Column::Plus(col, s) => (true, Some((col, s))),
-            Column::Only(col) => (false, Some((col, 1.0))),
-        };
-        if same {
-            for &(i, c) in &row.terms {
-                m.add(i, n + r, c);
-            }
-        }
-        if let Some((col, s)) = extra {
-            for &(i, c) in &col.terms {
-                m.add(i, n + r, s * c);
-            }
+        for (i, c) in column_entries(row, *column) {
+            m.add(i, n + r, c);
         }
     }
     m
+}
+
+/// The element each row after the permanent constraints belongs to, and whether it is the
+/// element's lock row (else its permanent row).
+fn row_owners(sys: &System, element_rows: &[ElementRows], rows: usize) -> Vec<(usize, bool)> {
+    let first = sys.constraints.len();
+    let mut owners = vec![(0, false); rows - first];
+    for (k, er) in element_rows.iter().enumerate() {
+        if let Some(r) = er.permanent {
+            owners[r - first] = (k, false);
+        }
+        if let Some(r) = er.lock {
+            owners[r - first] = (k, true);
+        }
+    }
+    owners
 }
 
 fn massless_nodes(sys: &System) -> Vec<usize> {

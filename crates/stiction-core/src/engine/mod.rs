@@ -8,6 +8,8 @@ pub mod eval;
 mod iteration;
 pub mod kkt;
 pub mod massless;
+mod slots;
 
 pub use crossings::{indicator_count, indicator_label, indicators, speed_rates};
 pub use iteration::{iterate, EventPoint, ModeCache, ModeChange};
+pub use slots::ModeSolver;

@@ -10,28 +10,130 @@ use super::{Factorization, LinearSolver, Singular, Triplets, PIVOT_TOLERANCE};
 #[derive(Debug, Clone, Copy, Default)]
 pub struct BandLu;
 
-struct BandFactors {
-    /// `perm[i]`: the original row/column at position i.
-    perm: Vec<usize>,
-    kl: usize,
-    /// Row i holds columns `i − kl ..= i + kl + ku` (U after factoring).
-    width: usize,
-    band: Vec<f64>,
+/// A banded matrix in a fixed order and its elimination, step by step: row i holds columns
+/// `i − kl ..= i + kl + ku` (room for the fill-in of row swaps), U after factoring. `kl` rows of
+/// padding follow the last so that the rows step k works on (`k ..< k + kl`, the window) are
+/// always there; `refactor` saves and restores windows to resume an elimination midway.
+#[derive(Debug, Clone)]
+pub(super) struct Banded {
+    pub n: usize,
+    pub kl: usize,
+    pub ku: usize,
+    pub width: usize,
+    pub band: Vec<f64>,
     /// Multipliers of step k (below the pivot) and the row swapped with k.
-    lower: Vec<f64>,
-    pivot_row: Vec<usize>,
-    /// The permuted right-hand side, kept so that a solve allocates nothing.
-    scratch: RefCell<Vec<f64>>,
+    pub lower: Vec<f64>,
+    pub pivot_row: Vec<usize>,
+    /// |pivot| of each step (the smallest decides whether the matrix is singular).
+    pub pivot_abs: Vec<f64>,
 }
 
-impl BandFactors {
-    fn at(&self, i: usize, j: usize) -> usize {
+impl Banded {
+    pub fn zeros(n: usize, kl: usize, ku: usize) -> Self {
+        let width = 2 * kl + ku + 1;
+        Self {
+            n,
+            kl,
+            ku,
+            width,
+            band: vec![0.0; (n + kl) * width],
+            lower: vec![0.0; n * kl],
+            pivot_row: vec![0; n],
+            pivot_abs: vec![f64::INFINITY; n],
+        }
+    }
+
+    /// Index of entry (i, j) in `band`.
+    pub fn at(&self, i: usize, j: usize) -> usize {
         i * self.width + (j + self.kl - i)
     }
 
-    fn n(&self) -> usize {
-        self.perm.len()
+    /// Row i's storage.
+    pub fn row(&self, i: usize) -> std::ops::Range<usize> {
+        i * self.width..(i + 1) * self.width
     }
+
+    /// Elimination step k: the largest entry of column k among rows `k ..= k + kl` is the
+    /// pivot, the rows below lose their column-k entries.
+    pub fn step(&mut self, k: usize) {
+        let (n, kl) = (self.n, self.kl);
+        let last_row = (k + kl).min(n - 1);
+        let last_col = (k + kl + self.ku).min(n - 1);
+        let p = (k..=last_row)
+            .max_by(|&a, &b| {
+                (self.band[self.at(a, k)].abs()).total_cmp(&self.band[self.at(b, k)].abs())
+            })
+            .unwrap_or(k);
+        self.pivot_row[k] = p;
+        if p != k {
+            for j in k..=last_col {
+                let (a, b) = (self.at(k, j), self.at(p, j));
+                self.band.swap(a, b);
+            }
+        }
+        let pivot = self.band[self.at(k, k)];
+        self.pivot_abs[k] = pivot.abs();
+        if pivot == 0.0 {
+            return;
+        }
+        for i in k + 1..=last_row {
+            let m = self.band[self.at(i, k)] / pivot;
+            self.lower[k * kl + (i - k - 1)] = m;
+            if m == 0.0 {
+                continue;
+            }
+            for j in k + 1..=last_col {
+                let u = self.band[self.at(k, j)];
+                let idx = self.at(i, j);
+                self.band[idx] -= m * u;
+            }
+        }
+    }
+
+    pub fn smallest_pivot(&self) -> f64 {
+        self.pivot_abs.iter().copied().fold(f64::INFINITY, f64::min)
+    }
+
+    /// Solves in the factored order, in place.
+    pub fn solve(&self, y: &mut [f64]) {
+        let (kl, width) = (self.kl, self.width);
+        // row by row through the stored factors (no index arithmetic per entry); the zips
+        // stop at the matrix's last row
+        if kl == 1 {
+            // the common bandwidth of a drivetrain's modes: one multiplier per step
+            let steps = self.lower.iter().zip(&self.pivot_row).enumerate();
+            for (k, (m, &p)) in steps.take(self.n.saturating_sub(1)) {
+                y.swap(k, p);
+                y[k + 1] -= m * y[k];
+            }
+        } else if kl > 1 {
+            let steps = self.lower.chunks_exact(kl).zip(&self.pivot_row);
+            for (k, (lower, &p)) in steps.enumerate() {
+                y.swap(k, p);
+                let (head, below) = y.split_at_mut(k + 1);
+                let yk = head[k];
+                for (yi, m) in below.iter_mut().zip(lower) {
+                    *yi -= m * yk;
+                }
+            }
+        }
+        let rows = self.band[..self.n * width].chunks_exact(width);
+        for (k, row) in rows.enumerate().rev() {
+            let (head, right) = y.split_at_mut(k + 1);
+            let s: f64 = (row[kl + 1..].iter().zip(right.iter()))
+                .map(|(u, v)| u * v)
+                .sum();
+            head[k] = (head[k] - s) / row[kl];
+        }
+    }
+}
+
+/// A matrix factored in the order `perm` (`perm[i]`: the original row/column at position i).
+struct BandFactors {
+    perm: Vec<usize>,
+    lu: Banded,
+    /// The permuted right-hand side, kept so that a solve allocates nothing.
+    scratch: RefCell<Vec<f64>>,
 }
 
 /// Reverse Cuthill–McKee over the symmetric pattern: breadth first from a vertex of least
@@ -75,122 +177,75 @@ pub fn rcm_order(n: usize, entries: &[(usize, usize, f64)]) -> Vec<usize> {
 }
 
 /// Lower and upper bandwidth of the matrix in the order `pos` (position of each index).
-fn bandwidths(entries: &[(usize, usize, f64)], pos: &[usize]) -> (usize, usize) {
+pub fn bandwidths(entries: &[(usize, usize, f64)], pos: &[usize]) -> (usize, usize) {
     entries.iter().fold((0, 0), |(kl, ku), &(r, c, _)| {
         let (i, j) = (pos[r], pos[c]);
         (kl.max(i.saturating_sub(j)), ku.max(j.saturating_sub(i)))
     })
 }
 
+/// The positions of an order (`pos[perm[i]] = i`).
+pub fn positions(perm: &[usize]) -> Vec<usize> {
+    let mut pos = vec![0; perm.len()];
+    perm.iter().enumerate().for_each(|(i, &p)| pos[p] = i);
+    pos
+}
+
+/// The largest entry's magnitude (the scale pivots are judged against).
+pub fn largest<'a>(values: impl IntoIterator<Item = &'a f64>) -> f64 {
+    (values.into_iter())
+        .fold(0.0f64, |a, v| a.max(v.abs()))
+        .max(1e-300)
+}
+
 impl LinearSolver for BandLu {
     fn factor(&self, matrix: &Triplets) -> Result<Box<dyn Factorization>, Singular> {
         let n = matrix.size;
         let perm = rcm_order(n, &matrix.entries);
-        let mut pos = vec![0; n];
-        perm.iter().enumerate().for_each(|(i, &p)| pos[p] = i);
+        let pos = positions(&perm);
         let (kl, ku) = bandwidths(&matrix.entries, &pos);
-        let width = 2 * kl + ku + 1;
-        let mut f = BandFactors {
-            perm,
-            kl,
-            width,
-            band: vec![0.0; n * width],
-            lower: vec![0.0; n * kl],
-            pivot_row: vec![0; n],
-            scratch: RefCell::new(Vec::with_capacity(n)),
-        };
+        let mut lu = Banded::zeros(n, kl, ku);
         for &(r, c, v) in &matrix.entries {
-            let k = f.at(pos[r], pos[c]);
-            f.band[k] += v;
+            let k = lu.at(pos[r], pos[c]);
+            lu.band[k] += v;
         }
-        let scale = f
-            .band
-            .iter()
-            .fold(0.0f64, |a, v| a.max(v.abs()))
-            .max(1e-300);
-        let smallest = eliminate(&mut f, ku);
+        let scale = largest(&lu.band);
+        (0..n).for_each(|k| lu.step(k));
+        let smallest = lu.smallest_pivot();
         if n > 0 && smallest <= PIVOT_TOLERANCE * scale {
             return Err(Singular {
                 relative_pivot: smallest / scale,
             });
         }
-        Ok(Box::new(f))
+        Ok(Box::new(BandFactors {
+            perm,
+            lu,
+            scratch: RefCell::new(Vec::with_capacity(n)),
+        }))
     }
-}
-
-/// Factors in place; returns the smallest pivot's magnitude.
-fn eliminate(f: &mut BandFactors, ku: usize) -> f64 {
-    let (n, kl) = (f.n(), f.kl);
-    let mut smallest = f64::INFINITY;
-    for k in 0..n {
-        let last_row = (k + kl).min(n - 1);
-        let last_col = (k + kl + ku).min(n - 1);
-        let p = (k..=last_row)
-            .max_by(|&a, &b| {
-                f.band[f.at(a, k)]
-                    .abs()
-                    .total_cmp(&f.band[f.at(b, k)].abs())
-            })
-            .unwrap_or(k);
-        f.pivot_row[k] = p;
-        if p != k {
-            for j in k..=last_col {
-                let (a, b) = (f.at(k, j), f.at(p, j));
-                f.band.swap(a, b);
-            }
-        }
-        let pivot = f.band[f.at(k, k)];
-        smallest = smallest.min(pivot.abs());
-        if pivot == 0.0 {
-            continue;
-        }
-        for i in k + 1..=last_row {
-            let m = f.band[f.at(i, k)] / pivot;
-            f.lower[k * kl + (i - k - 1)] = m;
-            if m == 0.0 {
-                continue;
-            }
-            for j in k + 1..=last_col {
-                let u = f.band[f.at(k, j)];
-                let idx = f.at(i, j);
-                f.band[idx] -= m * u;
-            }
-        }
-    }
-    smallest
 }
 
 impl Factorization for BandFactors {
     fn size(&self) -> usize {
-        self.n()
+        self.perm.len()
+    }
+
+    fn bytes(&self) -> usize {
+        self.lu.bytes() + 16 * self.perm.len()
     }
 
     fn solve_in_place(&self, b: &mut [f64]) {
-        let (kl, width) = (self.kl, self.width);
         let mut scratch = self.scratch.borrow_mut();
         scratch.clear();
         scratch.extend(self.perm.iter().map(|&p| b[p]));
-        let y = scratch.as_mut_slice();
-        // row by row through the stored factors (no index arithmetic per entry); the zips
-        // stop at the matrix's last row
-        if kl > 0 {
-            let steps = self.lower.chunks_exact(kl).zip(&self.pivot_row);
-            for (k, (lower, &p)) in steps.enumerate() {
-                y.swap(k, p);
-                let (head, below) = y.split_at_mut(k + 1);
-                let yk = head[k];
-                for (yi, m) in below.iter_mut().zip(lower) {
-                    *yi -= m * yk;
-                }
-            }
-        }
-        for (k, row) in self.band.chunks_exact(width).enumerate().rev() {
-            let (head, right) = y.split_at_mut(k + 1);
-            let s: f64 = (row[kl + 1..].iter().zip(right.iter()))
-                .map(|(u, v)| u * v)
-                .sum();
-            head[k] = (head[k] - s) / row[kl];
-        }
-        self.perm.iter().zip(y.iter()).for_each(|(&p, &v)| b[p] = v);
+        self.lu.solve(scratch.as_mut_slice());
+        (self.perm.iter().zip(scratch.iter())).for_each(|(&p, &v)| b[p] = v);
+    }
+}
+
+impl Banded {
+    /// Memory held, for the mode cache's budget.
+    pub fn bytes(&self) -> usize {
+        8 * (self.band.len() + self.lower.len() + self.pivot_row.len() + self.pivot_abs.len())
     }
 }

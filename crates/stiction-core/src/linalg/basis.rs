@@ -7,13 +7,35 @@
 
 use super::RANK_TOLERANCE;
 
-type Row = Vec<(usize, f64)>;
+/// The kept rows' terms one after another, and where each row ends (one allocation for all:
+/// a mode change offers every lock).
+#[derive(Default)]
+struct Rows {
+    terms: Vec<(usize, f64)>,
+    ends: Vec<usize>,
+}
+
+impl Rows {
+    fn push(&mut self, terms: &[(usize, f64)]) {
+        self.terms.extend_from_slice(terms);
+        self.ends.push(self.terms.len());
+    }
+
+    fn len(&self) -> usize {
+        self.ends.len()
+    }
+
+    fn iter(&self) -> impl Iterator<Item = &[(usize, f64)]> {
+        let starts = std::iter::once(0).chain(self.ends.iter().copied());
+        starts.zip(&self.ends).map(|(a, &b)| &self.terms[a..b])
+    }
+}
 
 /// Rows offered in priority order are kept when independent of those kept before.
 pub struct RowBasis {
     dim: usize,
     /// While every kept row is a graph edge: the forest of kept edges and the rows, in order.
-    graph: Option<(Forest, Vec<Row>)>,
+    graph: Option<(Forest, Rows)>,
     dense: Dense,
 }
 
@@ -21,7 +43,7 @@ impl RowBasis {
     pub fn new(dim: usize) -> Self {
         Self {
             dim,
-            graph: Some((Forest::new(dim + 1), Vec::new())),
+            graph: Some((Forest::new(dim + 1), Rows::default())),
             dense: Dense::new(dim),
         }
     }
@@ -45,7 +67,7 @@ impl RowBasis {
             (Edge::Between(a, b), Some((forest, rows))) => {
                 let joined = forest.union(a, b);
                 if joined {
-                    rows.push(terms.to_vec());
+                    rows.push(terms);
                 }
                 joined
             }
@@ -65,26 +87,33 @@ impl RowBasis {
 
     fn switch_to_general(&mut self) {
         if let Some((_, rows)) = self.graph.take() {
-            for row in rows {
-                self.dense.accept(&row);
+            for row in rows.iter() {
+                self.dense.accept(row);
             }
         }
     }
 
-    /// The row as an edge of the shaft graph (vertex `dim` is the housing), if it is one.
+    /// The row as an edge of the shaft graph (vertex `dim` is the housing), if it is one. The
+    /// terms are merged by node in a small array (no allocation per row: a mode change offers
+    /// every lock); a row over more than four nodes is a general one.
     fn edge(&self, terms: &[(usize, f64)]) -> Edge {
-        let mut nz: Vec<(usize, f64)> = Vec::with_capacity(2);
+        let mut nz = [(0usize, 0.0f64); 4];
+        let mut len = 0;
         for &(i, c) in terms {
-            match nz.iter_mut().find(|(j, _)| *j == i) {
+            match nz[..len].iter_mut().find(|(j, _)| *j == i) {
                 Some(t) => t.1 += c,
-                None => nz.push((i, c)),
+                None if len == 4 => return Edge::General,
+                None => {
+                    nz[len] = (i, c);
+                    len += 1;
+                }
             }
         }
-        nz.retain(|&(_, c)| c != 0.0);
-        match nz[..] {
-            [] => Edge::Zero,
-            [(i, _)] => Edge::Between(i, self.dim),
-            [(i, a), (j, b)] if a == -b => Edge::Between(i, j),
+        let mut kept = nz[..len].iter().filter(|&&(_, c)| c != 0.0);
+        match (kept.next(), kept.next(), kept.next()) {
+            (None, _, _) => Edge::Zero,
+            (Some(&(i, _)), None, _) => Edge::Between(i, self.dim),
+            (Some(&(i, a)), Some(&(j, b)), None) if a == -b => Edge::Between(i, j),
             _ => Edge::General,
         }
     }

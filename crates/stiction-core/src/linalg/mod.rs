@@ -1,7 +1,8 @@
 //! The linear algebra the engine and the initialization need, behind two small interfaces:
 //! - `LinearSolver` factors a square system given as triplets (the per-mode KKT system) into a
 //!   `Factorization` that is solved many times. `DenseLu` for small systems, `BandLu` (RCM-ordered banded LU)
-//!   for large ones, chosen by size in `SizedLu`.
+//!   for large ones, chosen by size in `SizedLu`. `Refactor` factors the modes of one structure
+//!   in one fixed banded order, each resuming the last where it differs.
 //! - `RowBasis` is the one rank test: rows offered in priority order are kept when independent
 //!   of those kept before (locks of a mode, fixed start values); it also answers whether another
 //!   row depends on the kept ones (a motion the mode holds). One tolerance, one place.
@@ -10,9 +11,11 @@ use nalgebra::{DMatrix, Dyn, LU};
 
 mod band;
 mod basis;
+mod refactor;
 
 pub use band::{rcm_order, BandLu};
 pub use basis::RowBasis;
+pub use refactor::{Refactor, SlotLayout};
 
 /// A row is dependent when what is left of it after removing the kept rows' directions is below
 /// this fraction of its norm.
@@ -52,6 +55,8 @@ pub struct Singular {
 /// A factored square matrix.
 pub trait Factorization {
     fn size(&self) -> usize;
+    /// Memory held (bytes, about), for a cache's budget.
+    fn bytes(&self) -> usize;
     /// Solves `A·x = b` in place (`b` on entry, `x` on exit).
     fn solve_in_place(&self, b: &mut [f64]);
 }
@@ -89,6 +94,10 @@ struct DenseFactors(LU<f64, Dyn, Dyn>);
 impl Factorization for DenseFactors {
     fn size(&self) -> usize {
         self.0.l().nrows()
+    }
+
+    fn bytes(&self) -> usize {
+        8 * self.size() * self.size()
     }
 
     fn solve_in_place(&self, b: &mut [f64]) {

@@ -114,3 +114,27 @@ def test_every_name_of_a_fresh_result_is_its_table_column() -> None:
         assert np.array_equal(columns[name], whole.data[:, i], equal_nan=True), name
     sliding = fresh.time < T_LOCK - 1e-3
     assert np.allclose(np.abs(columns["brake.tau"][sliding]), 50.0, rtol=1e-12)
+
+
+def test_a_result_too_large_for_every_variable_at_once_gives_them_one_at_a_time() -> None:
+    """The engine refuses the table of a result too large for memory (a UsageError); reading a
+    variable then computes it alone, as for a drivetrain of 10 000 elements."""
+
+    class Huge:
+        """The engine's raw result as a 10 000-element run answers: no table, each column."""
+
+        rows = 3
+
+        def is_direct(self, name: str) -> bool:
+            return False
+
+        def table(self) -> None:
+            raise st.UsageError("every variable of this result is … more than fits in memory")
+
+        def column(self, name: str) -> list[float]:
+            return [1.0, 2.0, 3.0]
+
+    r = st.Result(["time", "brake.tau"], source=Huge())
+    np.testing.assert_array_equal(r["brake.tau"], [1.0, 2.0, 3.0])
+    with pytest.raises(st.UsageError, match="more than fits in memory"):
+        _ = r.data

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 
 from . import csvio, resultio
+from .errors import UsageError
 
 if TYPE_CHECKING:
     import pandas
@@ -225,7 +226,10 @@ class Result:
                 # the engine computes every variable for the first algebraic one: keep its
                 # table (not `self.data`, which derived columns, still being computed from
                 # these, extend), so that every later column is a view, not a copy each
-                self._engine_table = np.asarray(self._source.table(), dtype=np.float64)
+                try:
+                    self._engine_table = np.asarray(self._source.table(), dtype=np.float64)
+                except UsageError:
+                    pass  # every variable at once does not fit in memory: this one alone
             if self._engine_table is not None:
                 return self._engine_table[:, column]
             # an angle, speed, mode or flag: read from the states, no table needed

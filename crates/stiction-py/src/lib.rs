@@ -198,7 +198,7 @@ impl RawResult {
         if let Some(table) = self.table.get() {
             return Ok(table.bind(py).clone());
         }
-        let values = py.detach(|| self.result.table_vec());
+        let values = py.detach(|| self.result.table_vec()).map_err(sim_err)?;
         let shape = [self.result.rows(), self.result.names.len()];
         let table = PyArray1::from_vec(py, values).reshape(shape)?;
         Ok(self

@@ -9,6 +9,7 @@ pub mod metric;
 mod probe;
 mod source;
 mod table;
+pub use table::MAX_TABLE_VALUES;
 
 use std::rc::Rc;
 use std::sync::{Arc, OnceLock};
@@ -106,6 +107,8 @@ pub struct SimResult {
     trajectory: Trajectory,
     discs: Vec<DiscreteState>,
     table: OnceLock<Vec<f64>>,
+    /// The most values `table` may hold (`MAX_TABLE_VALUES` unless a test lowers it).
+    table_limit: f64,
 }
 
 impl SimResult {
@@ -127,6 +130,7 @@ impl SimResult {
             trajectory,
             discs,
             table: OnceLock::new(),
+            table_limit: MAX_TABLE_VALUES,
         }
     }
 
@@ -160,20 +164,6 @@ impl SimResult {
         self.trajectory.rows()
     }
 
-    /// All variables, row-major (`rows × names.len()`), computed on first use.
-    pub fn table(&self) -> &[f64] {
-        self.table.get_or_init(|| self.compute_table())
-    }
-
-    /// All variables as a vector of its own: the one `table()` keeps, or computed without
-    /// keeping it, for a caller that keeps it (Python hands it to NumPy without a copy).
-    pub fn table_vec(&self) -> Vec<f64> {
-        match self.table.get() {
-            Some(table) => table.clone(),
-            None => self.compute_table(),
-        }
-    }
-
     /// One variable over all rows.
     pub fn column(&self, name: &str) -> Option<Vec<f64>> {
         let c = self.names.iter().position(|n| n == name)?;
@@ -187,8 +177,19 @@ impl SimResult {
                 return Some(values);
             }
         }
-        let w = self.names.len();
-        Some(self.table().iter().skip(c).step_by(w).copied().collect())
+        let Ok(table) = self.table() else {
+            // too large for every variable at once: this one alone
+            let single = self.compute_columns(Some(c - 1));
+            return Some(single.iter().skip(1).step_by(2).copied().collect());
+        };
+        Some(
+            table
+                .iter()
+                .skip(c)
+                .step_by(self.names.len())
+                .copied()
+                .collect(),
+        )
     }
 
     /// Whether variable `name` is read from the recorded states without evaluating the system

@@ -12,6 +12,7 @@ use super::flanges::{BlockFlanges, Planes};
 use super::source::Source;
 use super::{compile, Flat, SimResult};
 use crate::engine::eval::{DiscreteState, Workspace};
+use crate::error::SimError;
 use crate::switching::element::{is_discrete, value_field, ElementValues, SwitchVar};
 use crate::system::System;
 
@@ -19,19 +20,66 @@ use crate::system::System;
 /// few enough that the copied workspaces stay in cache and memory stays bounded.
 const BLOCK: usize = 64;
 
+/// The most values the table of every variable may hold (2.4 GB), as for a run's states.
+pub const MAX_TABLE_VALUES: f64 = 3.0e8;
+
 impl SimResult {
+    /// All variables, row-major (`rows × names.len()`), computed on first use; a usage error
+    /// when they would not fit in memory (a run records only its states, see `check_table`).
+    pub fn table(&self) -> Result<&[f64], SimError> {
+        self.check_table()?;
+        Ok(self.table.get_or_init(|| self.compute_table()))
+    }
+
+    /// All variables as a vector of its own: the one `table()` keeps, or computed without
+    /// keeping it, for a caller that keeps it (Python hands it to NumPy without a copy).
+    pub fn table_vec(&self) -> Result<Vec<f64>, SimError> {
+        self.check_table()?;
+        Ok(match self.table.get() {
+            Some(table) => table.clone(),
+            None => self.compute_table(),
+        })
+    }
+
+    /// Whether every variable of every row fits in memory. A run keeps only its states, so
+    /// a drivetrain of 10 000 elements runs; asking it for every variable at once is refused
+    /// (one variable at a time still works: `column`).
+    pub fn check_table(&self) -> Result<(), SimError> {
+        let values = self.rows() as f64 * self.names.len() as f64;
+        if values > self.table_limit {
+            return Err(SimError::Usage(format!(
+                "every variable of this result is {} rows × {} values, more than fits in memory: \
+                 read variables one at a time (result[name]), or run with a larger Interval",
+                self.rows(),
+                self.names.len()
+            )));
+        }
+        Ok(())
+    }
+
+    /// Lowers the most values the table may hold (tests of the refusal).
+    pub fn set_table_limit(&mut self, values: f64) {
+        self.table_limit = values;
+    }
+
     /// All variables, row-major (`rows × names.len()`), filled column by column.
     pub(super) fn compute_table(&self) -> Vec<f64> {
+        self.compute_columns(None)
+    }
+
+    /// Time and the outputs (all, or only output `only`), row-major, filled column by column.
+    pub(super) fn compute_columns(&self, only: Option<usize>) -> Vec<f64> {
         let tr = &self.trajectory;
-        let width = self.system.outputs.len() + 1;
+        let width = only.map_or(self.system.outputs.len(), |_| 1) + 1;
         let mut data = vec![0.0; tr.rows() * width];
         // Each stretch of rows between parameter changes is filled from its own system: the
         // values (an inertia's J, a law's constants) enter the compiled columns and the flange
         // torques' terms, the shapes are the same throughout.
         for (first, end, sys) in self.segments() {
             let mut general = Vec::new();
-            let flat: Vec<Flat> = (sys.outputs.iter())
-                .map(|(_, out)| compile(out, 1.0, &mut general))
+            let flat: Vec<Flat> = (sys.outputs.iter().enumerate())
+                .filter(|&(i, _)| only.is_none_or(|o| o == i))
+                .map(|(_, (_, out))| compile(out, 1.0, &mut general))
                 .collect();
             let mut block = Block::new(sys, &flat, &general);
             self.visit_segment(first..end, sys, &mut |r, sys, row| {
@@ -409,7 +457,7 @@ mod tests {
             let text = std::fs::read_to_string(format!("{dir}/{name}.toml")).expect("example");
             let spec = ModelSpec::from_toml(&text, dir).expect("valid model");
             let r = crate::simulate(&spec).expect("runs");
-            let (columns, rows) = (r.table(), by_rows(&r));
+            let (columns, rows) = (r.table().expect("fits"), by_rows(&r));
             assert_eq!(columns.len(), rows.len(), "{name}");
             let same = columns
                 .iter()

@@ -150,12 +150,13 @@ pub struct Simulation {
     tuning: Option<tune::Tuning>,
 }
 
-/// Rows are kept in memory (states, and all variables once asked for): refuse what cannot fit.
+/// A run keeps its rows' states in memory: refuse what cannot fit. (Every variable at once is
+/// checked when asked for: `SimResult::check_table`.)
 fn check_memory(sys: &System) -> Result<(), SimError> {
     let exp = &sys.experiment;
     let rows = (exp.stop_time - exp.start_time) / exp.interval + 2.0 * sys.time_events.len() as f64;
-    let width = (sys.outputs.len() + 1).max(sys.state_len() + 3) as f64;
-    if rows * width > 3.0e8 {
+    let width = (sys.state_len() + 3) as f64;
+    if rows * width > crate::result::MAX_TABLE_VALUES {
         return Err(ModelError::File(format!(
             "experiment: Interval = {} gives about {:.0} rows of {} values, more than fits in memory; use a larger Interval",
             exp.interval, rows, width

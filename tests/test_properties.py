@@ -477,7 +477,9 @@ def test_a_one_way_clutch_that_starts_forward_never_turns_backward_while_startin
     clutch locked while holding backward torque, starts forward at 0.3031 s when its torque
     passes tau0_max, yet released its relative acceleration is -48.7 rad/s²: it turns backward
     to -0.46 rad/s with the start held, its friction pushing along the motion (12.6 W
-    delivered). The locked pass and the released one disagree; which is wrong is open."""
+    delivered). It starts at the instant c5 locks: the event iteration's mixed system cycles, and
+    its last fallback (`solve_mixed`: the union of the cycling relations, "starting is then the
+    consistent answer", written for redundant locks) starts c3, which holds another motion."""
     from pathlib import Path
 
     model = st.Model.load(Path(__file__).parent / "data" / "one_way_start_backward.toml")

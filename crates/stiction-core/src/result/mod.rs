@@ -141,13 +141,6 @@ impl SimResult {
         self
     }
 
-    /// The system row `r` was computed with.
-    fn system_at(&self, r: usize) -> &System {
-        (self.earlier.iter())
-            .find(|(end, _)| r < *end)
-            .map_or(&*self.system, |(_, sys)| &**sys)
-    }
-
     /// The rows of each system, in order: (first row, end, system).
     fn segments(&self) -> Vec<(usize, usize, &System)> {
         let mut out = Vec::with_capacity(self.earlier.len() + 1);

@@ -222,7 +222,7 @@ impl Block {
                 Flat::General(i, s) => column(&self.general_values, self.general.len(), i, s, None),
                 Flat::Switch(k, var, s) => {
                     let col = c + 1;
-                    self.fill_switch(result, SwitchColumn { k, var, s, col }, data, width);
+                    self.fill_switch(sys, result, SwitchColumn { k, var, s, col }, data, width);
                     continue;
                 }
             };
@@ -240,15 +240,16 @@ impl Block {
     /// (a function of the discrete state alone), once per run of rows in one discrete state.
     fn fill_switch(
         &self,
+        sys: &System,
         result: &SimResult,
         column: SwitchColumn,
         data: &mut [f64],
         width: usize,
     ) {
         let SwitchColumn { k, var, s, col } = column;
-        let element = &*result.system_at(self.rows[0].0).switching[k];
+        let element = &*sys.switching[k];
         let (tr, discs) = (&result.trajectory, &result.discs);
-        let ne = result.system.switching.len();
+        let ne = sys.switching.len();
         let first = self.rows[0].0;
         let ids = &tr.disc[first..first + self.rows.len()];
         let rows = data[first * width..(first + ids.len()) * width].chunks_exact_mut(width);

@@ -91,8 +91,9 @@ impl Stepper {
         }
         let (z0, dz0) = self.samples.at_mut(0);
         z0.copy_from_slice(&self.z_prev);
-        dz0.copy_from_slice(&self.dz); // the last sample's rates (analytic only after events)
-                                       // the end first, while the workspace may still hold the integrator's evaluation there
+        // the last sample's rates (analytic only after events)
+        dz0.copy_from_slice(&self.dz);
+        // the end first, while the workspace may still hold the integrator's evaluation there
         self.x.copy_from_slice(solver.state().y.inner().as_slice());
         self.evaluate_end(t_now);
         self.keep_sample(SAMPLES);

@@ -469,17 +469,15 @@ def test_a_start_held_only_by_the_static_limit_ends_when_its_torque_comes_back_i
     assert r.audit().ok(), str(r.audit())
 
 
-@pytest.mark.xfail(
-    strict=True, reason="open: a one-way clutch's start forward whose release turns it backward"
-)
 def test_a_one_way_clutch_that_starts_forward_never_turns_backward_while_starting() -> None:
-    """Found by `make soak` (2 in 10 000 drivetrains), not fixed yet: c3, an engaged one-way
-    clutch locked while holding backward torque, starts forward at 0.3031 s when its torque
-    passes tau0_max, yet released its relative acceleration is -48.7 rad/s²: it turns backward
-    to -0.46 rad/s with the start held, its friction pushing along the motion (12.6 W
-    delivered). It starts at the instant c5 locks: the event iteration's mixed system cycles, and
-    its last fallback (`solve_mixed`: the union of the cycling relations, "starting is then the
-    consistent answer", written for redundant locks) starts c3, which holds another motion."""
+    """Found by `make soak` (2 in 10 000 drivetrains): c3, an engaged one-way clutch locked
+    while holding backward torque, started forward at 0.3031 s, yet released its relative
+    acceleration was -48.7 rad/s²: it turned backward to -0.46 rad/s with the start held, its
+    friction pushing along the motion (12.6 W delivered). At that instant c5 stops sliding: with
+    c5 locked c3's torque passes its limit, with c3 locked c5's does, and with both starting both
+    turn back, so the mixed system updated as a whole cycles; its last fallback (the union of
+    the cycling relations, meant for redundant locks) started both. Updated one element at a
+    time the event settles with c3 starting and c5 holding."""
     from pathlib import Path
 
     model = st.Model.load(Path(__file__).parent / "data" / "one_way_start_backward.toml")

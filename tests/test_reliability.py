@@ -49,7 +49,18 @@ def test_a_one_way_clutch_started_backward_is_refused_before_the_run():
     st.Model.loads(text).check()  # the example's own start is fine
 
 
-def test_ctrl_c_interrupts_a_long_run_promptly():
+@pytest.fixture
+def ctrl_c_acts():
+    """Ctrl-C raises KeyboardInterrupt here even when the test process was started with SIGINT
+    ignored (as a background job is, e.g. under nohup), which Python would otherwise keep."""
+    import signal
+
+    before = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, before)
+
+
+def test_ctrl_c_interrupts_a_long_run_promptly(ctrl_c_acts):
     import _thread
     import threading
     import time
@@ -65,7 +76,7 @@ def test_ctrl_c_interrupts_a_long_run_promptly():
     assert latency < 1.0, f"stopped {latency:.3f} s after the signal"
 
 
-def test_ctrl_c_interrupts_a_sweep_inside_its_runs():
+def test_ctrl_c_interrupts_a_sweep_inside_its_runs(ctrl_c_acts):
     """The signal reaches the runs under way (each about 6 s long), not only the gaps
     between batches."""
     import _thread
@@ -84,7 +95,7 @@ def test_ctrl_c_interrupts_a_sweep_inside_its_runs():
     assert latency < 1.0, f"stopped {latency:.3f} s after the signal"
 
 
-def test_ctrl_c_stops_the_command_line_with_status_130_and_no_result_file(tmp_path):
+def test_ctrl_c_stops_the_command_line_with_status_130_and_no_result_file(tmp_path, ctrl_c_acts):
     import os
     import signal
     import subprocess
@@ -94,6 +105,7 @@ def test_ctrl_c_stops_the_command_line_with_status_130_and_no_result_file(tmp_pa
     out = tmp_path / "long.csv"
     cmd = [sys.executable, "-m", "stiction", "simulate", str(MSL / "CoupledClutches.toml")]
     cmd += ["--StopTime", "20000", "--Interval", "1", "-o", str(out)]
+    # a child inherits an ignored SIGINT: the fixture above makes it the default again first
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=os.environ.copy())
     time.sleep(2.0)  # the interpreter starts, the run is under way (about 6 s in all)
     sent = time.perf_counter()

@@ -296,53 +296,153 @@ struct Mixed<'a> {
 }
 
 /// One evaluation of the mixed system: relation values consistent with the accelerations and
-/// torques they imply, for fixed `pre()` values, and the state they imply. The fixed point starts from the relations'
-/// current values (the solution closest to the state before); if that cycles — an element that
-/// starts one way is pushed back the other way, each direction implying the opposite — it
-/// starts again from "nothing starts" (every stuck element locked); if that cycles too, two
-/// elements hold the same motion and each alone breaks away while each alone holds: starting
-/// is then the consistent answer.
+/// torques they imply, for fixed `pre()` values, and the state they imply. The fixed point starts
+/// from the relations' current values (the solution closest to the state before). If that
+/// cycles — an element that starts one way is pushed back the other way, each direction
+/// implying the opposite — it starts again from "nothing starts" (every stuck element locked).
+/// If that cycles too, the elements are updated one at a time from there: two elements that
+/// each break away while the other holds (one locking makes the other's torque pass its limit,
+/// both starting makes both turn back) are settled by the first starting alone. Only when that
+/// cycles as well do two elements hold the same motion, each alone breaking away while each
+/// alone holds: starting is then the consistent answer (the union of the cycling relations).
 fn solve_mixed(
     ctx: &Mixed,
     cache: &mut ModeCache,
     current: RelationValues,
     ws: &mut Workspace,
 ) -> Result<DiscreteState, SimError> {
-    let sys = ctx.sys;
-    let limit = 4 * sys.switching.len() + 10;
-    let locked_start = nothing_starts(sys, &current);
+    let locked_start = nothing_starts(ctx.sys, &current);
+    if let Settled::Consistent(state) = fixed_point(ctx, cache, current, ws, Update::All)? {
+        return Ok(state);
+    }
+    let cycle = match fixed_point(ctx, cache, locked_start.clone(), ws, Update::All)? {
+        Settled::Consistent(state) => return Ok(state),
+        Settled::Cycles(cycle) => cycle,
+    };
+    if let Settled::Consistent(state) = fixed_point(ctx, cache, locked_start, ws, Update::First)? {
+        return Ok(state);
+    }
+    started_union(ctx, cache, cycle, ws)
+}
+
+/// How a pass of the fixed point applies the relations it re-evaluated.
+#[derive(Clone, Copy, PartialEq)]
+enum Update {
+    /// Every element's at once.
+    All,
+    /// Only the first element whose relations changed (in the canonical order).
+    First,
+}
+
+/// Where a fixed-point iteration ended: a consistent state, or a cycle — every set visited and
+/// the last set with the one it led back to.
+enum Settled {
+    Consistent(DiscreteState),
+    Cycles(Cycle),
+}
+
+struct Cycle {
+    visited: Vec<RelationValues>,
+    last: RelationValues,
+    next: RelationValues,
+}
+
+/// The iteration limit of one fixed point (each element's relations can change a few times).
+fn pass_limit(sys: &System) -> usize {
+    4 * sys.switching.len() + 10
+}
+
+/// The relations the mode implied by `rels` gives (the state that mode is, with them).
+fn reevaluated(
+    ctx: &Mixed,
+    cache: &mut ModeCache,
+    rels: &RelationValues,
+    ws: &mut Workspace,
+) -> Result<(DiscreteState, RelationValues), SimError> {
+    let (sys, at) = (ctx.sys, ctx.at);
+    let trial = implied_state(ctx, rels);
+    let mm = cache.get(sys, &trial, at.t)?;
+    evaluate(sys, &mm, &trial, at.t, at.x, at.horizon, ws);
+    Ok((trial, updated(sys, rels, ws, at.initial)))
+}
+
+/// Iterates the mixed system from `rels` until its relations reproduce themselves or revisit
+/// a set.
+fn fixed_point(
+    ctx: &Mixed,
+    cache: &mut ModeCache,
+    mut rels: RelationValues,
+    ws: &mut Workspace,
+    update: Update,
+) -> Result<Settled, SimError> {
     let mut visited: Vec<RelationValues> = Vec::new();
-    let mut rels = current;
-    let mut restarted = false;
-    for _ in 0..2 * limit {
-        let trial = implied_state(ctx, &rels);
-        let at = ctx.at;
-        let mm = cache.get(sys, &trial, at.t)?;
-        evaluate(sys, &mm, &trial, at.t, at.x, at.horizon, ws);
-        let next = updated(sys, &rels, ws, at.initial);
+    for _ in 0..pass_limit(ctx.sys) {
+        let (trial, mut next) = reevaluated(ctx, cache, &rels, ws)?;
+        if next == rels {
+            return Ok(Settled::Consistent(trial));
+        }
+        if update == Update::First {
+            next = first_change_only(&rels, next);
+        }
+        visited.push(rels.clone());
+        if visited.contains(&next) {
+            return Ok(Settled::Cycles(Cycle {
+                visited,
+                last: rels,
+                next,
+            }));
+        }
+        rels = next;
+    }
+    Err(not_settling(ctx))
+}
+
+/// `rels` with only the first element's relations that differ in `next` taken from it.
+fn first_change_only(rels: &RelationValues, next: RelationValues) -> RelationValues {
+    let mut one = rels.clone();
+    if let Some(k) = (rels.iter().zip(&next)).position(|(a, b)| a != b) {
+        one[k] = next[k];
+    }
+    one
+}
+
+/// The last fallback: the union of the cycling relations (see `solve_mixed`), iterated on from
+/// there (a union again at each cycle) until it settles or a union was seen before.
+fn started_union(
+    ctx: &Mixed,
+    cache: &mut ModeCache,
+    cycle: Cycle,
+    ws: &mut Workspace,
+) -> Result<DiscreteState, SimError> {
+    let Cycle {
+        mut visited,
+        last,
+        next,
+    } = cycle;
+    let mut rels = union(ctx.sys, &next, &last);
+    for _ in 0..2 * pass_limit(ctx.sys) {
+        if visited.contains(&rels) {
+            return Ok(implied_state(ctx, &rels));
+        }
+        let (trial, next) = reevaluated(ctx, cache, &rels, ws)?;
         if next == rels {
             return Ok(trial);
         }
         visited.push(rels.clone());
-        if !visited.contains(&next) {
-            rels = next;
-        } else if !restarted {
-            restarted = true;
-            visited.clear();
-            rels = locked_start.clone();
-        } else {
-            let started = union(sys, &next, &rels);
-            if visited.contains(&started) {
-                return Ok(implied_state(ctx, &started));
-            }
-            rels = started;
-        }
+        rels = match visited.contains(&next) {
+            false => next,
+            true => union(ctx.sys, &next, &rels),
+        };
     }
-    Err(SimError::EventIteration {
+    Err(not_settling(ctx))
+}
+
+fn not_settling(ctx: &Mixed) -> SimError {
+    SimError::EventIteration {
         time: ctx.at.t,
         message: "the stick/slip Booleans of coupled friction elements do not settle (mixed system has no consistent solution)".into(),
-        elements: element_names(sys),
-    })
+        elements: element_names(ctx.sys),
+    }
 }
 
 /// The discrete state the relations imply with `pre()` fixed: each element's start flags and

@@ -33,6 +33,21 @@ def test_a_generated_ladder_runs_and_its_brakes_hold() -> None:
     assert abs(res["J3.w"][-1]) < 1e-6  # braked to the housing at the end
 
 
+def test_a_ladder_engaging_in_waves_takes_as_many_steps_at_any_size() -> None:
+    """With its clutches engaging in 10 groups, the ladder's time events are the same 11 at any
+    N, and so (nearly) are its steps: its cost can be linear in N. Each group's clutches engage
+    at one instant, and the audit closes."""
+    small, large = (st.Model.loads(ladder_toml(n, waves=10)).simulate() for n in (40, 400))
+    for res in (small, large):
+        assert res.stats["time_events"] == 11
+        assert res.audit().ok(), str(res.audit())
+    assert large.stats["steps"] <= 1.3 * small.stats["steps"], (small.stats, large.stats)
+    staggered = st.Model.loads(ladder_toml(400)).simulate()
+    assert staggered.stats["steps"] > 2 * large.stats["steps"]  # one time event per clutch
+    engaged = [e.time for e in large.events if e.component in ("clutch41", "clutch79") and e.time > 0]
+    assert engaged == [pytest.approx(0.1, abs=1e-12)] * 2, engaged
+
+
 def test_redundant_locks_in_a_large_model_carry_no_torque() -> None:
     """Two brakes on the chain's last inertia lock together: the one offered later carries 0."""
     text = chain_toml(40)
@@ -61,6 +76,8 @@ def test_bench_scale_prints_a_row_per_model_and_size() -> None:
         ("chain", "12"),
         ("ladder", "4"),
         ("ladder", "12"),
+        ("ladder-waves", "4"),
+        ("ladder-waves", "12"),
     ]
     assert all(float(r[2]) > 0 and int(r[5]) > 0 for r in rows)
     bad = CliRunner().invoke(main, ["bench", "--scale", "4,x"])
@@ -92,5 +109,7 @@ def test_bench_scale_prints_a_refused_size_and_goes_on(monkeypatch: pytest.Monke
         ["chain", "20", "refused:"],
         ["ladder", "4", rows[2][2]],
         ["ladder", "20", "refused:"],
+        ["ladder-waves", "4", rows[4][2]],
+        ["ladder-waves", "20", "refused:"],
     ]
     assert "more than fits in memory" in out.output

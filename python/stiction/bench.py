@@ -178,10 +178,14 @@ class ScaleRow:
 
 
 def bench_scale(kind: str, n: int) -> ScaleRow:
-    """Time one generated ``chain`` or ``ladder`` of ``n`` elements (``stiction.testing``)."""
+    """Time one generated ``chain``, ``ladder`` or ``ladder-waves`` (its clutches engaging in
+    10 groups, so that its steps do not grow with ``n``) of ``n`` elements (``stiction.testing``)."""
     from .testing import chain_toml, ladder_toml
 
-    text = chain_toml(n) if kind == "chain" else ladder_toml(n)
+    texts = {"chain": chain_toml, "ladder": ladder_toml, "ladder-waves": lambda n: ladder_toml(n, waves=10)}
+    if kind not in texts:
+        raise ValueError(f"unknown generated model {kind!r}: expected one of {sorted(texts)}")
+    text = texts[kind](n)
     start = time.perf_counter()
     result = Model.loads(text).simulate()
     ms = (time.perf_counter() - start) * 1e3

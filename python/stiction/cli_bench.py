@@ -12,8 +12,8 @@ __all__ = ["print_scale", "print_stiff", "print_sweeps"]
 
 
 def print_scale(sizes: str) -> None:
-    """One row per generated chain and ladder of each size; a size the engine refuses prints
-    its reason in place of the numbers."""
+    """One row per generated chain, ladder and ladder-waves of each size; a size the engine
+    refuses prints its reason in place of the numbers."""
     from .bench import bench_scale
     from .errors import StictionError
 
@@ -22,19 +22,19 @@ def print_scale(sizes: str) -> None:
     except ValueError:
         raise click.BadParameter(f"expected sizes like 10,100,1000, got {sizes!r}", param_hint="--scale")
     click.echo(
-        f"{'model':<8} {'N':>6} {'ms':>10} {'steps':>7} {'rhs evals':>10} {'events':>7} "
+        f"{'model':<12} {'N':>6} {'ms':>10} {'steps':>7} {'rhs evals':>10} {'events':>7} "
         f"{'us/step/elem':>13} {'ms/event':>9}"
     )
-    for kind in ("chain", "ladder"):
+    for kind in ("chain", "ladder", "ladder-waves"):
         for n in ns:
             try:
                 row = bench_scale(kind, n)
             except StictionError as e:
                 # a size the engine refuses (the memory guard) is a row of the table, not the end of it
-                click.echo(f"{kind:<8} {n:>6} refused: {str(e).splitlines()[0]}")
+                click.echo(f"{kind:<12} {n:>6} refused: {str(e).splitlines()[0]}")
                 continue
             click.echo(
-                f"{kind:<8} {n:>6} {row.ms:>10.1f} {row.steps:>7} {row.rhs_evals:>10} {row.events:>7} "
+                f"{kind:<12} {n:>6} {row.ms:>10.1f} {row.steps:>7} {row.rhs_evals:>10} {row.events:>7} "
                 f"{row.us_per_step_element:>13.3f} {row.ms_per_event:>9.3f}"
             )
 

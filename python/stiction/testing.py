@@ -6,12 +6,16 @@
 - :func:`ladder_toml`: N inertias, neighbours joined alternately by a clutch and a
   spring-damper, a brake to the housing on every fourth inertia, a constant torque on the first;
   the clutches engage one after another within the first 0.5 s, the brakes close at 0.8 s,
-  1.5 s simulated. Its steps hardly grow with N.
+  1.5 s simulated. Each clutch engages at its own instant by default, so its time events (N/2)
+  and steps grow with N and its cost is at least quadratic; with ``waves`` the clutches engage
+  in that many groups, one group after another, and its steps hardly grow with N.
 
 Both return model-file text (``Model.loads`` reads it).
 """
 
 from __future__ import annotations
+
+import math
 
 __all__ = ["chain_toml", "ladder_toml"]
 
@@ -46,8 +50,19 @@ def chain_toml(n: int, spacing: float = 0.05, interval: float | None = None) -> 
     return _toml(f"Chain{n}", comps, conns, stop, interval or stop / 500)
 
 
-def ladder_toml(n: int, interval: float = 1.5e-3) -> str:
-    """N inertias; links alternate clutch / spring-damper; a brake on every fourth inertia."""
+def _engagement(t: float, waves: int | None) -> float:
+    """``t``, or the end of the slot of ``0.5/waves`` s it falls in."""
+    if waves is None:
+        return t
+    slot = min(waves, max(1, math.ceil(t * waves / 0.5 - 1e-9)))
+    return 0.5 * slot / waves
+
+
+def ladder_toml(n: int, interval: float = 1.5e-3, waves: int | None = None) -> str:
+    """N inertias; links alternate clutch / spring-damper; a brake on every fourth inertia.
+
+    Clutch k engages at ``0.5·k/(n-1)`` s; with ``waves``, at the end of the ``0.5/waves`` s
+    slot that instant falls in (the same ``waves`` instants for any N)."""
     comps = [
         'drive = { type = "ConstantTorque", tau_constant = 10.0 }',
         'brakeStep = { type = "Step", startTime = 0.8 }',
@@ -63,7 +78,7 @@ def ladder_toml(n: int, interval: float = 1.5e-3) -> str:
         if k == 0:
             continue
         if k % 2 == 1:
-            t_on = 0.5 * k / links
+            t_on = _engagement(0.5 * k / links, waves)
             comps.append(f'clutch{k} = {{ type = "Clutch", peak = 1.1, fn_max = 20.0 }}')
             comps.append(f'step{k} = {{ type = "Step", startTime = {t_on!r} }}')
             conns += [

@@ -2,10 +2,11 @@
 //! linear equations on the node angles (and, separately, speeds). They must be independent; the
 //! freedom they leave is filled with start-value guesses, in model order, as Modelica tools do.
 
-use crate::engine::eval::Layout;
+use crate::engine::eval::{DiscreteState, Layout};
 use crate::engine::kkt::{shaft_names, undetermined_shafts};
 use crate::error::ModelError;
 use crate::linalg::{LinearSolver, RowBasis, SizedLu, Triplets};
+use crate::result::EventRecord;
 use crate::system::{InitEq, System};
 
 /// What can be known of a model before a run: its start values solve, and every shaft's motion
@@ -123,4 +124,20 @@ fn solve(eqs: &[InitEq], sys: &System, what: &str) -> Result<Solved, ModelError>
     })?;
     factors.solve_in_place(&mut x);
     Ok((x, used))
+}
+
+/// The initialization event log: every element whose mode differs from the one it reports as
+/// before the start (every friction element's first mode, from Unknown; the LossyGears that
+/// left `pre(mode) = Free` — an ideal one stays there).
+pub(super) fn initialization_log(sys: &System, disc: &DiscreteState, t0: f64) -> Vec<EventRecord> {
+    (sys.switching.iter().zip(&disc.switching))
+        .filter(|(e, st)| st.pre.mode != e.log_start_mode())
+        .map(|(e, st)| EventRecord {
+            time: t0,
+            component: e.name().to_string(),
+            old_mode: e.log_start_mode(),
+            new_mode: st.pre.mode,
+            cause: "initialization".into(),
+        })
+        .collect()
 }

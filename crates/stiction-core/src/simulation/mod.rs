@@ -29,6 +29,7 @@ use std::time::Instant;
 
 use diffsol::OdeSolverMethod;
 
+use init::initialization_log;
 pub use init::{check_model, initial_state, initial_state_and_guesses, InitialState};
 pub use saved::{InputChange, SimState};
 pub use stepper::Cursor;
@@ -42,6 +43,7 @@ use crate::engine::eval::{consistent_speeds, evaluate, DiscreteState, Workspace}
 use crate::engine::kkt::ModeMatrix;
 use crate::engine::{iterate, EventPoint, ModeCache};
 use crate::error::{ModelError, SimError};
+use crate::linalg::LinearSolver;
 use crate::model::ModelSpec;
 use crate::result::{row_values, EventRecord, RowView, SimResult};
 use crate::system::System;
@@ -166,32 +168,28 @@ fn check_memory(sys: &System) -> Result<(), SimError> {
     Ok(())
 }
 
-/// The initialization event log: every element whose mode differs from the one it reports as
-/// before the start (every friction element's first mode, from Unknown; the LossyGears that
-/// left `pre(mode) = Free` — an ideal one stays there).
-fn initialization_log(sys: &System, disc: &DiscreteState, t0: f64) -> Vec<EventRecord> {
-    (sys.switching.iter().zip(&disc.switching))
-        .filter(|(e, st)| st.pre.mode != e.log_start_mode())
-        .map(|(e, st)| EventRecord {
-            time: t0,
-            component: e.name().to_string(),
-            old_mode: e.log_start_mode(),
-            new_mode: st.pre.mode,
-            cause: "initialization".into(),
-        })
-        .collect()
-}
-
 impl Simulation {
     /// Initializes a run of an assembled system: start values, MSL initialization
     /// (`initial() = true`) and the event it triggers at the start time.
     pub fn new(sys: Arc<System>) -> Result<Self, SimError> {
+        Self::with_modes(sys, ModeCache::default())
+    }
+
+    /// The same with every mode factored from scratch by `solver` (the dense LU is the test
+    /// oracle of the banded, incremental path large drivetrains take).
+    pub fn with_linear_solver(
+        sys: Arc<System>,
+        solver: Box<dyn LinearSolver>,
+    ) -> Result<Self, SimError> {
+        Self::with_modes(sys, ModeCache::new(solver))
+    }
+
+    fn with_modes(sys: Arc<System>, mut cache: ModeCache) -> Result<Self, SimError> {
         let started = Instant::now();
         check_memory(&sys)?;
         let exp = sys.experiment.clone();
         let t0 = exp.start_time;
         let x0 = initial_state(&sys)?;
-        let mut cache = ModeCache::default();
         let mut disc = DiscreteState::initial(&sys);
         let mut ws = Workspace::new(&sys);
         // Past the last time event the horizon is StopTime: a switch merged into it (too close

@@ -286,11 +286,13 @@ def _outside_tube(model: st.Model, tight: st.Result, r: st.Result) -> list[str]:
     1e-6 of |w|, and 1e-6 rad/s absolute, as Modelica tools set it), so a shaft creeping at a
     few mrad/s beside others turning 10x faster (``tests/data/tiny_speeds.toml``), or a small
     oscillation riding on 1 rad/s, is right to that, not to 0.2 % of its own range. And never
-    below the default run's absolute tolerance, 1e-6 rad/s: a drivetrain turning at 1e-9 rad/s
-    is noise to the integrator (``tests/data/speeds_below_tolerance.toml``)."""
+    below ten times the default run's absolute tolerance (1e-6 rad/s): a stiff oscillation near
+    rest, below what the error test sees, grows under the explicit method toward that
+    tolerance (architecture.md, "A stiff oscillation near rest";
+    ``tests/data/speeds_below_tolerance.toml``); beyond it the error must converge."""
     speeds = [f"{n}.w" for n, c in model.components.items() if c.type == "Inertia"]
     scale = max(float(np.abs(tight[s]).max()) for s in speeds)
-    report = compare(tight, r, tolerance=2e-3, signals=speeds, floor=max(2e-3 * scale, 1e-6))
+    report = compare(tight, r, tolerance=2e-3, signals=speeds, floor=max(2e-3 * scale, 1e-5))
     return report.failed
 
 
@@ -365,20 +367,29 @@ def test_an_oscillation_the_default_tolerance_barely_resolves_converges_with_the
     assert errors[0] > 5 * errors[1] > 25 * errors[2], errors
 
 
-def test_speeds_far_below_the_absolute_tolerance_are_right_to_it() -> None:
-    """Found by `make soak` (twice in 10 000 drivetrains): two shafts on a spring oscillate at
-    1e-9 rad/s. The integrator's error test is relative to the speeds or absolute, 1e-6 rad/s at
-    the default Tolerance: it takes 4 steps of 0.25 s (the spring's period is 0.38 s), the same at
-    1e-7 and 1e-8, and ends 9e-8 rad/s off, a hundred times the motion but a tenth of the
-    tolerance. Tighter it follows the motion (2e-10 rad/s off at 1e-11)."""
+def test_a_stiff_oscillation_near_rest_grows_under_the_explicit_method_to_its_tolerance() -> None:
+    """Found by `make soak` (three times in 10 000 drivetrains): two shafts on a spring started
+    at 1e-9 rad/s. Below the absolute tolerance (1e-6 rad/s at the default Tolerance) the error
+    test does not see the motion, so the explicit method steps beyond its stability bound and
+    amplifies it until its error estimate reaches that tolerance: a known limit of Tsit45 under
+    an absolute tolerance (architecture.md, "A stiff oscillation near rest"). What holds: the
+    error stays within a few hundred times the absolute tolerance and shrinks with it, and the
+    implicit methods keep the motion where it is."""
     from pathlib import Path
 
-    model = st.Model.load(Path(__file__).parent / "data" / "speeds_below_tolerance.toml")
-    r, tight = model.simulate(), model.simulate(Tolerance=1e-12)
-    assert 1e-8 < _distance(model, tight, r) <= 1e-6
-    assert not _outside_tube(model, tight, r)
-    closer = model.simulate(Tolerance=1e-11)
-    assert _distance(model, tight, closer) <= _distance(model, tight, r) / 100
+    text = (Path(__file__).parent / "data" / "speeds_below_tolerance.toml").read_text()
+    stiff = st.Model.loads(text.replace("J = 2.0", "J = 0.5").replace("c = 181.0", "c = 20000.0"))
+    tight = stiff.simulate(Tolerance=1e-12)
+    errors = {tol: _distance(stiff, tight, stiff.simulate(Tolerance=tol)) for tol in (1e-6, 1e-8)}
+    assert 1e-5 < errors[1e-6] <= 5e-4 and errors[1e-8] <= errors[1e-6] / 50, errors
+    r = stiff.simulate()
+    assert _outside_tube(stiff, tight, r)
+    _assert_converges(stiff, r, stiff.simulate(Tolerance=1e-9))
+    # the drivetrain as the soak found it: 9e-8 rad/s off, inside the tube's floor
+    gentle = st.Model.loads(text)
+    assert not _outside_tube(gentle, gentle.simulate(Tolerance=1e-9), gentle.simulate())
+    for solver in ("esdirk34", "bdf"):
+        assert _distance(stiff, tight, stiff.simulate(Solver=solver)) <= 5e-9, solver
 
 
 def test_energy_that_drifts_with_the_integration_error_converges_with_the_tolerance() -> None:

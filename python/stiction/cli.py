@@ -362,7 +362,8 @@ def compare_cmd(
     "--scale",
     "scale_sizes",
     default=None,
-    help="Time generated chains and ladders of these sizes instead, e.g. 10,100,1000.",
+    help="Time generated chains, ladders and ladders engaging in waves of these sizes instead, "
+    "e.g. 10,100,1000.",
 )
 @click.option(
     "--stiff",

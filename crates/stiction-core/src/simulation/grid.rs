@@ -6,10 +6,6 @@ use super::integrator::{integrator_error, Eqn, V};
 use super::stepper::Stepper;
 use crate::error::SimError;
 
-/// From this many grid rows in one step its dense output is fitted once (`dense`): the fit
-/// costs no interpolation when the crossing scan went through the step, else up to three.
-const FIT_FROM_ROWS: usize = 4;
-
 impl Stepper {
     pub(super) fn grid_time(&self, k: usize) -> f64 {
         self.sys.experiment.grid_time(k)
@@ -20,7 +16,8 @@ impl Stepper {
         self.grid_last
     }
 
-    /// The state at t from the dense output of the last step, into `out`.
+    /// The state at t from the dense output of the last step, into `out`: Tsit45's from its
+    /// stages (`dense.rs`), the implicit methods' from diffsol.
     pub fn interpolate<'a, S>(
         &mut self,
         solver: &S,
@@ -30,6 +27,10 @@ impl Stepper {
     where
         S: OdeSolverMethod<'a, Eqn>,
     {
+        if self.poly.covers(t) {
+            self.poly.eval(t, out);
+            return Ok(());
+        }
         let n = out.len();
         let y = self
             .dense
@@ -39,52 +40,6 @@ impl Stepper {
             .map_err(|e| integrator_error(t, e))?;
         out.copy_from_slice(y.inner().as_slice());
         Ok(())
-    }
-
-    /// The state at t inside the pending step as the output rows read it: from the step's
-    /// fitted polynomial when it holds many rows (`dense`), else from diffsol directly. Every
-    /// row and every value read between pieces go through here, so they agree bit for bit.
-    pub(super) fn interpolate_row<'a, S>(
-        &mut self,
-        solver: &S,
-        t: f64,
-        out: &mut [f64],
-    ) -> Result<(), SimError>
-    where
-        S: OdeSolverMethod<'a, Eqn>,
-    {
-        if !self.poly_wanted {
-            return self.interpolate(solver, t, out);
-        }
-        if !self.poly.fitted() {
-            let mut poly = std::mem::take(&mut self.poly);
-            let end = solver.state().y.inner().as_slice();
-            let fitted = poly.fit(end, |t, y| self.interpolate(solver, t, y));
-            self.poly = poly;
-            fitted?;
-        }
-        self.poly.eval(t, out);
-        Ok(())
-    }
-
-    /// Whether the step just taken (t_prev, t_now] holds enough grid rows to fit its dense
-    /// output once (an explicit method's only: its dense output is the quartic `dense` fits).
-    /// Called right after the step, while `self.x` still holds its start state.
-    pub(super) fn want_poly(&mut self, t_now: f64) {
-        let k_end = (self.grid_k + FIT_FROM_ROWS).min(self.grid_len() + 1);
-        self.poly_wanted = self.fit_steps
-            && k_end - self.grid_k == FIT_FROM_ROWS
-            && self.grid_time(k_end - 1) <= t_now;
-        if self.poly_wanted {
-            self.poly.begin(self.t_prev, t_now, &self.x);
-        }
-    }
-
-    /// Offers the state just loaded at t (a sample of the crossing scan) to the step's fit.
-    pub(super) fn offer_sample(&mut self, t: f64) {
-        if self.poly_wanted {
-            self.poly.put(t, &self.x);
-        }
     }
 
     /// Loads the state at t (dense output of the last step) into `self.x`.
@@ -105,7 +60,7 @@ impl Stepper {
     {
         let mut x = solver.state().y.inner().as_slice().to_vec();
         if self.pending.is_some() {
-            self.interpolate_row(solver, self.now, &mut x)?;
+            self.interpolate(solver, self.now, &mut x)?;
         } else if !self.finished || self.now == self.t_prev {
             x.copy_from_slice(&self.x);
         }
@@ -136,14 +91,10 @@ impl Stepper {
                 break;
             }
             let t = tg.min(t_step_end);
-            if self.poly_wanted && self.poly.fitted() {
-                self.poly.eval(t, &mut self.x);
-            } else {
-                let mut x = std::mem::take(&mut self.x);
-                let r = self.interpolate_row(solver, t, &mut x);
-                self.x = x;
-                r?;
-            }
+            let mut x = std::mem::take(&mut self.x);
+            let r = self.interpolate(solver, t, &mut x);
+            self.x = x;
+            r?;
             if let Some(horizon) = plain {
                 // what `record_here` does for such a row, without its checks
                 self.last_row = tg;

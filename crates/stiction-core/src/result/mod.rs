@@ -79,6 +79,16 @@ impl Trajectory {
         self.x.extend_from_slice(x);
     }
 
+    /// Pushes a row whose state `fill` appends to the states (`width` values), so that a
+    /// state computed for the row is written in place.
+    pub fn push_with(&mut self, t: f64, horizon: f64, disc: u32, fill: impl FnOnce(&mut Vec<f64>)) {
+        self.t.push(t);
+        self.horizon.push(horizon);
+        self.disc.push(disc);
+        fill(&mut self.x);
+        debug_assert_eq!(self.x.len(), self.t.len() * self.width);
+    }
+
     pub fn rows(&self) -> usize {
         self.t.len()
     }

@@ -91,20 +91,38 @@ impl Stepper {
                 break;
             }
             let t = tg.min(t_step_end);
-            let mut x = std::mem::take(&mut self.x);
-            let r = self.interpolate(solver, t, &mut x);
-            self.x = x;
-            r?;
             if let Some(horizon) = plain {
-                // what `record_here` does for such a row, without its checks
-                self.last_row = tg;
-                let id = (self.discs.len() - 1) as u32;
-                self.trajectory.push(tg, horizon, id, &self.x);
-                self.grid_k += 1;
-                continue;
+                self.push_plain_row(solver, (tg, t), horizon)?;
+            } else {
+                self.load(solver, t)?;
+                self.record_here(tg);
             }
-            self.record_here(tg);
             self.grid_k += 1;
+        }
+        Ok(())
+    }
+
+    /// What `record_here` does for grid row `tg` (read at `t`) when it needs nothing but its
+    /// state pushed (`plain_rows`); the state is written into the trajectory in place when the
+    /// step's quartic holds it.
+    fn push_plain_row<'a, S>(
+        &mut self,
+        solver: &S,
+        (tg, t): (f64, f64),
+        horizon: f64,
+    ) -> Result<(), SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        self.last_row = tg;
+        let id = (self.discs.len() - 1) as u32;
+        if self.poly.covers(t) {
+            let poly = &self.poly;
+            self.trajectory
+                .push_with(tg, horizon, id, |x| poly.extend_at(t, x));
+        } else {
+            self.load(solver, t)?;
+            self.trajectory.push(tg, horizon, id, &self.x);
         }
         Ok(())
     }

@@ -79,14 +79,21 @@ impl Trajectory {
         self.x.extend_from_slice(x);
     }
 
-    /// Pushes a row whose state `fill` appends to the states (`width` values), so that a
-    /// state computed for the row is written in place.
-    pub fn push_with(&mut self, t: f64, horizon: f64, disc: u32, fill: impl FnOnce(&mut Vec<f64>)) {
-        self.t.push(t);
-        self.horizon.push(horizon);
-        self.disc.push(disc);
-        fill(&mut self.x);
-        debug_assert_eq!(self.x.len(), self.t.len() * self.width);
+    /// Pushes `count` rows of one horizon and discrete state whose times and states `fill`
+    /// writes in place (times, then the states row after row), so that a block of grid rows
+    /// costs one resize per column.
+    pub fn push_block(
+        &mut self,
+        count: usize,
+        (horizon, disc): (f64, u32),
+        fill: impl FnOnce(&mut [f64], &mut [f64]),
+    ) {
+        let rows = self.t.len();
+        self.t.resize(rows + count, 0.0);
+        self.horizon.resize(rows + count, horizon);
+        self.disc.resize(rows + count, disc);
+        self.x.resize((rows + count) * self.width, 0.0);
+        fill(&mut self.t[rows..], &mut self.x[rows * self.width..]);
     }
 
     pub fn rows(&self) -> usize {

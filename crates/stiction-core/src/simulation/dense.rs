@@ -120,13 +120,6 @@ impl StepPoly {
         self.valid && t >= self.t0 && t <= self.t1
     }
 
-    /// The quartic at t (inside the step), appended to `out`.
-    pub fn extend_at(&self, t: f64, out: &mut Vec<f64>) {
-        let start = out.len();
-        out.extend(std::iter::repeat_n(0.0, self.n)); // cheaper here than `resize`
-        self.eval(t, &mut out[start..]);
-    }
-
     /// The quartic at t (inside the step), into `out`: Horner per state, over the states in
     /// one pass (the coefficients are stored degree after degree, so it vectorizes). At the
     /// step's end, the integrator's state itself (equal in exact arithmetic): a run that stops

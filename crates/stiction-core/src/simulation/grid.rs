@@ -79,52 +79,63 @@ impl Stepper {
         S: OdeSolverMethod<'a, Eqn>,
     {
         let eps = 1e-12 * limit.abs().max(1.0);
-        let plain = self.plain_rows();
-        while self.grid_k <= self.grid_len() {
-            let tg = self.grid_time(self.grid_k);
-            let due = if inclusive {
+        let due = |tg: f64| {
+            if inclusive {
                 tg <= limit + eps
             } else {
                 tg < limit - eps
-            };
-            if !due {
-                break;
             }
-            let t = tg.min(t_step_end);
-            if let Some(horizon) = plain {
-                self.push_plain_row(solver, (tg, t), horizon)?;
-            } else {
-                self.load(solver, t)?;
-                self.record_here(tg);
+        };
+        let first = self.grid_k;
+        let mut end = first;
+        while end <= self.grid_len() && due(self.grid_time(end)) {
+            end += 1;
+        }
+        if end == first {
+            return Ok(());
+        }
+        let plain = self.plain_rows();
+        let read_at = |tg: f64| tg.min(t_step_end);
+        let covered = self.poly.covers(read_at(self.grid_time(first)))
+            && self.poly.covers(read_at(self.grid_time(end - 1)));
+        if let (Some(horizon), true) = (plain, covered) {
+            self.push_plain_rows(first..end, t_step_end, horizon);
+            return Ok(());
+        }
+        for k in first..end {
+            let tg = self.grid_time(k);
+            self.load(solver, read_at(tg))?;
+            match plain {
+                Some(horizon) => {
+                    // what `record_here` does for such a row, without its checks
+                    let id = (self.discs.len() - 1) as u32;
+                    self.trajectory.push(tg, horizon, id, &self.x);
+                    self.last_row = tg;
+                }
+                None => self.record_here(tg),
             }
-            self.grid_k += 1;
+            self.grid_k = k + 1;
         }
         Ok(())
     }
 
-    /// What `record_here` does for grid row `tg` (read at `t`) when it needs nothing but its
-    /// state pushed (`plain_rows`); the state is written into the trajectory in place when the
-    /// step's quartic holds it.
-    fn push_plain_row<'a, S>(
-        &mut self,
-        solver: &S,
-        (tg, t): (f64, f64),
-        horizon: f64,
-    ) -> Result<(), SimError>
-    where
-        S: OdeSolverMethod<'a, Eqn>,
-    {
-        self.last_row = tg;
+    /// What `record_here` does for the grid rows `rows`, inside the step's quartic, when
+    /// they need nothing but their states pushed (`plain_rows`): one block of rows, each state
+    /// evaluated in place (a run records thousands of rows, a step tens).
+    fn push_plain_rows(&mut self, rows: std::ops::Range<usize>, t_step_end: f64, horizon: f64) {
         let id = (self.discs.len() - 1) as u32;
-        if self.poly.covers(t) {
-            let poly = &self.poly;
-            self.trajectory
-                .push_with(tg, horizon, id, |x| poly.extend_at(t, x));
-        } else {
-            self.load(solver, t)?;
-            self.trajectory.push(tg, horizon, id, &self.x);
-        }
-        Ok(())
+        let (poly, experiment) = (&self.poly, &self.sys.experiment);
+        let width = self.trajectory.width;
+        let count = rows.len();
+        let ks = rows.clone();
+        self.trajectory.push_block(count, (horizon, id), |ts, xs| {
+            for ((k, t), x) in ks.zip(ts).zip(xs.chunks_exact_mut(width)) {
+                *t = experiment.grid_time(k);
+                poly.eval(t.min(t_step_end), x);
+            }
+        });
+        self.last_row = self.grid_time(rows.end - 1);
+        self.grid_k = rows.end;
     }
 
     /// The horizon, when a row needs nothing but the state pushed (`record_here`'s other

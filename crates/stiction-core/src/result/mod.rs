@@ -79,6 +79,23 @@ impl Trajectory {
         self.x.extend_from_slice(x);
     }
 
+    /// Pushes `count` rows of one horizon and discrete state whose times and states `fill`
+    /// writes in place (times, then the states row after row), so that a block of grid rows
+    /// costs one resize per column.
+    pub fn push_block(
+        &mut self,
+        count: usize,
+        (horizon, disc): (f64, u32),
+        fill: impl FnOnce(&mut [f64], &mut [f64]),
+    ) {
+        let rows = self.t.len();
+        self.t.resize(rows + count, 0.0);
+        self.horizon.resize(rows + count, horizon);
+        self.disc.resize(rows + count, disc);
+        self.x.resize((rows + count) * self.width, 0.0);
+        fill(&mut self.t[rows..], &mut self.x[rows * self.width..]);
+    }
+
     pub fn rows(&self) -> usize {
         self.t.len()
     }

@@ -1,111 +1,140 @@
-//! The output grid's reading of one step's dense output. Tsit45's continuous extension is a
-//! polynomial of degree 4 in the step fraction θ; diffsol evaluates it through its generic
-//! matrix kernels (about a thousand instructions per call for eight states), and a long step
-//! holds tens of grid rows. So a step with many rows is sampled at five equally spaced
-//! instants — its start and end states, and the three interior points the crossing scan reads
-//! on diffsol's dense output anyway — and the polynomial through them (Newton form, Lebesgue
-//! constant about 2 on the step) answers every row: the same polynomial, to round-off, at a
-//! few multiply-adds per state.
+//! Tsit45's dense output, evaluated here rather than by diffsol. Its continuous extension is
+//! `y(θ) = y0 + Σᵢ βᵢ(θ)·h·kᵢ`, a quartic in the step fraction θ without constant term, over
+//! the seven stage derivatives `kᵢ`; diffsol evaluates it through its generic matrix kernels
+//! (about a thousand instructions per call for ten states), and a step is read tens of times
+//! (grid rows, the crossing scan's samples, the probes that locate a crossing). The right-hand
+//! side records the stages as diffsol computes them (`Stages`), and the step's quartic is
+//! formed once from them (`StepPoly`): the same polynomial to round-off, a few multiply-adds
+//! per state and instant.
 
-use crate::error::SimError;
+use diffsol::Tableau;
 
-/// Samples per fitted step: degree 4 needs five.
-const NODES: usize = 5;
+/// Tsit45's stages; the first is the previous step's last (first same as last).
+const STAGES: usize = 7;
+/// The coefficients of θ¹…θ⁴.
+const DEGREE: usize = 4;
 
-/// The polynomial of the step pending, from its samples.
+/// The stage derivatives of the explicit step being taken. Inside a Tsit45 step the
+/// right-hand side is called only for its stages, 1 to 6 in order, once per attempt; so after
+/// the step the last six calls are the accepted attempt's stages.
 #[derive(Default)]
-pub(super) struct StepPoly {
-    /// The step's start and length, so θ = (t − t0) / dt.
-    t0: f64,
-    dt: f64,
-    theta: [f64; NODES],
+pub(crate) struct Stages {
+    on: bool,
+    calls: usize,
     n: usize,
-    /// Samples, node after node (`n` values each).
-    samples: Vec<f64>,
-    /// Newton coefficients, `NODES` per state, state after state (Horner per state).
+    /// `STAGES` derivatives, stage after stage.
+    k: Vec<f64>,
+}
+
+impl Stages {
+    /// Starts recording a step whose first stage is the derivative `dy0` at its start.
+    pub fn begin(&mut self, dy0: &[f64]) {
+        self.n = dy0.len();
+        self.k.resize(STAGES * self.n, 0.0);
+        self.k[..self.n].copy_from_slice(dy0);
+        (self.on, self.calls) = (true, 0);
+    }
+
+    /// Keeps a right-hand side computed while recording.
+    pub fn record(&mut self, f: &[f64]) {
+        if self.on && f.len() == self.n {
+            let slot = 1 + self.calls % (STAGES - 1);
+            self.k[slot * self.n..(slot + 1) * self.n].copy_from_slice(f);
+            self.calls += 1;
+        }
+    }
+
+    /// Stops recording; whether whole attempts were recorded.
+    pub fn end(&mut self) -> bool {
+        self.on = false;
+        self.calls > 0 && self.calls.is_multiple_of(STAGES - 1)
+    }
+}
+
+/// The quartic of the step pending, from its stages.
+pub(super) struct StepPoly {
+    /// The step's start, end and length, so θ = (t − t0) / dt; the state at its end.
+    t0: f64,
+    t1: f64,
+    dt: f64,
+    y1: Vec<f64>,
+    /// `y0` and the coefficients of θ¹…θ⁴, each `n` values (one per state).
     coef: Vec<f64>,
-    have: [bool; NODES],
-    fitted: bool,
+    n: usize,
+    valid: bool,
+    /// `β` of Tsit45's continuous extension: `beta[r][i]` multiplies θ^(r+1)·h·kᵢ.
+    beta: [[f64; STAGES]; DEGREE],
+}
+
+impl Default for StepPoly {
+    fn default() -> Self {
+        let tableau = Tableau::<f64>::tsit45();
+        let beta_t = tableau.beta_t().expect("Tsit45 has a continuous extension");
+        Self {
+            t0: 0.0,
+            t1: 0.0,
+            dt: 0.0,
+            y1: Vec::new(),
+            coef: Vec::new(),
+            n: 0,
+            valid: false,
+            beta: std::array::from_fn(|r| std::array::from_fn(|i| beta_t[(r, i)])),
+        }
+    }
 }
 
 impl StepPoly {
-    /// Starts a new step [t0, t1] whose start state is `x0`; nothing is fitted yet.
-    pub fn begin(&mut self, t0: f64, t1: f64, x0: &[f64]) {
-        let n = x0.len();
-        (self.t0, self.dt, self.n, self.fitted) = (t0, t1 - t0, n, false);
-        self.samples.resize(n * NODES, 0.0);
-        self.coef.resize(n * NODES, 0.0);
-        for j in 0..NODES {
-            self.theta[j] = (self.node_time(j) - t0) / self.dt;
-        }
-        self.have = [false; NODES];
-        self.put(t0, x0);
-    }
-
-    /// The instant of sample `j`: the step's end, or `j` quarters into it (the instants at
-    /// which the crossing scan samples the step, so its samples serve here too).
-    fn node_time(&self, j: usize) -> f64 {
-        if j + 1 == NODES {
-            self.t0 + self.dt
-        } else {
-            self.t0 + self.dt * j as f64 / (NODES - 1) as f64
-        }
-    }
-
-    /// Keeps the state `x` at `t` if `t` is one of the sample instants.
-    pub fn put(&mut self, t: f64, x: &[f64]) {
-        if self.fitted || x.len() != self.n {
-            return;
-        }
-        if let Some(j) = (0..NODES).find(|&j| self.node_time(j) == t) {
-            self.samples[j * self.n..(j + 1) * self.n].copy_from_slice(x);
-            self.have[j] = true;
-        }
-    }
-
-    pub fn fitted(&self) -> bool {
-        self.fitted
-    }
-
-    /// Fits the step: the missing samples from `sample(t, out)` (the integrator's dense output;
-    /// `end` is the state at the step's end), then divided differences.
-    pub fn fit(
-        &mut self,
-        end: &[f64],
-        mut sample: impl FnMut(f64, &mut [f64]) -> Result<(), SimError>,
-    ) -> Result<(), SimError> {
-        let n = self.n;
-        self.put(self.t0 + self.dt, end);
-        for j in 0..NODES {
-            if !self.have[j] {
-                let t = self.node_time(j);
-                sample(t, &mut self.samples[j * n..(j + 1) * n])?;
-            }
-        }
-        for (i, c) in self.coef.chunks_exact_mut(NODES).enumerate() {
-            for (j, cj) in c.iter_mut().enumerate() {
-                *cj = self.samples[j * n + i];
-            }
-            for level in 1..NODES {
-                for j in (level..NODES).rev() {
-                    c[j] = (c[j] - c[j - 1]) / (self.theta[j] - self.theta[j - level]);
+    /// The step [t0, t1] from `y0` to `y1` with the stage derivatives `stages`.
+    pub fn set(&mut self, (t0, y0): (f64, &[f64]), (t1, y1): (f64, &[f64]), stages: &Stages) {
+        let n = y0.len();
+        let h = t1 - t0;
+        (self.t0, self.t1, self.dt, self.n) = (t0, t1, h, n);
+        self.y1.clear();
+        self.y1.extend_from_slice(y1);
+        self.coef.clear();
+        self.coef.extend_from_slice(y0);
+        self.coef.resize(n * (DEGREE + 1), 0.0);
+        // per state, the stages' contributions to each power of θ (in the stages' order)
+        for j in 0..n {
+            let mut c = [0.0; DEGREE];
+            for (i, k) in stages.k.chunks_exact(n).enumerate() {
+                let hk = h * k[j];
+                for (cr, beta) in c.iter_mut().zip(&self.beta) {
+                    *cr += beta[i] * hk;
                 }
             }
+            for (r, cr) in c.into_iter().enumerate() {
+                self.coef[(r + 1) * n + j] = cr;
+            }
         }
-        self.fitted = true;
-        Ok(())
+        self.valid = true;
     }
 
-    /// The polynomial at t (inside the fitted step), into `out`.
+    /// Forgets the step (the integrator's state changed).
+    pub fn clear(&mut self) {
+        self.valid = false;
+    }
+
+    /// Whether the quartic of the step holds at t.
+    pub fn covers(&self, t: f64) -> bool {
+        self.valid && t >= self.t0 && t <= self.t1
+    }
+
+    /// The quartic at t (inside the step), into `out`: Horner per state, over the states in
+    /// one pass (the coefficients are stored degree after degree, so it vectorizes). At the
+    /// step's end, the integrator's state itself (equal in exact arithmetic): a run that stops
+    /// there reads that state, and a row there must be the same bits.
     pub fn eval(&self, t: f64, out: &mut [f64]) {
+        if t == self.t1 {
+            out.copy_from_slice(&self.y1);
+            return;
+        }
         let th = (t - self.t0) / self.dt;
-        let d: [f64; NODES] = std::array::from_fn(|j| th - self.theta[j]);
-        for (o, c) in out.iter_mut().zip(self.coef.chunks_exact(NODES)) {
-            let mut acc = c[NODES - 1];
-            for j in (0..NODES - 1).rev() {
-                acc = c[j] + d[j] * acc;
-            }
-            *o = acc;
+        let n = self.n;
+        let c = |r: usize| &self.coef[r * n..(r + 1) * n];
+        let terms = (c(0).iter().zip(c(1)).zip(c(2))).zip(c(3).iter().zip(c(4)));
+        for (o, (((a, b), c), (d, e))) in out.iter_mut().zip(terms) {
+            *o = a + th * (b + th * (c + th * (d + th * e)));
         }
     }
 }
@@ -114,43 +143,30 @@ impl StepPoly {
 mod tests {
     use super::*;
 
-    /// A degree-4 polynomial is reproduced to round-off anywhere in the step, and exactly at
-    /// the samples' ends.
+    /// For y' = 1 + 2t + 3t² + 4t³ (exact stages: Tsit45's `c`), the extension reproduces the
+    /// cubic's integral to the round-off of its 14-digit coefficients, as a fourth-order dense
+    /// output must (a lower order would be off by about 1e-4 here).
     #[test]
-    fn reproduces_a_quartic() {
-        let f = |t: f64| {
-            [
-                1.5 + t * (2.0 - t * (3.0 + t * (0.5 - 4.0 * t))),
-                -7.0 * t.powi(4),
-            ]
-        };
+    fn reproduces_a_quartic_solution() {
+        let tableau = Tableau::<f64>::tsit45();
+        let f = |t: f64| 1.0 + t * (2.0 + t * (3.0 + 4.0 * t));
+        let y = |t: f64| t * (1.0 + t * (1.0 + t * (1.0 + t)));
         let (t0, t1) = (0.3, 0.42);
-        let mut p = StepPoly::default();
-        p.begin(t0, t1, &f(t0));
-        p.put(t0 + (t1 - t0) * 2.0 / 4.0, &f(t0 + (t1 - t0) * 2.0 / 4.0));
-        let mut asked = Vec::new();
-        p.fit(&f(t1), |t, out| {
-            asked.push(t);
-            out.copy_from_slice(&f(t));
-            Ok(())
-        })
-        .unwrap();
-        assert_eq!(asked.len(), 2, "only the samples not given are asked for");
-        let mut out = [0.0; 2];
-        for k in 0..=100 {
-            let t = t0 + (t1 - t0) * k as f64 / 100.0;
-            p.eval(t, &mut out);
-            let want = f(t);
-            for i in 0..2 {
-                assert!(
-                    (out[i] - want[i]).abs() <= 4.0 * f64::EPSILON * 3.0,
-                    "{t}: {out:?} {want:?}"
-                );
-            }
+        let mut stages = Stages::default();
+        stages.begin(&[f(t0)]);
+        for i in 1..STAGES {
+            stages.record(&[f(t0 + tableau.c()[i] * (t1 - t0))]);
         }
-        p.eval(t0, &mut out);
-        assert_eq!(out, f(t0));
-        p.eval(t1, &mut out);
-        assert_eq!(out, f(t1));
+        assert!(stages.end());
+        let mut p = StepPoly::default();
+        p.set((t0, &[y(t0)]), (t1, &[y(t1)]), &stages);
+        let mut out = [0.0];
+        for k in 0..=20 {
+            let t = t0 + (t1 - t0) * k as f64 / 20.0;
+            assert!(p.covers(t));
+            p.eval(t, &mut out);
+            assert!((out[0] - y(t)).abs() <= 1e-13, "{t}: {} {}", out[0], y(t));
+        }
+        assert!(!p.covers(t1 + 1e-9));
     }
 }

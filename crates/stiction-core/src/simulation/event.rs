@@ -130,7 +130,7 @@ impl Stepper {
         }
         self.t_prev = t;
         self.pending = None;
-        self.poly_wanted = false;
+        self.poly.clear();
         if self.stop > t {
             solver
                 .set_stop_time(self.stop)

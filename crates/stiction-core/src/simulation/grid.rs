@@ -6,10 +6,6 @@ use super::integrator::{integrator_error, Eqn, V};
 use super::stepper::Stepper;
 use crate::error::SimError;
 
-/// From this many grid rows in one step its dense output is fitted once (`dense`): the fit
-/// costs no interpolation when the crossing scan went through the step, else up to three.
-const FIT_FROM_ROWS: usize = 4;
-
 impl Stepper {
     pub(super) fn grid_time(&self, k: usize) -> f64 {
         self.sys.experiment.grid_time(k)
@@ -20,7 +16,8 @@ impl Stepper {
         self.grid_last
     }
 
-    /// The state at t from the dense output of the last step, into `out`.
+    /// The state at t from the dense output of the last step, into `out`: Tsit45's from its
+    /// stages (`dense.rs`), the implicit methods' from diffsol.
     pub fn interpolate<'a, S>(
         &mut self,
         solver: &S,
@@ -30,6 +27,10 @@ impl Stepper {
     where
         S: OdeSolverMethod<'a, Eqn>,
     {
+        if self.poly.covers(t) {
+            self.poly.eval(t, out);
+            return Ok(());
+        }
         let n = out.len();
         let y = self
             .dense
@@ -39,52 +40,6 @@ impl Stepper {
             .map_err(|e| integrator_error(t, e))?;
         out.copy_from_slice(y.inner().as_slice());
         Ok(())
-    }
-
-    /// The state at t inside the pending step as the output rows read it: from the step's
-    /// fitted polynomial when it holds many rows (`dense`), else from diffsol directly. Every
-    /// row and every value read between pieces go through here, so they agree bit for bit.
-    pub(super) fn interpolate_row<'a, S>(
-        &mut self,
-        solver: &S,
-        t: f64,
-        out: &mut [f64],
-    ) -> Result<(), SimError>
-    where
-        S: OdeSolverMethod<'a, Eqn>,
-    {
-        if !self.poly_wanted {
-            return self.interpolate(solver, t, out);
-        }
-        if !self.poly.fitted() {
-            let mut poly = std::mem::take(&mut self.poly);
-            let end = solver.state().y.inner().as_slice();
-            let fitted = poly.fit(end, |t, y| self.interpolate(solver, t, y));
-            self.poly = poly;
-            fitted?;
-        }
-        self.poly.eval(t, out);
-        Ok(())
-    }
-
-    /// Whether the step just taken (t_prev, t_now] holds enough grid rows to fit its dense
-    /// output once (an explicit method's only: its dense output is the quartic `dense` fits).
-    /// Called right after the step, while `self.x` still holds its start state.
-    pub(super) fn want_poly(&mut self, t_now: f64) {
-        let k_end = (self.grid_k + FIT_FROM_ROWS).min(self.grid_len() + 1);
-        self.poly_wanted = self.fit_steps
-            && k_end - self.grid_k == FIT_FROM_ROWS
-            && self.grid_time(k_end - 1) <= t_now;
-        if self.poly_wanted {
-            self.poly.begin(self.t_prev, t_now, &self.x);
-        }
-    }
-
-    /// Offers the state just loaded at t (a sample of the crossing scan) to the step's fit.
-    pub(super) fn offer_sample(&mut self, t: f64) {
-        if self.poly_wanted {
-            self.poly.put(t, &self.x);
-        }
     }
 
     /// Loads the state at t (dense output of the last step) into `self.x`.
@@ -105,7 +60,7 @@ impl Stepper {
     {
         let mut x = solver.state().y.inner().as_slice().to_vec();
         if self.pending.is_some() {
-            self.interpolate_row(solver, self.now, &mut x)?;
+            self.interpolate(solver, self.now, &mut x)?;
         } else if !self.finished || self.now == self.t_prev {
             x.copy_from_slice(&self.x);
         }
@@ -124,38 +79,63 @@ impl Stepper {
         S: OdeSolverMethod<'a, Eqn>,
     {
         let eps = 1e-12 * limit.abs().max(1.0);
-        let plain = self.plain_rows();
-        while self.grid_k <= self.grid_len() {
-            let tg = self.grid_time(self.grid_k);
-            let due = if inclusive {
+        let due = |tg: f64| {
+            if inclusive {
                 tg <= limit + eps
             } else {
                 tg < limit - eps
-            };
-            if !due {
-                break;
             }
-            let t = tg.min(t_step_end);
-            if self.poly_wanted && self.poly.fitted() {
-                self.poly.eval(t, &mut self.x);
-            } else {
-                let mut x = std::mem::take(&mut self.x);
-                let r = self.interpolate_row(solver, t, &mut x);
-                self.x = x;
-                r?;
+        };
+        let first = self.grid_k;
+        let mut end = first;
+        while end <= self.grid_len() && due(self.grid_time(end)) {
+            end += 1;
+        }
+        if end == first {
+            return Ok(());
+        }
+        let plain = self.plain_rows();
+        let read_at = |tg: f64| tg.min(t_step_end);
+        let covered = self.poly.covers(read_at(self.grid_time(first)))
+            && self.poly.covers(read_at(self.grid_time(end - 1)));
+        if let (Some(horizon), true) = (plain, covered) {
+            self.push_plain_rows(first..end, t_step_end, horizon);
+            return Ok(());
+        }
+        for k in first..end {
+            let tg = self.grid_time(k);
+            self.load(solver, read_at(tg))?;
+            match plain {
+                Some(horizon) => {
+                    // what `record_here` does for such a row, without its checks
+                    let id = (self.discs.len() - 1) as u32;
+                    self.trajectory.push(tg, horizon, id, &self.x);
+                    self.last_row = tg;
+                }
+                None => self.record_here(tg),
             }
-            if let Some(horizon) = plain {
-                // what `record_here` does for such a row, without its checks
-                self.last_row = tg;
-                let id = (self.discs.len() - 1) as u32;
-                self.trajectory.push(tg, horizon, id, &self.x);
-                self.grid_k += 1;
-                continue;
-            }
-            self.record_here(tg);
-            self.grid_k += 1;
+            self.grid_k = k + 1;
         }
         Ok(())
+    }
+
+    /// What `record_here` does for the grid rows `rows`, inside the step's quartic, when
+    /// they need nothing but their states pushed (`plain_rows`): one block of rows, each state
+    /// evaluated in place (a run records thousands of rows, a step tens).
+    fn push_plain_rows(&mut self, rows: std::ops::Range<usize>, t_step_end: f64, horizon: f64) {
+        let id = (self.discs.len() - 1) as u32;
+        let (poly, experiment) = (&self.poly, &self.sys.experiment);
+        let width = self.trajectory.width;
+        let count = rows.len();
+        let ks = rows.clone();
+        self.trajectory.push_block(count, (horizon, id), |ts, xs| {
+            for ((k, t), x) in ks.zip(ts).zip(xs.chunks_exact_mut(width)) {
+                *t = experiment.grid_time(k);
+                poly.eval(t.min(t_step_end), x);
+            }
+        });
+        self.last_row = self.grid_time(rows.end - 1);
+        self.grid_k = rows.end;
     }
 
     /// The horizon, when a row needs nothing but the state pushed (`record_here`'s other

@@ -98,7 +98,7 @@ impl Integrator<'_> {
         }
     }
 
-    /// Whether the dense output is tsit45's quartic in the step fraction (`dense` fits it).
+    /// Whether the dense output is tsit45's quartic, formed from the stages (`dense.rs`).
     pub fn polynomial_dense_output(&self) -> bool {
         matches!(self, Integrator::Tsit45(_))
     }
@@ -169,11 +169,13 @@ pub fn problem(
             rhs_t,
             rhs_x,
             rhs_stamp,
+            stages,
             ..
         } = &mut *guard;
         *rhs_calls += 1;
         evaluate(sy, mm, disc, t, x, *horizon, ws);
         derivative(sy, ws, y);
+        stages.record(y);
         (*rhs_t, *rhs_stamp) = (t, ws.rhs_evals);
         rhs_x.copy_from_slice(x);
     });

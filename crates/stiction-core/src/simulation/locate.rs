@@ -98,12 +98,12 @@ impl Stepper {
                 top > -0.5 * (zm - zl.min(zr))
             }
         };
-        let humps: Vec<usize> = (0..self.z.len())
-            .filter(|&i| may_cross(z0[i], self.z_scan[i], self.z[i]))
-            .collect();
-        if humps.is_empty() {
+        // most intervals have none: that is found without collecting (a few intervals a step)
+        let hump_at = |i: &usize| may_cross(z0[*i], self.z_scan[*i], self.z[*i]);
+        if !(0..self.z.len()).any(|i| hump_at(&i)) {
             return Ok(None);
         }
+        let humps: Vec<usize> = (0..self.z.len()).filter(hump_at).collect();
         let mut found: Option<Hump> = None;
         for i in humps {
             let Some((t_top, z_top)) = self.top_of(solver, i, t0, b)? else {
@@ -203,20 +203,24 @@ impl Stepper {
     {
         const TANGENT_MARGIN: f64 = 2.0;
         let reach = TANGENT_MARGIN * (b - a);
-        let turning: Vec<usize> = (0..self.dz.len())
-            .filter(|&i| {
-                let (za, zb, dza, dzb) = (self.z_scan[i], self.z[i], self.dz_scan[i], self.dz[i]);
-                let tangents = za + dza * reach > 0.0 && zb - dzb * reach > 0.0;
-                dza > 0.0
-                    && dzb < 0.0
-                    && za <= 0.0
-                    && zb <= 0.0
-                    && (tangents || {
-                        let top = hermite_top(za, zb, dza, dzb, b - a);
-                        top + 0.1 * (top - za.min(zb)) > 0.0
-                    })
-            })
-            .collect();
+        let turns = |i: &usize| {
+            let i = *i;
+            let (za, zb, dza, dzb) = (self.z_scan[i], self.z[i], self.dz_scan[i], self.dz[i]);
+            let tangents = za + dza * reach > 0.0 && zb - dzb * reach > 0.0;
+            dza > 0.0
+                && dzb < 0.0
+                && za <= 0.0
+                && zb <= 0.0
+                && (tangents || {
+                    let top = hermite_top(za, zb, dza, dzb, b - a);
+                    top + 0.1 * (top - za.min(zb)) > 0.0
+                })
+        };
+        // most intervals have none: that is found without collecting
+        if !(0..self.dz.len()).any(|i| turns(&i)) {
+            return Ok(None);
+        }
+        let turning: Vec<usize> = (0..self.dz.len()).filter(turns).collect();
         let mut earliest: Option<(f64, usize)> = None;
         for i in turning {
             let (mut lo, mut hi) = (a, b);

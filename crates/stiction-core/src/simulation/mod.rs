@@ -35,6 +35,7 @@ pub use saved::{InputChange, SimState};
 pub use stepper::Cursor;
 pub use tune::ParameterChange;
 
+use dense::Stages;
 use integrator::{solver_for, with_solver, IntegratorCell};
 use stepper::Stepper;
 
@@ -87,6 +88,8 @@ pub(crate) struct Phase {
     rhs_t: f64,
     rhs_x: Vec<f64>,
     rhs_stamp: usize,
+    /// Tsit45's stage derivatives of the step being taken (its dense output, `dense.rs`).
+    stages: Stages,
 }
 
 impl Phase {
@@ -225,12 +228,13 @@ impl Simulation {
             rhs_t: f64::NAN,
             rhs_x: vec![0.0; n],
             rhs_stamp: usize::MAX,
+            stages: Stages::default(),
         }));
         let problem = integrator::problem(&sys, &phase, t0, x0.clone(), exp.tolerance)?;
         let mut cell = integrator::integrator(problem, &exp.solver)?;
         let mut stepper = Stepper::new(sys, phase, cache, x0);
         stepper.log = log;
-        stepper.fit_steps = cell.with_dependent(|_, integ| integ.polynomial_dense_output());
+        stepper.stage_dense = cell.with_dependent(|_, integ| integ.polynomial_dense_output());
         cell.with_dependent_mut(|_, integ| with_solver!(integ, s => stepper.start(s)))?;
         Ok(Simulation {
             cell,
@@ -309,7 +313,7 @@ impl Simulation {
                 s.state().h
             });
             *integ = solver_for(problem, "esdirk34")?;
-            stepper.fit_steps = integ.polynomial_dense_output(); // grid rows from its own output
+            stepper.stage_dense = integ.polynomial_dense_output(); // its own dense output
             let watch = &mut stepper.stiffness;
             (watch.active, watch.switch_due) = (false, false);
             watch.switches += 1;

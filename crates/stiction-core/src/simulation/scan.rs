@@ -127,7 +127,6 @@ impl Stepper {
     {
         let t = self.samples.t[k];
         self.load(solver, t)?;
-        self.offer_sample(t);
         self.evaluate_here(t, true);
         self.keep_sample(k);
         Ok(())

@@ -99,11 +99,11 @@ pub(super) struct Stepper {
     pub(super) x: Vec<f64>,
     /// diffsol's vector for dense output, reused.
     pub(super) dense: Option<V>,
-    /// The pending step's dense output fitted once for its grid rows, whether this step
-    /// wants it, and whether the method allows it (`grid::interpolate_row`).
+    /// The pending step's dense output from its stages (`dense.rs`), when the method is
+    /// Tsit45 (`stage_dense`); the start state of the step being taken.
     pub(super) poly: StepPoly,
-    pub(super) poly_wanted: bool,
-    pub(super) fit_steps: bool,
+    pub(super) stage_dense: bool,
+    pub(super) y0: Vec<f64>,
     pub(super) grid_k: usize,
     /// The index of the last grid point.
     pub(super) grid_last: usize,
@@ -177,8 +177,8 @@ impl Stepper {
             x: x0,
             dense: None,
             poly: StepPoly::default(),
-            poly_wanted: false,
-            fit_steps: false,
+            stage_dense: false,
+            y0: Vec::new(),
             grid_k: 1,
             grid_last,
             stats: Stats::default(),
@@ -329,15 +329,15 @@ impl Stepper {
     {
         solver.renew_budget();
         solver.limit_step(self.max_step);
-        let reason = solver
-            .step()
-            .map_err(|e| integrator_error(self.t_prev, e))?;
+        self.record_stages(solver, true);
+        let reason = solver.step();
+        self.record_stages(solver, false);
+        let reason = reason.map_err(|e| integrator_error(self.t_prev, e))?;
         let t_now = solver.state().t;
         self.check_progress(solver, t_now)?;
         let (x_now, h) = (solver.state().y.inner().as_slice(), t_now - self.t_prev);
         self.stiffness
             .watch(&self.sys, &self.phase, t_now, x_now, h);
-        self.want_poly(t_now);
         let stop = self.stop;
         // At a pending time event the signals keep their left limits (the horizon).
         let at_time_event = self.next_te < self.sys.time_events.len()
@@ -366,6 +366,28 @@ impl Stepper {
             tied_cause,
         });
         Ok(())
+    }
+
+    /// Records the stages of a Tsit45 step (`begin` before it, else after it) and forms its
+    /// dense output from them.
+    fn record_stages<'a, S>(&mut self, solver: &S, begin: bool)
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        self.poly.clear();
+        if !self.stage_dense {
+            return;
+        }
+        let state = solver.state();
+        let stages = &mut self.phase.borrow_mut().stages;
+        if begin {
+            self.y0.clear();
+            self.y0.extend_from_slice(state.y.inner().as_slice());
+            stages.begin(state.dy.inner().as_slice());
+        } else if stages.end() {
+            let end = (state.t, state.y.inner().as_slice());
+            self.poly.set((self.t_prev, &self.y0), end, stages);
+        }
     }
 
     /// Processes steps until `target` is reached (or StopTime): grid rows, state and time

@@ -50,17 +50,20 @@ fn assert_same_run(file: &str, speed_scale: f64) {
             d.time
         );
     }
-    assert_eq!(banded.rows(), dense.rows(), "{file}: rows");
+    // A cascade of events within nanoseconds (the ladder's brakes closing) may be recorded as
+    // one instant or two, a round-off decision: the rows differ by an event's pair, so the dense
+    // run's speeds are interpolated at the banded run's times (speeds are continuous).
+    let (tb, td) = (
+        banded.column("time").unwrap(),
+        dense.column("time").unwrap(),
+    );
     let speeds = (banded.names.iter()).filter(|n| n.ends_with(".w") && n.starts_with('J'));
     let mut worst: f64 = 0.0;
     for name in speeds {
         let (b, d) = (banded.column(name).unwrap(), dense.column(name).unwrap());
-        let diff = b
-            .iter()
-            .zip(&d)
-            .map(|(p, q)| (p - q).abs())
-            .fold(0.0, f64::max);
-        worst = worst.max(diff);
+        for (t, wb) in tb.iter().zip(&b) {
+            worst = worst.max((wb - interpolated(&td, &d, *t)).abs());
+        }
     }
     eprintln!("{file}: speeds differ by at most {worst:e}");
     assert!(
@@ -77,4 +80,14 @@ fn the_chain_of_100_clutches_runs_as_with_the_dense_lu() {
 #[test]
 fn the_ladder_of_100_elements_runs_as_with_the_dense_lu() {
     assert_same_run("ladder100.toml", 10.0);
+}
+
+/// `y` at `t` by linear interpolation in the nondecreasing `ts` (the last row at a repeated time).
+fn interpolated(ts: &[f64], y: &[f64], t: f64) -> f64 {
+    let k = ts.partition_point(|&s| s <= t);
+    if k == 0 || ts[k - 1] == t || k == ts.len() {
+        return y[k.saturating_sub(1)];
+    }
+    let (t0, t1) = (ts[k - 1], ts[k]);
+    y[k - 1] + (y[k] - y[k - 1]) * (t - t0) / (t1 - t0)
 }

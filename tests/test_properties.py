@@ -341,29 +341,36 @@ def test_a_backlash_amplifies_the_integration_error_that_a_tighter_tolerance_rem
     are 0.8 % of the range off at the default Tolerance, four shafts on springs are chaotic,
     91 % off. Damped (d = 1, 2 contacts), the switches inside a contact were 1.2 % off at 1e-6
     and 0.2 % at 1e-8 while they were stepped over as MSL's noEvent does; located as events,
-    0.07 % at 1e-6. Each makes the same mode changes and converges at the method's order."""
+    0.07 % at 1e-6. Each makes the same mode changes and converges: over two decades of
+    Tolerance at least 25-fold (the chaotic one not decade by decade: 34 % off at 1e-6, 23 % at
+    1e-7, 0.4 % at 1e-8)."""
     from pathlib import Path
 
     model = st.Model.load(Path(__file__).parent / "data" / f"{case}.toml")
     r, tight = model.simulate(), model.simulate(Tolerance=1e-9)
     assert _changes(r) == _changes(tight)
     errors = [_distance(model, tight, model.simulate(Tolerance=tol)) for tol in (1e-6, 1e-7, 1e-8)]
-    assert errors[0] > 5 * errors[1] > 25 * errors[2], errors
-    if case != "damped_backlash":
+    assert errors[0] > 25 * errors[2] and errors[1] > errors[2], errors
+    if case == "damped_backlash":
+        assert errors[0] > 5 * errors[1] > 25 * errors[2], errors
+    else:
         assert _outside_tube(model, tight, r)  # beyond any tube at the default Tolerance
 
 
 def test_an_oscillation_the_default_tolerance_barely_resolves_converges_with_the_tolerance() -> None:
     """Found by `make soak` (1 in about 2000 drivetrains): two inertias on a stiff spring
-    (105 rad/s), driven by a sine, no friction. Tsit45 at the default Tolerance 1e-6 takes 76
-    steps for 17 periods and is 0.22 % of the speeds' range off — outside the MSL tube — and
-    the error falls about tenfold per decade of Tolerance, as the method's order says."""
+    (105 rad/s), driven by a sine, no friction. Tsit45 at the default Tolerance 1e-6 takes 74
+    steps for 17 periods and is 0.19 % of the largest speed off, at the MSL tube's edge (76
+    steps and 0.22 %, outside it, before the step-size controller's gain changed), and the
+    error falls about tenfold per decade of Tolerance, as the method's order says."""
     from pathlib import Path
 
     model = st.Model.load(Path(__file__).parent / "data" / "coarse_oscillation.toml")
     r, tight = model.simulate(), model.simulate(Tolerance=1e-9)
-    assert _outside_tube(model, tight, r) and r.stats["events"] == 0
+    scale = max(float(np.abs(tight[f"J{k}.w"]).max()) for k in range(2))
+    assert r.stats["events"] == 0
     errors = [_distance(model, tight, model.simulate(Tolerance=tol)) for tol in (1e-6, 1e-7, 1e-8)]
+    assert errors[0] > 1e-3 * scale, (errors[0], scale)
     assert errors[0] > 5 * errors[1] > 25 * errors[2], errors
 
 
@@ -394,15 +401,15 @@ def test_a_stiff_oscillation_near_rest_grows_under_the_explicit_method_to_its_to
 
 def test_energy_that_drifts_with_the_integration_error_converges_with_the_tolerance() -> None:
     """Found by `make soak` (3 in its first 110 drivetrains): a 32 Hz spring beside a clutch that
-    sticks and slips 102 times in 1 s; the energies drift by 3.0e-4 of their scale at the
-    default Tolerance, about thirtyfold less per decade of Tolerance, and every element's
-    balance closes."""
+    sticks and slips 102 times in 1 s; the energies drift by 1.4e-4 of their scale at the
+    default Tolerance (3.0e-4 before the step-size controller's gain changed), more than
+    tenfold less per decade of Tolerance, and every element's balance closes."""
     from pathlib import Path
 
     model = st.Model.load(Path(__file__).parent / "data" / "fast_spring_drift.toml")
     r = model.simulate()
     drifts = [_energy_drift(model.simulate(Tolerance=tol)) for tol in (1e-6, 1e-7, 1e-8)]
-    assert drifts[0] >= 3e-4 and drifts[0] > 10 * drifts[1] > 100 * drifts[2], drifts
+    assert drifts[0] >= 1e-4 and drifts[0] > 10 * drifts[1] > 100 * drifts[2], drifts
     _assert_energy_closes(model, r)
     assert r.audit().ok(), str(r.audit())
 
@@ -527,8 +534,9 @@ def test_a_brake_starting_backward_that_a_lossy_gear_turns_forward_stops_startin
     located switches took this drivetrain off it, and c5.d = 1.6657937541474963 (found by
     scanning it, 2.776 before) brought it back; the next bit of d did not. The small modes'
     inverse and Tsit45's dense output from its stages (issue 10, fourth round) moved it again:
-    c5.d = 2.925695544488903, found by scanning. When this test stops finding the corner, scan
-    c5.d again rather than loosen what it asserts."""
+    c5.d = 2.925695544488903, found by scanning; the gentler step-size controller to
+    2.9256955444888972 (a few bits away). When this test stops finding the corner, scan c5.d
+    again rather than loosen what it asserts."""
     from pathlib import Path
 
     model = st.Model.loads((Path(__file__).parent / "data" / "start_turns_back.toml").read_text())

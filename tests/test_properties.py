@@ -523,6 +523,23 @@ def test_a_one_way_clutch_that_starts_forward_never_turns_backward_while_startin
     assert r.audit().ok(), str(r.audit())
 
 
+def test_a_cycle_of_four_at_a_breakaway_tie_starts_both_clutches() -> None:
+    """Found by `make soak` (1 in 10 000 drivetrains): at 0.3998 s the one-way clutch c8
+    reaches its static limit. With c8 starting, the locked c11's torque passes its own limit;
+    with both starting, c8's falls back below its limit; with c8 locked again c11 turns back:
+    the mixed system cycles through four sets. Its last fallback took the union of the last
+    two only and kept c11 locked at -0.989 N·m against 0.794 (for 2.6e-10 s); the union of the
+    whole cycle starts both, as the Coulomb law has it (each slips the way it accelerates)."""
+    from pathlib import Path
+
+    model = st.Model.load(Path(__file__).parent / "data" / "breakaway_tie_cycle.toml")
+    r = model.simulate()
+    assert not _beyond_static_limit(model, r)
+    starts = [e for e in r.events if 0.3997 < e.time < 0.3999 and e.new_mode != 0]
+    assert {e.component for e in starts} == {"c8", "c11"}, starts
+    assert r.audit().ok(), str(r.audit())
+
+
 def test_a_brake_starting_backward_that_a_lossy_gear_turns_forward_stops_starting_there():
     """Found by the properties (1 in about 500 drivetrains): brake6 starts backward while the
     lossy gear beside it drives its shaft forward. MSL's start, held by its hysteresis, would

@@ -335,7 +335,7 @@ enum Update {
 }
 
 /// Where a fixed-point iteration ended: a consistent state, or a cycle — every set visited and
-/// the last set with the one it led back to.
+/// the one the last led back to.
 enum Settled {
     Consistent(DiscreteState),
     Cycles(Cycle),
@@ -343,7 +343,6 @@ enum Settled {
 
 struct Cycle {
     visited: Vec<RelationValues>,
-    last: RelationValues,
     next: RelationValues,
 }
 
@@ -386,11 +385,7 @@ fn fixed_point(
         }
         visited.push(rels.clone());
         if visited.contains(&next) {
-            return Ok(Settled::Cycles(Cycle {
-                visited,
-                last: rels,
-                next,
-            }));
+            return Ok(Settled::Cycles(Cycle { visited, next }));
         }
         rels = next;
     }
@@ -414,12 +409,8 @@ fn started_union(
     cycle: Cycle,
     ws: &mut Workspace,
 ) -> Result<DiscreteState, SimError> {
-    let Cycle {
-        mut visited,
-        last,
-        next,
-    } = cycle;
-    let mut rels = union(ctx.sys, &next, &last);
+    let Cycle { mut visited, next } = cycle;
+    let mut rels = cycle_union(ctx.sys, &visited, &next);
     for _ in 0..2 * pass_limit(ctx.sys) {
         if visited.contains(&rels) {
             return Ok(implied_state(ctx, &rels));
@@ -431,10 +422,19 @@ fn started_union(
         visited.push(rels.clone());
         rels = match visited.contains(&next) {
             false => next,
-            true => union(ctx.sys, &next, &rels),
+            true => cycle_union(ctx.sys, &visited, &next),
         };
     }
     Err(not_settling(ctx))
+}
+
+/// The union of every set of the cycle `next` closes (from its visit on). A cycle of four — a
+/// one-way clutch at its breakaway tie and a clutch whose locked torque passes its limit only
+/// while the other starts — holds each one's start in a different set; the union of the last
+/// two alone started neither with the other (a locked clutch beyond its limit).
+fn cycle_union(sys: &System, visited: &[RelationValues], next: &RelationValues) -> RelationValues {
+    let from = visited.iter().position(|v| v == next).unwrap_or(0);
+    (visited[from..].iter()).fold(next.clone(), |acc, v| union(sys, &acc, v))
 }
 
 fn not_settling(ctx: &Mixed) -> SimError {

@@ -216,19 +216,35 @@ def test_angular_momentum_is_conserved_when_nothing_outside_acts(model: st.Model
 @given(drivetrains())
 def test_a_stuck_element_keeps_its_relative_speed_inside_the_relation_band(model: st.Model) -> None:
     """While a clutch, brake or bearing is locked its relative speed stays where it locked:
-    inside the ±1e-10 band its relations switch at, scaled by the gears between them."""
+    inside the ±1e-10 band its relations switch at, scaled by the gears between them — or,
+    where a start with almost no acceleration lasted long enough for the integrator's error
+    to move that speed (tests/data/touching_zero_band.toml: 3.2e-7 rad/s at the default
+    Tolerance), within that error (Tolerance times the largest speed) and inside the band at
+    Tolerance 1e-7."""
     r = _run(model)
     if r is None:
         return
+    slips = _locked_slips(model, r)
+    beyond = {name: slip for name, slip in slips.items() if slip > 1e-9}
+    if not beyond:
+        return
+    scale = _largest_speed(model, r)
+    assert max(beyond.values()) <= 1e-6 * scale, f"locked slips {beyond} beyond the tolerance's reach"
+    tighter = _locked_slips(model, model.simulate(Tolerance=1e-7))
+    assert all(tighter[name] <= 1e-9 for name in beyond), f"locked slips {beyond}, at 1e-7 {tighter}"
+
+
+def _locked_slips(model: st.Model, r: st.Result) -> dict[str, float]:
+    """The largest relative speed of each clutch, brake or bearing while locked. The band is the
+    relations' ±1e-10 rad/s; through a gear's ratio (up to 4 drawn here) an element's own speed
+    sits at that band times the ratio (2e-10 behind a 0.5 gear), so 1e-9 is inside it."""
+    slips = {}
     for name, comp in model.components.items():
         speed = {"Clutch": "w_rel", "Brake": "w", "BearingFriction": "w"}.get(comp.type)
-        if speed is None:
-            continue
-        locked = r[f"{name}.locked"] == 1.0
-        slip = np.abs(r[f"{name}.{speed}"][locked])
-        # the band is the relations' ±1e-10 rad/s; through a gear's ratio (up to 4 drawn here) an
-        # element's own speed sits at that band times the ratio (2e-10 behind a 0.5 gear)
-        assert not slip.size or slip.max() <= 1e-9, f"{name} slips at {slip.max():.2e} rad/s while locked"
+        if speed is not None:
+            locked = r[f"{name}.locked"] == 1.0
+            slips[name] = float(np.abs(r[f"{name}.{speed}"][locked]).max(initial=0.0))
+    return slips
 
 
 @FEWER
@@ -550,24 +566,23 @@ def test_a_one_way_clutch_that_starts_forward_never_turns_backward_while_startin
     assert r.audit().ok(), str(r.audit())
 
 
-@pytest.mark.xfail(
-    strict=True, reason="open: a start through a normal force touching zero locks outside the band"
-)
-def test_a_clutch_whose_normal_force_touches_zero_locks_again_inside_the_band() -> None:
-    """Found by `make soak` (1 in 10 000 drivetrains), not fixed yet: c4, locked at the band's
-    edge (+1e-10 rad/s), starts backward at 0.87401 s as its static limit falls with its
-    normal force, which touches zero at 0.875 s. After the touch its relative speed turns
-    forward while the start is held, and it locks at 0.87608 s at 3.2e-7 rad/s, 3000 times the
-    relation band, keeping that slip while locked. The same with the earlier step-size
-    controller (1.9e-7 rad/s), so it is the engine's, not the controller's; energy is not
-    created beyond round-off (the audit closes)."""
+def test_a_start_through_a_normal_force_touching_zero_locks_within_the_integration_error() -> None:
+    """Found by `make soak` (1 in 10 000 drivetrains): c4, locked at the band's edge
+    (+1e-10 rad/s), starts backward at 0.87401 s as its static limit falls with its normal
+    force, which touches zero at 0.875 s. For 2 ms its relative acceleration is a few 1e-4
+    rad/s² while its shafts turn at 0.5-0.7 rad/s, so the integrator's error (Tolerance 1e-6 of
+    those speeds) moves its relative speed more than the acceleration does: it drifts forward to
+    3.2e-7 rad/s and the clutch locks there when its acceleration reaches zero. At Tolerance
+    1e-7 and tighter it locks inside the band; the audit closes."""
     from pathlib import Path
 
     model = st.Model.load(Path(__file__).parent / "data" / "touching_zero_band.toml")
     r = model.simulate()
     assert r.audit().ok(), str(r.audit())
-    locked = r["c4.locked"] == 1.0
-    assert np.abs(r["c4.w_rel"][locked]).max() <= 1e-9
+    slip = _locked_slips(model, r)["c4"]
+    assert 1e-9 < slip <= 1e-6 * _largest_speed(model, r), slip
+    for tol in (1e-7, 1e-9):
+        assert _locked_slips(model, model.simulate(Tolerance=tol))["c4"] <= 1e-9, tol
 
 
 def test_a_cycle_of_four_at_a_breakaway_tie_starts_both_clutches() -> None:

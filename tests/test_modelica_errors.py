@@ -81,6 +81,12 @@ BAD = [
         ["type mismatch", "'b'", "Boolean"],
     ),
     (
+        "a sign before a string (found by the fuzzer)",
+        HEAD + '  parameter Real a = - "a description";\n' + OK_BODY + "end M;",
+        "3:22",
+        ["type mismatch", "operator '-'", "a description"],
+    ),
+    (
         "type mismatch in a component",
         HEAD + "  Rotational.Components.Inertia J(J=true);\nend M;",
         "3:35",
@@ -302,6 +308,7 @@ def test_reals_without_a_range_accept_any_finite_value() -> None:
 # Found by fuzzing (tests/test_fuzz_modelica.py): each crashed with a Python exception before.
 ARITHMETIC = [
     ("a 400-digit literal", "9" * 400, ["Integer literal", "out of range"]),
+    ("a 5000-digit literal (found by the fuzzer)", "9" * 5000, ["Integer literal", "out of range"]),
     ("1e400", "1e400", ["too large for a Real"]),
     ("an Integer power too large", "10^400", ["too large"]),
     ("division by zero", "1/0", ["division by zero"]),

@@ -90,6 +90,7 @@ def evaluate(expr: Expr, lookup: Lookup, resolve: Resolve, der: Lookup | None = 
             return lookup(e)
         if isinstance(e, Unary):
             value = ev(e.operand)
+            _check_operands(e, value)
             return np.logical_not(value) if e.op == "not" else (-value if e.op == "-" else value)
         if isinstance(e, BinOp):
             left, right = ev(e.left), ev(e.right)
@@ -109,8 +110,9 @@ def evaluate(expr: Expr, lookup: Lookup, resolve: Resolve, der: Lookup | None = 
     return ev(expr)
 
 
-def _check_operands(e: BinOp, left: Any, right: Any) -> None:
-    for value in (left, right):
+def _check_operands(e: BinOp | Unary, *values: Any) -> None:
+    """A string or an array is no operand of an operator (a fuzzed `tau = - "a comment"`)."""
+    for value in values:
         if isinstance(value, (str, list)):
             raise ModelicaError(e.pos, f"type mismatch: operator '{e.op}' on {python_value(value)!r}")
 

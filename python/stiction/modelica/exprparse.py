@@ -49,11 +49,14 @@ class ExpressionParser:
         """The number token ``i``: an Integer within 64 bits or a finite Real, else a located
         error (a literal of 400 digits would overflow the float every parameter becomes)."""
         text = self.texts[i]
+        # past 19 digits an Integer is out of range; Python refuses to convert 4300 at all
+        if text.isdigit() and len(text.lstrip("0")) > 19:
+            raise self.fail(f"the Integer literal {text[:24]}... is out of range", i)
         value: int | float = int(text) if text.isdigit() else float(text)
         if isinstance(value, int) and value >= 2**63:
             raise self.fail(f"the Integer literal {text[:24]}... is out of range", i)
         if value == math.inf:
-            raise self.fail(f"the number {text} is too large for a Real", i)
+            raise self.fail(f"the number {text[:24]} is too large for a Real", i)
         return Literal(value, self.pos(i))
 
     def pos(self, i: int | None = None) -> Pos:

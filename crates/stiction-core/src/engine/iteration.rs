@@ -312,14 +312,15 @@ fn solve_mixed(
     ws: &mut Workspace,
 ) -> Result<DiscreteState, SimError> {
     let locked_start = nothing_starts(ctx.sys, &current);
-    if let Settled::Consistent(state) = fixed_point(ctx, cache, current, ws, Update::All)? {
+    let mut from = |rels, update| fixed_point(ctx, cache, rels, ws, update, Vec::new());
+    if let Settled::Consistent(state) = from(current, Update::All)? {
         return Ok(state);
     }
-    let cycle = match fixed_point(ctx, cache, locked_start.clone(), ws, Update::All)? {
+    let cycle = match from(locked_start.clone(), Update::All)? {
         Settled::Consistent(state) => return Ok(state),
         Settled::Cycles(cycle) => cycle,
     };
-    if let Settled::Consistent(state) = fixed_point(ctx, cache, locked_start, ws, Update::First)? {
+    if let Settled::Consistent(state) = from(locked_start, Update::First)? {
         return Ok(state);
     }
     started_union(ctx, cache, cycle, ws)
@@ -366,15 +367,15 @@ fn reevaluated(
 }
 
 /// Iterates the mixed system from `rels` until its relations reproduce themselves or revisit
-/// a set.
+/// a set (of this iteration or of those `visited` before it).
 fn fixed_point(
     ctx: &Mixed,
     cache: &mut ModeCache,
     mut rels: RelationValues,
     ws: &mut Workspace,
     update: Update,
+    mut visited: Vec<RelationValues>,
 ) -> Result<Settled, SimError> {
-    let mut visited: Vec<RelationValues> = Vec::new();
     for _ in 0..pass_limit(ctx.sys) {
         let (trial, mut next) = reevaluated(ctx, cache, &rels, ws)?;
         if next == rels {
@@ -409,21 +410,19 @@ fn started_union(
     cycle: Cycle,
     ws: &mut Workspace,
 ) -> Result<DiscreteState, SimError> {
-    let Cycle { mut visited, next } = cycle;
-    let mut rels = cycle_union(ctx.sys, &visited, &next);
-    for _ in 0..2 * pass_limit(ctx.sys) {
-        if visited.contains(&rels) {
-            return Ok(implied_state(ctx, &rels));
+    let Cycle {
+        mut visited,
+        mut next,
+    } = cycle;
+    for _ in 0..pass_limit(ctx.sys) {
+        let started = cycle_union(ctx.sys, &visited, &next);
+        if visited.contains(&started) {
+            return Ok(implied_state(ctx, &started));
         }
-        let (trial, next) = reevaluated(ctx, cache, &rels, ws)?;
-        if next == rels {
-            return Ok(trial);
+        match fixed_point(ctx, cache, started, ws, Update::All, visited)? {
+            Settled::Consistent(state) => return Ok(state),
+            Settled::Cycles(cycle) => (visited, next) = (cycle.visited, cycle.next),
         }
-        visited.push(rels.clone());
-        rels = match visited.contains(&next) {
-            false => next,
-            true => cycle_union(ctx.sys, &visited, &next),
-        };
     }
     Err(not_settling(ctx))
 }

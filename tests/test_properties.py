@@ -585,6 +585,22 @@ def test_a_start_through_a_normal_force_touching_zero_locks_within_the_integrati
         assert _locked_slips(model, model.simulate(Tolerance=tol))["c4"] <= 1e-9, tol
 
 
+@pytest.mark.xfail(
+    strict=True, reason="open: a one-way clutch's start drifting backward by the integrator's error"
+)
+def test_a_one_way_clutch_starting_with_almost_no_acceleration_closes_its_balance() -> None:
+    """Found by a last `make soak`, not resolved yet: c4, an engaged one-way clutch, starts
+    forward at 0.73795 s with almost no acceleration; its relative speed drifts backward to
+    -1.9e-6 rad/s while starting (about the integrator's error on speeds of 27 rad/s), where
+    MSL's lossPower is 0 (stuck: w_rel <= 0), so its balance is off by 5.6e-5 W, 2.4 times
+    the audit's round-off allowance. At Tolerance 1e-7 it closes."""
+    from pathlib import Path
+
+    model = st.Model.load(Path(__file__).parent / "data" / "one_way_start_drift.toml")
+    assert model.simulate(Tolerance=1e-7).audit().ok()
+    assert model.simulate().audit().ok()
+
+
 def test_a_cycle_of_four_at_a_breakaway_tie_starts_both_clutches() -> None:
     """Found by `make soak` (1 in 10 000 drivetrains): at 0.3998 s the one-way clutch c8
     reaches its static limit. With c8 starting, the locked c11's torque passes its own limit;

@@ -167,3 +167,16 @@ def test_the_audit_names_an_element_whose_balance_does_not_close() -> None:
     assert EnergyAudit([good, delivering]).delivering() == [delivering]
     assert "clutch delivered" in str(EnergyAudit([good, delivering]))
     assert "spring is off by" in str(EnergyAudit([good, off]))
+
+
+def test_a_withheld_power_is_judged_against_the_torque_times_the_slip_bound() -> None:
+    """A one-way clutch's withheld power (tau·w_rel while MSL's lossPower is 0) closes while
+    its slip is within ``slip_bound`` and is reported beyond it."""
+    from stiction.audit import ElementBalance, EnergyAudit
+
+    def one_way(withheld: float) -> ElementBalance:
+        return ElementBalance("c4", 1e-15, 1.0, 10.0, True, 0.0, 0.5, 0.5, withheld, slip_bound=1e-6)
+
+    assert EnergyAudit([one_way(0.9e-5)]).ok()
+    assert not EnergyAudit([one_way(2e-5)]).ok()
+    assert "c4 is off by 2e-05 W" in str(EnergyAudit([one_way(2e-5)]))

@@ -585,20 +585,25 @@ def test_a_start_through_a_normal_force_touching_zero_locks_within_the_integrati
         assert _locked_slips(model, model.simulate(Tolerance=tol))["c4"] <= 1e-9, tol
 
 
-@pytest.mark.xfail(
-    strict=True, reason="open: a one-way clutch's start drifting backward by the integrator's error"
-)
-def test_a_one_way_clutch_starting_with_almost_no_acceleration_closes_its_balance() -> None:
-    """Found by a last `make soak`, not resolved yet: c4, an engaged one-way clutch, starts
-    forward at 0.73795 s with almost no acceleration; its relative speed drifts backward to
-    -1.9e-6 rad/s while starting (about the integrator's error on speeds of 27 rad/s), where
-    MSL's lossPower is 0 (stuck: w_rel <= 0), so its balance is off by 5.6e-5 W, 2.4 times
-    the audit's round-off allowance. At Tolerance 1e-7 it closes."""
+def test_a_one_way_clutch_starting_with_almost_no_acceleration_withholds_only_the_integrators_error() -> None:
+    """Found by `make soak`: c4, an engaged one-way clutch, starts forward at 0.73795 s with
+    almost no acceleration; its relative speed drifts backward to -1.9e-6 rad/s while starting
+    (the integrator's error on speeds of 27 rad/s), where MSL's lossPower is 0 (stuck:
+    w_rel <= 0), so 5.6e-5 W of tau·w_rel is neither loss nor stored. The audit keeps that
+    power apart (`withheld`) and bounds it by the torque times the integrator's error on the
+    relative speed: it closes, the rest of c4's balance closes to round-off, and the withheld
+    power shrinks with the tolerance (at 1e-7 it is within round-off)."""
     from pathlib import Path
 
     model = st.Model.load(Path(__file__).parent / "data" / "one_way_start_drift.toml")
-    assert model.simulate(Tolerance=1e-7).audit().ok()
-    assert model.simulate().audit().ok()
+    audits = {tol: model.simulate(Tolerance=tol).audit() for tol in (1e-6, 1e-7)}
+    for audit in audits.values():
+        assert audit.ok(), str(audit)
+    c4 = {tol: next(e for e in a.elements if e.component == "c4") for tol, a in audits.items()}
+    assert c4[1e-6].residual <= audits[1e-6].allowed(c4[1e-6])
+    assert c4[1e-6].withheld > audits[1e-6].allowed(c4[1e-6])  # beyond round-off: the drift
+    assert c4[1e-7].withheld <= audits[1e-7].allowed(c4[1e-7])
+    assert c4[1e-7].slip_bound < c4[1e-6].slip_bound / 5
 
 
 def test_a_cycle_of_four_at_a_breakaway_tie_starts_both_clutches() -> None:

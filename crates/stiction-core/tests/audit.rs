@@ -35,6 +35,12 @@ fn every_element_of_every_msl_example_balances_its_power() {
                 a.dissipated
             );
             assert!(
+                a.withheld <= 1e-9 * scale + a.torque * a.slip_bound,
+                "{path:?} {}: withholds {:.3e} W beyond its slip bound",
+                a.component,
+                a.withheld
+            );
+            assert!(
                 a.residual <= allowed(a),
                 "{path:?} {}: power in and power taken differ by {:.3e} W (scale {scale:.3e})",
                 a.component,

@@ -168,29 +168,29 @@ impl RawResult {
         self.result.metric(text).map_err(model_err)
     }
 
-    /// The energy audit per element: (component, residual, scale, torque, passive, min
-    /// dissipation, energy in, dissipated) for every component with flanges.
-    #[allow(clippy::type_complexity)]
-    fn audit(&self, py: Python<'_>) -> PyResult<Vec<(String, f64, f64, f64, bool, f64, f64, f64)>> {
+    /// The energy audit per element: one dict of `stiction.audit.ElementBalance`'s fields for
+    /// every component with flanges.
+    fn audit<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
         let audits = py.detach(|| guarded(|| Ok(self.result.audit())))?;
-        Ok(audits
-            .into_iter()
-            .map(|a| {
-                let (power, energy) =
-                    ((a.residual, a.scale, a.torque), (a.energy_in, a.dissipated));
-                let (r, s, t) = power;
-                (
-                    a.component,
-                    r,
-                    s,
-                    t,
-                    a.passive,
-                    a.min_dissipation,
-                    energy.0,
-                    energy.1,
-                )
-            })
-            .collect())
+        let row = |a: stiction_core::result::ElementAudit| -> PyResult<Bound<'py, PyDict>> {
+            let d = PyDict::new(py);
+            d.set_item("component", a.component)?;
+            d.set_item("passive", a.passive)?;
+            for (key, value) in [
+                ("residual", a.residual),
+                ("scale", a.scale),
+                ("torque", a.torque),
+                ("min_dissipation", a.min_dissipation),
+                ("energy_in", a.energy_in),
+                ("dissipated", a.dissipated),
+                ("withheld", a.withheld),
+                ("slip_bound", a.slip_bound),
+            ] {
+                d.set_item(key, value)?;
+            }
+            Ok(d)
+        };
+        audits.into_iter().map(row).collect()
     }
 
     /// All variables as a `rows × len(names)` array (the same array at every call).

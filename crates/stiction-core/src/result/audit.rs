@@ -6,6 +6,11 @@
 //! connection sets, the parts from the component's own equations, so the two sides are computed
 //! independently. A passive element (no source law, no working constraint) must never dissipate
 //! negative power: it never delivers net energy.
+//!
+//! A friction element's `tau·w_rel` that its `lossPower` leaves out is kept apart as `withheld`:
+//! MSL's OneWayClutch reports no loss while stuck (`w_rel ≤ 0`), including a forward start
+//! whose integrated relative speed drifts a little below 0. That power is the element's torque
+//! times an error of the integrator, so it is judged against `slip_bound`, not round-off.
 
 use super::SimResult;
 use crate::engine::eval::{DiscreteState, Workspace};
@@ -23,6 +28,13 @@ pub struct ElementAudit {
     /// The largest cut torque at its flanges [N·m]: a stuck element's slip stays inside the
     /// ±1e-10 rad/s event band, so its held torque may show up to about 1e-10 of this in power.
     pub torque: f64,
+    /// The largest |tau·w_rel − lossPower| of its switching elements [W]: what MSL's loss law
+    /// leaves out (a OneWayClutch while stuck); 0 for every other element.
+    pub withheld: f64,
+    /// How far its relative speed may be off [rad/s]: the event band plus the integrator's
+    /// error bound on a difference of two speeds, `2·Tolerance·(1 + largest flange speed)`.
+    /// `withheld` is within `torque·slip_bound` where the slip is the integrator's error.
+    pub slip_bound: f64,
     /// No source law and no constraint that does work.
     pub passive: bool,
     /// The least power it dissipated over the rows [W] (negative: it delivered energy).
@@ -63,10 +75,15 @@ impl SimResult {
                 .solve(value, &mut flange_tau, &mut scratch);
             for (k, p) in parts.iter().enumerate() {
                 let (power_in, taken, dissipation) = balance(sys, ws, disc, p, &flange_tau);
+                let withheld = withheld(ws, p);
                 let a = &mut audits[k];
-                a.residual = a.residual.max((power_in - taken).abs());
+                a.residual = a.residual.max((power_in - taken - withheld).abs());
+                a.withheld = a.withheld.max(withheld.abs());
                 a.scale = a.scale.max(power_in.abs()).max(taken.abs());
                 a.torque = (p.ports.iter()).fold(a.torque, |m, (i, _)| m.max(flange_tau[*i].abs()));
+                a.slip_bound = (p.ports.iter()).fold(a.slip_bound, |m, (_, rel)| {
+                    m.max(slip_bound(sys.experiment.tolerance, rel.dot(&ws.w)))
+                });
                 a.min_dissipation = a.min_dissipation.min(dissipation);
                 if let Some((t0, p0, d0)) = last[k] {
                     let dt = tr.t[r] - t0;
@@ -89,6 +106,8 @@ fn empty(name: &str) -> ElementAudit {
         residual: 0.0,
         scale: 0.0,
         torque: 0.0,
+        withheld: 0.0,
+        slip_bound: 0.0,
         passive: true,
         min_dissipation: f64::INFINITY,
         energy_in: 0.0,
@@ -127,6 +146,18 @@ fn balance(
         dissipation += ws.elements[k].loss;
     }
     (power_in, taken, dissipation)
+}
+
+/// The power its switching elements' loss laws leave out at one row (`tau·w_rel − lossPower`).
+fn withheld(ws: &Workspace, p: &Parts) -> f64 {
+    p.switching.iter().map(|&k| ws.elements[k].withheld).sum()
+}
+
+/// The event band (a stuck slip stays within ±1e-10 rad/s) plus the integrator's error bound
+/// on the difference of two states of speed `w` (absolute and relative tolerance both
+/// `tolerance`).
+fn slip_bound(tolerance: f64, w: f64) -> f64 {
+    2.0 * crate::switching::relation::EVENT_EPSILON + 2.0 * tolerance * (1.0 + w.abs())
 }
 
 fn is_passive(sys: &System, p: &Parts) -> bool {

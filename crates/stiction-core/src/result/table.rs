@@ -403,6 +403,7 @@ mod tests {
             tau: 4.5,
             sa: 5.5,
             loss: 6.5,
+            withheld: 0.0,
             held: true,
             tau0: 7.5,
             tau0_max: 8.5,

@@ -125,6 +125,8 @@ pub struct ElementValues {
     pub tau: f64,
     pub sa: f64,
     pub loss: f64,
+    /// `tau·w_rel` that `loss` leaves out (a OneWayClutch while stuck; 0 for the others).
+    pub withheld: f64,
     /// The mode's rows hold this element's relative speed fixed.
     pub held: bool,
     /// The static limits `sa` is compared with: friction `tau0`, `tau0_max`; a LossyGear's

@@ -201,7 +201,9 @@ impl SwitchingElement for FrictionElem {
         };
         // A OneWayClutch dissipates nothing while stuck (spec §10.8).
         let stuck_one_way = self.one_way.is_some() && st.pre.mode == logic::STUCK;
-        v.loss = if stuck_one_way { 0.0 } else { v.tau * v.w };
+        let power = v.tau * v.w;
+        v.loss = if stuck_one_way { 0.0 } else { power };
+        v.withheld = power - v.loss;
     }
 
     fn is_free(&self, signals: &[f64]) -> bool {

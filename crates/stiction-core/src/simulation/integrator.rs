@@ -40,13 +40,16 @@ pub type Problem = OdeSolverProblem<Eqn>;
 /// are. Before each step the limit is moved to the count so far plus this many.
 const NEWTON_FAILS_PER_STEP: usize = 50;
 
-/// The step-size controller's integral gain (diffsol's default 0.5: the step chosen so that
-/// the next error estimate equals the tolerance, dead-beat). With Tsit45 after an event
-/// restart, 0.5 and growth up to 2× overshot and were rejected on 18 of CoupledClutches' 96
-/// attempts; 0.3 and growth up to 5× reject 4 (528 right-hand sides instead of 600,
-/// SimpleGearShift 238 instead of 340). The implicit methods share it (diffsol keeps it in
-/// the problem): StiffShaft under "auto" takes 8582 steps instead of 7713.
-const STEP_CONTROL_GAIN: f64 = 0.3;
+/// The step-size controller's integral gain for Tsit45 (diffsol's default 0.5: the step chosen
+/// so that the next error estimate equals the tolerance, dead-beat). After an event restart,
+/// 0.5 and growth up to 2× overshot and were rejected on 18 of CoupledClutches' 96 attempts;
+/// 0.3 and growth up to 5× reject 4 (528 right-hand sides instead of 600, SimpleGearShift 238
+/// instead of 340).
+const EXPLICIT_STEP_GAIN: f64 = 0.3;
+/// The implicit methods keep diffsol's dead-beat gain: with 0.3, StiffHeatLosses under "auto"
+/// took 2067 steps instead of 1608 (15.5 ms instead of 13.5) and StiffShaft 8582 instead of
+/// 7713. diffsol keeps the gain in the problem, so a change of method builds a new problem.
+const IMPLICIT_STEP_GAIN: f64 = 0.5;
 /// The most Tsit45's step may grow from one step to the next (diffsol's default 2).
 const TSIT45_MAX_GROWTH: f64 = 5.0;
 
@@ -155,7 +158,7 @@ pub fn integrator_error(time: f64, e: impl std::fmt::Display) -> SimError {
     }
 }
 
-/// The problem: `dx/dt` from one evaluation of the phase's system (a parameter change swaps it,
+/// The problem of a run by `method` (its step-size controller's gain): `dx/dt` from one evaluation of the phase's system (a parameter change swaps it,
 /// `tune.rs`), and a Jacobian-vector product by forward differences for the implicit methods.
 pub fn problem(
     sys: &std::sync::Arc<System>,
@@ -163,6 +166,7 @@ pub fn problem(
     t0: f64,
     x0: Vec<f64>,
     tolerance: f64,
+    method: &str,
 ) -> Result<Problem, SimError> {
     let n = x0.len();
     debug_assert!(std::sync::Arc::ptr_eq(sys, &phase.borrow().sys));
@@ -241,7 +245,10 @@ pub fn problem(
         .init(init, n)
         .build()
         .map_err(|e| integrator_error(t0, e))?;
-    p.ode_options.pi_control_integral = STEP_CONTROL_GAIN;
+    p.ode_options.pi_control_integral = match method {
+        "bdf" | "esdirk34" => IMPLICIT_STEP_GAIN,
+        _ => EXPLICIT_STEP_GAIN,
+    };
     Ok(p)
 }
 

@@ -36,7 +36,7 @@ pub use stepper::Cursor;
 pub use tune::ParameterChange;
 
 use dense::Stages;
-use integrator::{solver_for, with_solver, IntegratorCell};
+use integrator::{with_solver, IntegratorCell};
 use stepper::Stepper;
 
 use crate::assembly::{assemble, CompiledModel};
@@ -230,7 +230,8 @@ impl Simulation {
             rhs_stamp: usize::MAX,
             stages: Stages::default(),
         }));
-        let problem = integrator::problem(&sys, &phase, t0, x0.clone(), exp.tolerance)?;
+        let problem =
+            integrator::problem(&sys, &phase, t0, x0.clone(), exp.tolerance, &exp.solver)?;
         let mut cell = integrator::integrator(problem, &exp.solver)?;
         let mut stepper = Stepper::new(sys, phase, cache, x0);
         stepper.log = log;
@@ -306,18 +307,26 @@ impl Simulation {
     /// with Esdirk34 from where it stands (between two steps), starting from the explicit
     /// method's last step size.
     fn switch_to_implicit(&mut self) -> Result<(), SimError> {
+        const METHOD: &str = "esdirk34";
         let Simulation { cell, stepper, .. } = self;
-        cell.with_dependent_mut(|problem, integ| {
-            let h = with_solver!(integ, s => {
+        let h = cell.with_dependent_mut(|_, integ| {
+            with_solver!(integ, s => {
                 stepper.stiffness.retired.add(s.get_statistics());
                 s.state().h
-            });
-            *integ = solver_for(problem, "esdirk34")?;
+            })
+        });
+        // a problem of its own: diffsol keeps the step-size controller's gain there
+        let (t, sys) = (stepper.t_prev, &stepper.sys);
+        let tolerance = sys.experiment.tolerance;
+        let problem =
+            integrator::problem(sys, &stepper.phase, t, stepper.x.clone(), tolerance, METHOD)?;
+        *cell = integrator::integrator(problem, METHOD)?;
+        cell.with_dependent_mut(|_, integ| {
             stepper.stage_dense = integ.polynomial_dense_output(); // its own dense output
             let watch = &mut stepper.stiffness;
             (watch.active, watch.switch_due) = (false, false);
             watch.switches += 1;
-            let (t, order) = (stepper.t_prev, integ.order());
+            let order = integ.order();
             with_solver!(integ, s => {
                 stepper.restart_at(s, t, order, true, false)?;
                 *s.state_mut().h = h;

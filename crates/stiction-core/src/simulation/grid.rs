@@ -125,14 +125,13 @@ impl Stepper {
     fn push_plain_rows(&mut self, rows: std::ops::Range<usize>, t_step_end: f64, horizon: f64) {
         let id = (self.discs.len() - 1) as u32;
         let (poly, experiment) = (&self.poly, &self.sys.experiment);
-        let width = self.trajectory.width;
         let count = rows.len();
         let ks = rows.clone();
         self.trajectory.push_block(count, (horizon, id), |ts, xs| {
-            for ((k, t), x) in ks.zip(ts).zip(xs.chunks_exact_mut(width)) {
+            for (k, t) in ks.zip(ts.iter_mut()) {
                 *t = experiment.grid_time(k);
-                poly.eval(t.min(t_step_end), x);
             }
+            poly.eval_rows(ts, t_step_end, xs);
         });
         self.last_row = self.grid_time(rows.end - 1);
         self.grid_k = rows.end;

@@ -83,8 +83,9 @@ pub(crate) struct Phase {
     jacobians: usize,
     /// For `project`, so that `ws` keeps what the stepper evaluated last.
     scratch: Option<Workspace>,
-    /// The integrator's last right-hand side: its (t, x) and the workspace's evaluation count
-    /// right after it, so the crossing scan can tell the workspace still holds it (`fsal`).
+    /// The (t, x) of the workspace's last evaluation by the integrator's right-hand side or
+    /// the stepper (`evaluate_here`), and its evaluation count right after it, so that a
+    /// reader can tell the workspace still holds it (`holds`).
     rhs_t: f64,
     rhs_x: Vec<f64>,
     rhs_stamp: usize,
@@ -102,12 +103,19 @@ impl Phase {
         }
     }
 
-    /// Whether the workspace holds the evaluation at (t, x): the integrator's last right-hand
-    /// side was taken there and nothing was evaluated since. An explicit Runge–Kutta step's
-    /// last stage is its end point (first same as last), so the crossing scan's sample at the
-    /// step's end need not evaluate again.
+    /// Whether the workspace holds the evaluation at (t, x) in the current mode: the last
+    /// evaluation was taken there and nothing was evaluated since (the mode changes only at
+    /// events, which evaluate). An explicit Runge–Kutta step's last stage is its end point
+    /// (first same as last), so the crossing scan's sample at the step's end need not evaluate
+    /// again; the restart after an event starts from the event's own evaluation.
     fn holds(&self, t: f64, x: &[f64]) -> bool {
         self.rhs_t == t && self.ws.rhs_evals == self.rhs_stamp && self.rhs_x[..] == x[..]
+    }
+
+    /// Notes that the workspace was just evaluated at (t, x) (`holds`).
+    fn evaluated_at(&mut self, t: f64, x: &[f64]) {
+        (self.rhs_t, self.rhs_stamp) = (t, self.ws.rhs_evals);
+        self.rhs_x.copy_from_slice(x);
     }
 }
 

@@ -250,7 +250,10 @@ fn accelerations(sys: &System, mm: &ModeMatrix, disc: &DiscreteState, ws: &mut W
     if let Some(ml) = &mm.massless {
         ml.accelerate(&ws.w, &mut ws.a);
     }
-    ws.constraint_tau.copy_from_slice(&rhs[n..n + m]);
+    if m > 0 {
+        // (a call to memcpy even when empty, in every evaluation)
+        ws.constraint_tau.copy_from_slice(&rhs[n..n + m]);
+    }
     let multiplier = |row: Option<usize>| row.map(|r| rhs[n + r]);
     for (k, (e, st)) in sys.switching.iter().zip(&disc.switching).enumerate() {
         let rows = &mm.element_rows[k];
@@ -413,9 +416,11 @@ fn heat_and_energy(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Works
             ws.heat_in[node] += law.law.loss_power(&ctx, ws.law_tau[k]);
         }
     }
+    // without a heat network no element has a heat node: no virtual call per element to ask
+    let heat = sys.thermal.nodes > 0;
     for (e, v) in sys.switching.iter().zip(&ws.elements) {
         loss += v.loss;
-        if let Some(node) = e.heat_node() {
+        if let Some(node) = heat.then(|| e.heat_node()).flatten() {
             ws.heat_in[node] += v.loss;
         }
     }

@@ -87,10 +87,7 @@ impl Stepper {
             }
         };
         let first = self.grid_k;
-        let mut end = first;
-        while end <= self.grid_len() && due(self.grid_time(end)) {
-            end += 1;
-        }
+        let end = self.due_end(first, limit, due);
         if end == first {
             return Ok(());
         }
@@ -117,6 +114,24 @@ impl Stepper {
             self.grid_k = k + 1;
         }
         Ok(())
+    }
+
+    /// The first grid index from `first` on that is not `due` (the grid's end at the latest):
+    /// from the index `limit` falls at, corrected by the very test a walk from `first` makes
+    /// (the grid times rise with the index, so the due ones come first), instead of walking
+    /// row by row (a step holds tens of rows).
+    fn due_end(&self, first: usize, limit: f64, due: impl Fn(f64) -> bool) -> usize {
+        let exp = &self.sys.experiment;
+        let guess = ((limit - exp.start_time) / exp.interval).floor();
+        // `as` saturates (NaN to 0); the walks below make any guess exact
+        let mut end = (guess as usize).clamp(first, self.grid_len() + 1);
+        while end > first && !due(self.grid_time(end - 1)) {
+            end -= 1;
+        }
+        while end <= self.grid_len() && due(self.grid_time(end)) {
+            end += 1;
+        }
+        end
     }
 
     /// What `record_here` does for the grid rows `rows`, inside the step's quartic, when

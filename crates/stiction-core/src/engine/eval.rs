@@ -233,8 +233,12 @@ pub fn evaluate(
 fn accelerations(sys: &System, mm: &ModeMatrix, disc: &DiscreteState, ws: &mut Workspace) {
     let n = sys.nodes;
     let mut rhs = std::mem::take(&mut ws.rhs);
-    rhs.clear();
     rhs.resize(mm.size, 0.0);
+    // `forces` sets the node rows; the rows below them start at zero (a mode without locks
+    // has none: no memset call for an empty slice)
+    if mm.size > n {
+        rhs[n..].fill(0.0);
+    }
     forces(sys, disc, ws, &mut rhs[..n]);
     // the permanent constraints are G's first rows; a prescribed motion's holds its acceleration
     for (k, c) in sys.constraints.iter().enumerate() {

@@ -96,6 +96,8 @@ const INVERSE_UP_TO: usize = 16;
 
 struct DenseFactors {
     lu: LU<f64, Dyn, Dyn>,
+    /// The order (nalgebra's `lu.l()` would build L to tell it).
+    n: usize,
     /// `A⁻¹` column by column, for small systems.
     inverse: Option<Vec<f64>>,
     /// Whether every entry of the inverse is finite, so that a zero entry of `b` adds only
@@ -105,7 +107,7 @@ struct DenseFactors {
 
 impl DenseFactors {
     fn new(lu: LU<f64, Dyn, Dyn>) -> Self {
-        let n = lu.l().nrows();
+        let n = lu.lu_internal().nrows();
         let inverse = (n <= INVERSE_UP_TO)
             .then(|| lu.try_inverse())
             .flatten()
@@ -113,6 +115,7 @@ impl DenseFactors {
         let finite = (inverse.iter().flatten()).all(|v| v.is_finite());
         Self {
             lu,
+            n,
             inverse,
             finite,
         }
@@ -121,7 +124,7 @@ impl DenseFactors {
 
 impl Factorization for DenseFactors {
     fn size(&self) -> usize {
-        self.lu.l().nrows()
+        self.n
     }
 
     fn bytes(&self) -> usize {

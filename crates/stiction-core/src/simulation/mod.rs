@@ -83,9 +83,8 @@ pub(crate) struct Phase {
     jacobians: usize,
     /// For `project`, so that `ws` keeps what the stepper evaluated last.
     scratch: Option<Workspace>,
-    /// The (t, x) of the workspace's last evaluation by the integrator's right-hand side or
-    /// the stepper (`evaluate_here`), and its evaluation count right after it, so that a
-    /// reader can tell the workspace still holds it (`holds`).
+    /// (t, x) of the workspace's last evaluation (the right-hand side's or `evaluate_here`'s)
+    /// and its evaluation count right after it (`holds`).
     rhs_t: f64,
     rhs_x: Vec<f64>,
     rhs_stamp: usize,
@@ -103,11 +102,10 @@ impl Phase {
         }
     }
 
-    /// Whether the workspace holds the evaluation at (t, x) in the current mode: the last
-    /// evaluation was taken there and nothing was evaluated since (the mode changes only at
-    /// events, which evaluate). An explicit Runge–Kutta step's last stage is its end point
-    /// (first same as last), so the crossing scan's sample at the step's end need not evaluate
-    /// again; the restart after an event starts from the event's own evaluation.
+    /// Whether the workspace holds the evaluation at (t, x) in the current mode (taken there,
+    /// nothing evaluated since; modes change only at events, which evaluate): an explicit
+    /// step's last stage is its end (first same as last), so the scan's end sample need not
+    /// evaluate again, and the restart after an event starts from the event's right row.
     fn holds(&self, t: f64, x: &[f64]) -> bool {
         self.rhs_t == t && self.ws.rhs_evals == self.rhs_stamp && self.rhs_x[..] == x[..]
     }

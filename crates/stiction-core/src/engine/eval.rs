@@ -38,13 +38,11 @@ impl DiscreteState {
             && self.inputs.len() == sys.inputs.len()
     }
 
-    /// How each switching element enters the linear system: the key of the factored mode.
-    pub fn mode_keys(&self, sys: &System) -> Vec<ModeKey> {
-        sys.switching
-            .iter()
-            .zip(&self.switching)
-            .map(|(e, st)| e.mode_key(st))
-            .collect()
+    /// How each switching element enters the linear system (the key of the factored mode),
+    /// into `keys`.
+    pub fn mode_keys(&self, sys: &System, keys: &mut Vec<ModeKey>) {
+        keys.clear();
+        keys.extend((sys.switching.iter().zip(&self.switching)).map(|(e, st)| e.mode_key(st)));
     }
 }
 

@@ -38,13 +38,11 @@ impl DiscreteState {
             && self.inputs.len() == sys.inputs.len()
     }
 
-    /// How each switching element enters the linear system: the key of the factored mode.
-    pub fn mode_keys(&self, sys: &System) -> Vec<ModeKey> {
-        sys.switching
-            .iter()
-            .zip(&self.switching)
-            .map(|(e, st)| e.mode_key(st))
-            .collect()
+    /// How each switching element enters the linear system (the key of the factored mode),
+    /// into `keys`.
+    pub fn mode_keys(&self, sys: &System, keys: &mut Vec<ModeKey>) {
+        keys.clear();
+        keys.extend((sys.switching.iter().zip(&self.switching)).map(|(e, st)| e.mode_key(st)));
     }
 }
 
@@ -56,6 +54,8 @@ pub struct Workspace {
     pub w: Vec<f64>,
     pub a: Vec<f64>,
     pub signals: Vec<f64>,
+    /// The (t, horizon) bits `signals` were evaluated at (`update_signals`).
+    signals_at: Option<(u64, u64)>,
     pub law_phi: Vec<f64>,
     pub law_w: Vec<f64>,
     pub law_tau: Vec<f64>,
@@ -84,6 +84,7 @@ impl Workspace {
             w: vec![0.0; n],
             a: vec![0.0; n],
             signals: vec![0.0; sys.signals.slots],
+            signals_at: None,
             law_phi: vec![0.0; sys.laws.len()],
             law_w: vec![0.0; sys.laws.len()],
             law_tau: vec![0.0; sys.laws.len()],
@@ -158,10 +159,7 @@ pub fn kinematics(
     ws.horizon = horizon;
     ws.phi.copy_from_slice(&x[..n]);
     ws.w.copy_from_slice(&x[n..2 * n]);
-    for (input, value) in sys.inputs.iter().zip(&disc.inputs) {
-        ws.signals[input.slot] = *value;
-    }
-    sys.signals.eval(t, horizon, &mut ws.signals);
+    update_signals(sys, disc, t, horizon, ws);
     for c in &sys.constraints {
         c.prescribe(&ws.signals, &mut ws.phi, &mut ws.w);
     }
@@ -170,6 +168,25 @@ pub fn kinematics(
         ws.law_phi[k] = law.rel.angle(&ws.phi);
         ws.law_w[k] = law.rel.dot(&ws.w);
     }
+}
+
+/// The signals at (t, horizon) with the discrete state's input values. The blocks are pure
+/// functions of these, so an evaluation at the instant of the last one keeps its signals: the
+/// event iteration and the searches evaluate one instant many times (a sixth of
+/// CoupledClutches' evaluations), and a Sine's `sin` is a tenth of an evaluation's time.
+/// Compared bit for bit, so the signals are exactly those evaluated anew.
+fn update_signals(sys: &System, disc: &DiscreteState, t: f64, horizon: f64, ws: &mut Workspace) {
+    let at = (t.to_bits(), horizon.to_bits());
+    let same_inputs = (sys.inputs.iter().zip(&disc.inputs))
+        .all(|(input, value)| ws.signals[input.slot].to_bits() == value.to_bits());
+    if ws.signals_at == Some(at) && same_inputs {
+        return;
+    }
+    for (input, value) in sys.inputs.iter().zip(&disc.inputs) {
+        ws.signals[input.slot] = *value;
+    }
+    sys.signals.eval(t, horizon, &mut ws.signals);
+    ws.signals_at = Some(at);
 }
 
 /// Writes the algebraic speeds of the shafts without inertia in mode `mm`, and the angles and
@@ -214,8 +231,12 @@ pub fn evaluate(
 fn accelerations(sys: &System, mm: &ModeMatrix, disc: &DiscreteState, ws: &mut Workspace) {
     let n = sys.nodes;
     let mut rhs = std::mem::take(&mut ws.rhs);
-    rhs.clear();
     rhs.resize(mm.size, 0.0);
+    // `forces` sets the node rows; the rows below them start at zero (a mode without locks
+    // has none: no memset call for an empty slice)
+    if mm.size > n {
+        rhs[n..].fill(0.0);
+    }
     forces(sys, disc, ws, &mut rhs[..n]);
     // the permanent constraints are G's first rows; a prescribed motion's holds its acceleration
     for (k, c) in sys.constraints.iter().enumerate() {
@@ -231,7 +252,10 @@ fn accelerations(sys: &System, mm: &ModeMatrix, disc: &DiscreteState, ws: &mut W
     if let Some(ml) = &mm.massless {
         ml.accelerate(&ws.w, &mut ws.a);
     }
-    ws.constraint_tau.copy_from_slice(&rhs[n..n + m]);
+    if m > 0 {
+        // (a call to memcpy even when empty, in every evaluation)
+        ws.constraint_tau.copy_from_slice(&rhs[n..n + m]);
+    }
     let multiplier = |row: Option<usize>| row.map(|r| rhs[n + r]);
     for (k, (e, st)) in sys.switching.iter().zip(&disc.switching).enumerate() {
         let rows = &mm.element_rows[k];
@@ -394,9 +418,11 @@ fn heat_and_energy(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Works
             ws.heat_in[node] += law.law.loss_power(&ctx, ws.law_tau[k]);
         }
     }
+    // without a heat network no element has a heat node: no virtual call per element to ask
+    let heat = sys.thermal.nodes > 0;
     for (e, v) in sys.switching.iter().zip(&ws.elements) {
         loss += v.loss;
-        if let Some(node) = e.heat_node() {
+        if let Some(node) = heat.then(|| e.heat_node()).flatten() {
             ws.heat_in[node] += v.loss;
         }
     }

@@ -27,6 +27,8 @@ pub struct ModeCache {
     bytes: usize,
     uses: u64,
     pub factorizations: usize,
+    /// The looked-up mode's keys and packed key, reused: a hit allocates nothing.
+    scratch: (Vec<ModeKey>, Vec<u64>),
 }
 
 /// The factors a `ModeCache` keeps at most (bytes).
@@ -51,6 +53,7 @@ impl ModeCache {
             bytes: 0,
             uses: 0,
             factorizations: 0,
+            scratch: Default::default(),
         }
     }
 
@@ -60,20 +63,33 @@ impl ModeCache {
         disc: &DiscreteState,
         t: f64,
     ) -> Result<Rc<ModeMatrix>, SimError> {
-        let keys = disc.mode_keys(sys);
-        let key = packed(&keys);
+        let (mut keys, mut key) = std::mem::take(&mut self.scratch);
+        disc.mode_keys(sys, &mut keys);
+        pack(&keys, &mut key);
+        let found = self.lookup(sys, &keys, &key, t);
+        self.scratch = (keys, key);
+        found
+    }
+
+    fn lookup(
+        &mut self,
+        sys: &System,
+        keys: &[ModeKey],
+        key: &[u64],
+        t: f64,
+    ) -> Result<Rc<ModeMatrix>, SimError> {
         self.uses += 1;
-        if let Some((mm, used)) = self.map.get_mut(&key) {
+        if let Some((mm, used)) = self.map.get_mut(key) {
             *used = self.uses;
             return Ok(mm.clone());
         }
-        let mm = Rc::new(ModeMatrix::factor(sys, &keys, t, &mut self.solver)?);
+        let mm = Rc::new(ModeMatrix::factor(sys, keys, t, &mut self.solver)?);
         self.factorizations += 1;
         self.bytes += mm.bytes();
         while self.bytes > CACHE_BYTES && !self.map.is_empty() {
             self.drop_least_recent();
         }
-        self.map.insert(key, (mm.clone(), self.uses));
+        self.map.insert(key.to_vec(), (mm.clone(), self.uses));
         Ok(mm)
     }
 
@@ -87,10 +103,11 @@ impl ModeCache {
     }
 }
 
-/// A mode's key for the map: the locked flags as bits, then (element, slope bits) for each
-/// nonzero slope — a few words to hash per lookup instead of two per element.
-fn packed(keys: &[ModeKey]) -> Vec<u64> {
-    let mut key = vec![0u64; keys.len().div_ceil(64)];
+/// A mode's key for the map, into `key`: the locked flags as bits, then (element, slope bits)
+/// for each nonzero slope — a few words to hash per lookup instead of two per element.
+fn pack(keys: &[ModeKey], key: &mut Vec<u64>) {
+    key.clear();
+    key.resize(keys.len().div_ceil(64), 0);
     for (k, mk) in keys.iter().enumerate() {
         key[k / 64] |= (mk.locked as u64) << (k % 64);
     }
@@ -99,7 +116,6 @@ fn packed(keys: &[ModeKey]) -> Vec<u64> {
             key.extend([k as u64, mk.slope.to_bits()]);
         }
     }
-    key
 }
 
 /// An element changed its mode at an event.

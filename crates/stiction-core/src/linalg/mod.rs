@@ -96,24 +96,35 @@ const INVERSE_UP_TO: usize = 16;
 
 struct DenseFactors {
     lu: LU<f64, Dyn, Dyn>,
+    /// The order (nalgebra's `lu.l()` would build L to tell it).
+    n: usize,
     /// `A⁻¹` column by column, for small systems.
     inverse: Option<Vec<f64>>,
+    /// Whether every entry of the inverse is finite, so that a zero entry of `b` adds only
+    /// signed zeros (`solve_in_place` leaves its column out).
+    finite: bool,
 }
 
 impl DenseFactors {
     fn new(lu: LU<f64, Dyn, Dyn>) -> Self {
-        let n = lu.l().nrows();
+        let n = lu.lu_internal().nrows();
         let inverse = (n <= INVERSE_UP_TO)
             .then(|| lu.try_inverse())
             .flatten()
             .map(|inv| inv.as_slice().to_vec());
-        Self { lu, inverse }
+        let finite = (inverse.iter().flatten()).all(|v| v.is_finite());
+        Self {
+            lu,
+            n,
+            inverse,
+            finite,
+        }
     }
 }
 
 impl Factorization for DenseFactors {
     fn size(&self) -> usize {
-        self.lu.l().nrows()
+        self.n
     }
 
     fn bytes(&self) -> usize {
@@ -130,6 +141,12 @@ impl Factorization for DenseFactors {
             let mut x = [0.0; INVERSE_UP_TO];
             let x = &mut x[..n];
             for (column, &bj) in inv.chunks_exact(n).zip(&*b) {
+                // A mode's right-hand side is mostly zeros (its lock rows, the shafts no torque
+                // acts on). A finite a·0 is ±0, and adding ±0 changes no sum that started at +0
+                // (it is +0 or nonzero, never -0): the same bits without the column.
+                if bj == 0.0 && self.finite {
+                    continue;
+                }
                 for (xi, a) in x.iter_mut().zip(column) {
                     *xi += a * bj;
                 }

@@ -125,14 +125,34 @@ impl StepPoly {
     /// step's end, the integrator's state itself (equal in exact arithmetic): a run that stops
     /// there reads that state, and a row there must be the same bits.
     pub fn eval(&self, t: f64, out: &mut [f64]) {
+        let coef = self.coefficients();
+        self.eval_with(&coef, t, out);
+    }
+
+    /// `eval` at each of `times` read no later than `end`, into `out` (`n` values a row):
+    /// the grid rows of a step, with the coefficient slices (and their bounds checks) taken
+    /// once for the block instead of once a row.
+    pub fn eval_rows(&self, times: &[f64], end: f64, out: &mut [f64]) {
+        let coef = self.coefficients();
+        for (&t, row) in times.iter().zip(out.chunks_exact_mut(self.n)) {
+            self.eval_with(&coef, t.min(end), row);
+        }
+    }
+
+    /// The coefficients of θ⁰…θ⁴, each `n` values.
+    fn coefficients(&self) -> [&[f64]; DEGREE + 1] {
+        let n = self.n;
+        std::array::from_fn(|r| &self.coef[r * n..(r + 1) * n])
+    }
+
+    #[inline(always)]
+    fn eval_with(&self, [a, b, c, d, e]: &[&[f64]; DEGREE + 1], t: f64, out: &mut [f64]) {
         if t == self.t1 {
             out.copy_from_slice(&self.y1);
             return;
         }
         let th = (t - self.t0) / self.dt;
-        let n = self.n;
-        let c = |r: usize| &self.coef[r * n..(r + 1) * n];
-        let terms = (c(0).iter().zip(c(1)).zip(c(2))).zip(c(3).iter().zip(c(4)));
+        let terms = (a.iter().zip(*b).zip(*c)).zip(d.iter().zip(*e));
         for (o, (((a, b), c), (d, e))) in out.iter_mut().zip(terms) {
             *o = a + th * (b + th * (c + th * (d + th * e)));
         }

@@ -6,6 +6,7 @@ use diffsol::{NonLinearOp, OdeEquations, OdeSolverMethod, Vector};
 use super::integrator::{integrator_error, Eqn};
 use super::stepper::{EventKind, Stepper};
 use super::Phase;
+use crate::engine::eval::derivative;
 use crate::engine::{iterate, speed_rates, EventPoint};
 use crate::error::SimError;
 use crate::result::EventRecord;
@@ -116,7 +117,15 @@ impl Stepper {
             let mut state = solver.state_mut();
             *state.t = t;
             state.y.inner_mut().as_mut_slice().copy_from_slice(&self.x);
-            problem.eqn.rhs().call_inplace(state.y, t, state.dy);
+            // An event evaluated its right row last: the derivative there is that evaluation's.
+            let phase = self.phase.borrow();
+            if phase.holds(t, &self.x) {
+                derivative(&self.sys, &phase.ws, state.dy.inner_mut().as_mut_slice());
+                drop(phase);
+            } else {
+                drop(phase);
+                problem.eqn.rhs().call_inplace(state.y, t, state.dy);
+            }
             state.set_step_size(problem.h0, &problem.atol, problem.rtol, &problem.eqn, order);
             // The step size the integrator had found before the event is a better first guess
             // than the start heuristic (which overshoots and is rejected, event after event).

@@ -87,10 +87,7 @@ impl Stepper {
             }
         };
         let first = self.grid_k;
-        let mut end = first;
-        while end <= self.grid_len() && due(self.grid_time(end)) {
-            end += 1;
-        }
+        let end = self.due_end(first, limit, due);
         if end == first {
             return Ok(());
         }
@@ -119,20 +116,37 @@ impl Stepper {
         Ok(())
     }
 
+    /// The first grid index from `first` on that is not `due` (the grid's end at the latest):
+    /// from the index `limit` falls at, corrected by the very test a walk from `first` makes
+    /// (the grid times rise with the index, so the due ones come first), instead of walking
+    /// row by row (a step holds tens of rows).
+    fn due_end(&self, first: usize, limit: f64, due: impl Fn(f64) -> bool) -> usize {
+        let exp = &self.sys.experiment;
+        let guess = ((limit - exp.start_time) / exp.interval).floor();
+        // `as` saturates (NaN to 0); the walks below make any guess exact
+        let mut end = (guess as usize).clamp(first, self.grid_len() + 1);
+        while end > first && !due(self.grid_time(end - 1)) {
+            end -= 1;
+        }
+        while end <= self.grid_len() && due(self.grid_time(end)) {
+            end += 1;
+        }
+        end
+    }
+
     /// What `record_here` does for the grid rows `rows`, inside the step's quartic, when
     /// they need nothing but their states pushed (`plain_rows`): one block of rows, each state
     /// evaluated in place (a run records thousands of rows, a step tens).
     fn push_plain_rows(&mut self, rows: std::ops::Range<usize>, t_step_end: f64, horizon: f64) {
         let id = (self.discs.len() - 1) as u32;
         let (poly, experiment) = (&self.poly, &self.sys.experiment);
-        let width = self.trajectory.width;
         let count = rows.len();
         let ks = rows.clone();
         self.trajectory.push_block(count, (horizon, id), |ts, xs| {
-            for ((k, t), x) in ks.zip(ts).zip(xs.chunks_exact_mut(width)) {
+            for (k, t) in ks.zip(ts.iter_mut()) {
                 *t = experiment.grid_time(k);
-                poly.eval(t.min(t_step_end), x);
             }
+            poly.eval_rows(ts, t_step_end, xs);
         });
         self.last_row = self.grid_time(rows.end - 1);
         self.grid_k = rows.end;

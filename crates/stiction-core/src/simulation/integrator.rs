@@ -180,9 +180,6 @@ pub fn problem(
             ws,
             rhs_calls,
             horizon,
-            rhs_t,
-            rhs_x,
-            rhs_stamp,
             stages,
             ..
         } = &mut *guard;
@@ -190,8 +187,7 @@ pub fn problem(
         evaluate(sy, mm, disc, t, x, *horizon, ws);
         derivative(sy, ws, y);
         stages.record(y);
-        (*rhs_t, *rhs_stamp) = (t, ws.rhs_evals);
-        rhs_x.copy_from_slice(x);
+        guard.evaluated_at(t, x);
     });
     let ph = phase.clone();
     let jac_vec: JacFn = Box::new(move |x, _p, t, v, y| {

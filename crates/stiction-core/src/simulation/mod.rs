@@ -83,8 +83,8 @@ pub(crate) struct Phase {
     jacobians: usize,
     /// For `project`, so that `ws` keeps what the stepper evaluated last.
     scratch: Option<Workspace>,
-    /// The integrator's last right-hand side: its (t, x) and the workspace's evaluation count
-    /// right after it, so the crossing scan can tell the workspace still holds it (`fsal`).
+    /// (t, x) of the workspace's last evaluation (the right-hand side's or `evaluate_here`'s)
+    /// and its evaluation count right after it (`holds`).
     rhs_t: f64,
     rhs_x: Vec<f64>,
     rhs_stamp: usize,
@@ -102,12 +102,18 @@ impl Phase {
         }
     }
 
-    /// Whether the workspace holds the evaluation at (t, x): the integrator's last right-hand
-    /// side was taken there and nothing was evaluated since. An explicit Runge–Kutta step's
-    /// last stage is its end point (first same as last), so the crossing scan's sample at the
-    /// step's end need not evaluate again.
+    /// Whether the workspace holds the evaluation at (t, x) in the current mode (taken there,
+    /// nothing evaluated since; modes change only at events, which evaluate): an explicit
+    /// step's last stage is its end (first same as last), so the scan's end sample need not
+    /// evaluate again, and the restart after an event starts from the event's right row.
     fn holds(&self, t: f64, x: &[f64]) -> bool {
         self.rhs_t == t && self.ws.rhs_evals == self.rhs_stamp && self.rhs_x[..] == x[..]
+    }
+
+    /// Notes that the workspace was just evaluated at (t, x) (`holds`).
+    fn evaluated_at(&mut self, t: f64, x: &[f64]) {
+        (self.rhs_t, self.rhs_stamp) = (t, self.ws.rhs_evals);
+        self.rhs_x.copy_from_slice(x);
     }
 }
 

@@ -225,6 +225,7 @@ impl Stepper {
         if with_indicators {
             indicators(&self.sys, disc, ws, &mut self.z);
         }
+        guard.evaluated_at(t, &self.x);
     }
 
     /// Shows the observer the start row (recorded at initialization, before it was set).

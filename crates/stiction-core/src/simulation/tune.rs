@@ -247,6 +247,7 @@ impl Stepper {
         self.max_step = max_step(&sys);
         let mut phase = self.phase.borrow_mut();
         phase.ws = Workspace::new(&sys);
+        phase.rhs_stamp = usize::MAX; // the new workspace counts its evaluations from 0
         phase.scratch = None;
         phase.f0_t = f64::NAN;
         phase.sys = sys.clone();

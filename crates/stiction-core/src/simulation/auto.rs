@@ -16,10 +16,13 @@
 use std::cell::RefCell;
 
 use diffsol::ode_solver::OdeSolverStatistics;
+use diffsol::OdeSolverMethod;
 use nalgebra::Complex;
 
-use super::Phase;
+use super::integrator::{self, with_solver};
+use super::{Phase, Simulation};
 use crate::engine::eval::{derivative, evaluate};
+use crate::error::SimError;
 use crate::system::System;
 
 /// Accepted explicit steps between two stiffness checks.
@@ -287,5 +290,39 @@ mod tests {
         // a real dominant eigenvalue converged: u1 ∥ u0
         let lambda = pair_from_span(&[1.0, 0.0], &[-5.0, 0.0], &[25.0, 0.0]);
         assert!((lambda.re + 5.0).abs() < 1e-12 && lambda.im == 0.0);
+    }
+}
+
+impl Simulation {
+    /// Solver = "auto": the explicit method is held back by stability, so the run continues
+    /// with Esdirk34 from where it stands (between two steps), starting from the explicit
+    /// method's last step size.
+    pub(super) fn switch_to_implicit(&mut self) -> Result<(), SimError> {
+        const METHOD: &str = "esdirk34";
+        let Simulation { cell, stepper, .. } = self;
+        let h = cell.with_dependent_mut(|_, integ| {
+            with_solver!(integ, s => {
+                stepper.stiffness.retired.add(s.get_statistics());
+                s.state().h
+            })
+        });
+        // a problem of its own: diffsol keeps the step-size controller's gain there
+        let (t, sys) = (stepper.t_prev, &stepper.sys);
+        let tolerance = sys.experiment.tolerance;
+        let problem =
+            integrator::problem(sys, &stepper.phase, t, stepper.x.clone(), tolerance, METHOD)?;
+        *cell = integrator::integrator(problem, METHOD)?;
+        cell.with_dependent_mut(|_, integ| {
+            stepper.stage_dense = integ.polynomial_dense_output(); // its own dense output
+            let watch = &mut stepper.stiffness;
+            (watch.active, watch.switch_due) = (false, false);
+            watch.switches += 1;
+            let order = integ.order();
+            with_solver!(integ, s => {
+                stepper.restart_at(s, t, order, true, false)?;
+                *s.state_mut().h = h;
+                Ok(())
+            })
+        })
     }
 }

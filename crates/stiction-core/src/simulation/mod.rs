@@ -309,38 +309,6 @@ impl Simulation {
         }
     }
 
-    /// Solver = "auto": the explicit method is held back by stability, so the run continues
-    /// with Esdirk34 from where it stands (between two steps), starting from the explicit
-    /// method's last step size.
-    fn switch_to_implicit(&mut self) -> Result<(), SimError> {
-        const METHOD: &str = "esdirk34";
-        let Simulation { cell, stepper, .. } = self;
-        let h = cell.with_dependent_mut(|_, integ| {
-            with_solver!(integ, s => {
-                stepper.stiffness.retired.add(s.get_statistics());
-                s.state().h
-            })
-        });
-        // a problem of its own: diffsol keeps the step-size controller's gain there
-        let (t, sys) = (stepper.t_prev, &stepper.sys);
-        let tolerance = sys.experiment.tolerance;
-        let problem =
-            integrator::problem(sys, &stepper.phase, t, stepper.x.clone(), tolerance, METHOD)?;
-        *cell = integrator::integrator(problem, METHOD)?;
-        cell.with_dependent_mut(|_, integ| {
-            stepper.stage_dense = integ.polynomial_dense_output(); // its own dense output
-            let watch = &mut stepper.stiffness;
-            (watch.active, watch.switch_due) = (false, false);
-            watch.switches += 1;
-            let order = integ.order();
-            with_solver!(integ, s => {
-                stepper.restart_at(s, t, order, true, false)?;
-                *s.state_mut().h = h;
-                Ok(())
-            })
-        })
-    }
-
     /// Advances towards `t` for at most about `budget` of wall-clock time (it pauses between
     /// two integrator steps); returns whether `t` was reached. A caller that must stay
     /// responsive (Ctrl-C in Python) loops over it: the result is that of one `advance_to`.

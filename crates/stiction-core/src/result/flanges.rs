@@ -31,8 +31,10 @@ impl BlockFlanges {
     ) {
         let values = &mut self.values;
         values.clear();
+        // whole frames rather than `step_by`: the index check is the same for every frame
         for &slot in plan.known.iter().chain(&plan.totals) {
-            values.extend(frames[slot as usize..].iter().step_by(stride).take(n));
+            let slot = slot as usize;
+            values.extend(frames.chunks_exact(stride).take(n).map(|f| f[slot]));
         }
         let ft = &sys.flange_torques;
         // every mechanical port's torque is written; the others are never read
@@ -40,9 +42,10 @@ impl BlockFlanges {
         let (known, totals) = values.split_at(plan.known.len() * n);
         ft.solve_rows(n, known, totals, &mut self.tau, &mut self.rhs);
         for &(p, slot) in &plan.unknown {
-            let out = frames[slot as usize..].iter_mut().step_by(stride);
+            let slot = slot as usize;
+            let out = frames.chunks_exact_mut(stride);
             out.zip(&self.tau[p * n..(p + 1) * n])
-                .for_each(|(y, x)| *y = *x);
+                .for_each(|(f, x)| f[slot] = *x);
         }
     }
 }

@@ -12,7 +12,7 @@
 
 use std::collections::HashMap;
 
-use super::ops::{Array, Op, FIELDS};
+use super::ops::{Array, Op, Program, FIELDS};
 use super::{value, Flat};
 use crate::engine::eval::{DiscreteState, Workspace};
 use crate::rel::Rel;
@@ -36,6 +36,8 @@ enum Key {
     Diff(u32, u32),
     Dot(Vec<(u32, u64)>, Option<u64>),
     Const(u64),
+    /// An expression `value` computes: its kind, index and parameter.
+    Eval(u8, usize, u64),
 }
 
 pub(super) struct Layout {
@@ -53,8 +55,9 @@ pub(super) struct Layout {
     pub constants: Vec<(u32, f64)>,
     /// Derived values computed while the row's workspace is at hand, and those that read a
     /// flange torque (computed after the block's torques are solved).
-    pre: Vec<Op>,
-    pub post: Vec<Op>,
+    pre: Program,
+    pub post: Program,
+    ops: (Vec<Op>, Vec<Op>),
     pub flanges: Option<FlangePlan>,
     ports: Vec<u32>,
     late: Vec<bool>,
@@ -72,8 +75,9 @@ impl Layout {
             elements: Vec::new(),
             discrete: Vec::new(),
             constants: Vec::new(),
-            pre: Vec::new(),
-            post: Vec::new(),
+            pre: Program::default(),
+            post: Program::default(),
+            ops: (Vec::new(), Vec::new()),
             flanges: None,
             ports: Vec::new(),
             late: Vec::new(),
@@ -84,6 +88,8 @@ impl Layout {
             let slot = l.column(sys, f, general);
             l.columns.push(slot);
         }
+        let (pre, post) = std::mem::take(&mut l.ops);
+        (l.pre, l.post) = (Program::new(pre), Program::new(post));
         l
     }
 
@@ -137,14 +143,20 @@ impl Layout {
             Out::HeatNodeInflow(node, s) => self.scaled_read(sys, Array::HeatNet, *node, *s),
             Out::Energy(var) => self.array(sys, Array::Energy, energy_index(*var)),
             Out::Const(c) => self.constant(*c),
-            // the rare shapes (a law's loss, heat through a conductance…) at the row itself
-            _ => {
-                let dst = self.fresh(false);
-                let out = out.clone();
-                self.pre.push(Op::Eval { dst, out });
-                dst
-            }
+            Out::ConstraintTau(k, s) => self.scaled_read(sys, Array::ConstraintTau, *k, *s),
+            // the rare shapes (a law's loss, heat through a conductance…) at the row itself,
+            // each once (a law's loss is its own and its heat port's, negated)
+            Out::LawLoss(k) => self.eval(Key::Eval(0, *k, 0), out),
+            Out::HeatDerT(node) => self.eval(Key::Eval(1, *node, 0), out),
+            Out::HeatLinkFlow(k, s) => self.eval(Key::Eval(2, *k, s.to_bits()), out),
+            Out::HeatCapacitorFlow(node, c) => self.eval(Key::Eval(3, *node, c.to_bits()), out),
         }
+    }
+
+    /// `value(out)` computed at each row.
+    fn eval(&mut self, key: Key, out: &Out) -> u32 {
+        let out = out.clone();
+        self.derived(key, Op::Eval { dst: 0, out })
     }
 
     /// `rel.dot(x)` (plus the offset of an angle) over array `arr`, as `Rel` computes it.
@@ -224,7 +236,12 @@ impl Layout {
         let late = op.sources().iter().any(|&x| self.late[x as usize]);
         let dst = self.fresh(late);
         op.set_dst(dst);
-        if late { &mut self.post } else { &mut self.pre }.push(op);
+        if late {
+            &mut self.ops.1
+        } else {
+            &mut self.ops.0
+        }
+        .push(op);
         self.keys.insert(key, dst);
         dst
     }
@@ -326,9 +343,7 @@ impl Layout {
             let slots = &mut frame[base as usize..base as usize + FIELDS.len()];
             slots.copy_from_slice(&fields(&ws.elements[k]));
         }
-        for op in &self.pre {
-            op.apply(frame, |out| value(out, sys, ws, disc, &[]));
-        }
+        (self.pre).run(frame, |out| value(out, sys, ws, disc, &[]));
     }
 }
 

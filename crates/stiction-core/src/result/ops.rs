@@ -1,6 +1,8 @@
 //! What a table row's frame (`frame.rs`) is made of: the workspace arrays it copies, the
 //! fields of an element's values, and the derived values computed in it.
 
+use std::collections::HashMap;
+
 use crate::engine::eval::Workspace;
 use crate::switching::element::SwitchVar;
 use crate::system::{Out, System};
@@ -42,6 +44,7 @@ pub(super) enum Array {
     Temps,
     HeatNet,
     Energy,
+    ConstraintTau,
 }
 
 impl Array {
@@ -52,6 +55,7 @@ impl Array {
             Array::LawTau => sys.laws.len(),
             Array::Temps | Array::HeatNet => sys.thermal.nodes,
             Array::Energy => 4,
+            Array::ConstraintTau => sys.constraints.len(),
         }
     }
 
@@ -66,6 +70,7 @@ impl Array {
             Array::Temps => &ws.temps,
             Array::HeatNet => &ws.heat_net,
             Array::Energy => &ws.energy,
+            Array::ConstraintTau => &ws.constraint_tau,
         }
     }
 }
@@ -119,20 +124,70 @@ impl Op {
             Op::Eval { .. } => Vec::new(),
         }
     }
+}
 
-    /// Computes its slot of `frame`; `eval` gives `value` of an expression at the row.
-    #[inline]
-    pub(super) fn apply(&self, frame: &mut [f64], eval: impl Fn(&Out) -> f64) {
-        let (dst, v) = match self {
-            Op::Scale { dst, x, s } => (dst, s * frame[*x as usize]),
-            Op::Affine { dst, x, s, offset } => (dst, s * frame[*x as usize] + offset),
-            Op::Diff { dst, a, b } => (dst, frame[*a as usize] - frame[*b as usize]),
-            Op::Dot { dst, terms, offset } => {
-                let dot: f64 = terms.iter().map(|&(x, c)| c * frame[x as usize]).sum();
-                (dst, offset.map_or(dot, |o| dot + o))
+/// Derived values grouped by level (an op reads only slots below its level: copied ones, or
+/// those of lower levels) and by kind, so that each kind runs as a loop of its own rather than
+/// a `match` per op; the order within a level does not matter, nothing in it reads another.
+#[derive(Default)]
+pub(super) struct Program {
+    levels: Vec<Level>,
+}
+
+#[derive(Default)]
+struct Level {
+    eval: Vec<(u32, Out)>,
+    diff: Vec<(u32, u32, u32)>,
+    dot: Vec<(u32, Box<[(u32, f64)]>, Option<f64>)>,
+    affine: Vec<(u32, u32, f64, f64)>,
+    scale: Vec<(u32, u32, f64)>,
+}
+
+impl Program {
+    /// The ops, each after those it reads.
+    pub(super) fn new(ops: Vec<Op>) -> Self {
+        let mut level_of: HashMap<u32, usize> = HashMap::new();
+        let mut levels: Vec<Level> = Vec::new();
+        for op in ops {
+            let sources = op.sources();
+            let below = sources.iter().map(|x| level_of.get(x).map_or(0, |l| l + 1));
+            let l = below.max().unwrap_or(0);
+            if levels.len() <= l {
+                levels.resize_with(l + 1, Level::default);
             }
-            Op::Eval { dst, out } => (dst, eval(out)),
-        };
-        frame[*dst as usize] = v;
+            let level = &mut levels[l];
+            let dst = match op {
+                Op::Scale { dst, x, s } => (level.scale.push((dst, x, s)), dst).1,
+                Op::Affine { dst, x, s, offset } => (level.affine.push((dst, x, s, offset)), dst).1,
+                Op::Diff { dst, a, b } => (level.diff.push((dst, a, b)), dst).1,
+                Op::Dot { dst, terms, offset } => (level.dot.push((dst, terms, offset)), dst).1,
+                Op::Eval { dst, out } => (level.eval.push((dst, out)), dst).1,
+            };
+            level_of.insert(dst, l);
+        }
+        Self { levels }
+    }
+
+    /// Computes every op's slot of `frame`; `eval` gives `value` of an expression at the row.
+    #[inline]
+    pub(super) fn run(&self, frame: &mut [f64], eval: impl Fn(&Out) -> f64) {
+        for l in &self.levels {
+            for (dst, out) in &l.eval {
+                frame[*dst as usize] = eval(out);
+            }
+            for &(dst, a, b) in &l.diff {
+                frame[dst as usize] = frame[a as usize] - frame[b as usize];
+            }
+            for (dst, terms, offset) in &l.dot {
+                let dot: f64 = terms.iter().map(|&(x, c)| c * frame[x as usize]).sum();
+                frame[*dst as usize] = offset.map_or(dot, |o| dot + o);
+            }
+            for &(dst, x, s, offset) in &l.affine {
+                frame[dst as usize] = s * frame[x as usize] + offset;
+            }
+            for &(dst, x, s) in &l.scale {
+                frame[dst as usize] = s * frame[x as usize];
+            }
+        }
     }
 }

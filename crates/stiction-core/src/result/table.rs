@@ -208,7 +208,7 @@ impl Block {
                 continue;
             }
             // what reads a flange torque never needs the workspace
-            post.iter().for_each(|op| op.apply(frame, |_| f64::NAN));
+            post.run(frame, |_| f64::NAN);
             self.reader.write(frame, out);
         }
         self.rows.clear();

@@ -29,13 +29,14 @@ impl BlockFlanges {
         frames: &mut [f64],
         (stride, n): (usize, usize),
     ) {
-        let values = &mut self.values;
-        values.clear();
-        // whole frames rather than `step_by`: the index check is the same for every frame
-        for &slot in plan.known.iter().chain(&plan.totals) {
-            let slot = slot as usize;
-            values.extend(frames.chunks_exact(stride).take(n).map(|f| f[slot]));
+        let sources = plan.known.iter().chain(&plan.totals);
+        self.values.resize(sources.clone().count() * n, 0.0);
+        // frame by frame rather than `step_by` and `extend` (a capacity check per value)
+        for (plane, &slot) in self.values.chunks_exact_mut(n.max(1)).zip(sources) {
+            let rows = plane.iter_mut().zip(frames.chunks_exact(stride));
+            rows.for_each(|(v, f)| *v = f[slot as usize]);
         }
+        let values = &self.values;
         let ft = &sys.flange_torques;
         // every mechanical port's torque is written; the others are never read
         self.tau.resize(ft.ports() * n, 0.0);

@@ -341,37 +341,23 @@ impl Layout {
         }
         for &(k, base) in &self.elements {
             let slots = &mut frame[base as usize..base as usize + FIELDS.len()];
-            slots.copy_from_slice(&fields(&ws.elements[k]));
+            write_fields(
+                &ws.elements[k],
+                slots.try_into().expect("one slot per field"),
+            );
         }
         (self.pre).run(frame, |out| value(out, sys, ws, disc, &[]));
     }
 }
 
 /// The continuous variables of an element's values, in `FIELDS`' order (what `value_field`
-/// reads for each).
-fn fields(v: &ElementValues) -> [f64; FIELDS.len()] {
+/// reads for each), written in place rather than built and copied (a `memcpy` call each).
+fn write_fields(v: &ElementValues, f: &mut [f64; FIELDS.len()]) {
     let l = &v.losses;
-    [
-        v.phi,
-        v.w,
-        v.a,
-        v.tau,
-        v.sa,
-        v.loss,
-        v.tau0,
-        v.tau0_max,
-        v.fn_,
-        v.mu,
-        v.tau_b,
-        v.tau_support,
-        v.tau_loss,
-        v.tau_eta,
-        l.eta1,
-        l.eta2,
-        l.tbf1,
-        l.tbf2,
-        l.tbf_a,
-    ]
+    (f[0], f[1], f[2], f[3], f[4]) = (v.phi, v.w, v.a, v.tau, v.sa);
+    (f[5], f[6], f[7], f[8], f[9]) = (v.loss, v.tau0, v.tau0_max, v.fn_, v.mu);
+    (f[10], f[11], f[12], f[13]) = (v.tau_b, v.tau_support, v.tau_loss, v.tau_eta);
+    (f[14], f[15], f[16], f[17], f[18]) = (l.eta1, l.eta2, l.tbf1, l.tbf2, l.tbf_a);
 }
 
 /// Where `value` reads an energy in `Workspace::energy`.
@@ -386,10 +372,10 @@ fn energy_index(var: EnergyVar) -> usize {
 
 #[cfg(test)]
 mod tests {
-    use super::{fields, FIELDS};
+    use super::{write_fields, FIELDS};
     use crate::switching::element::{value_field, ElementValues, Losses};
 
-    /// `fields` is `value_field` of each of `FIELDS`, on values that differ in every field.
+    /// `write_fields` writes `value_field` of each of `FIELDS`, on values that differ in every field.
     #[test]
     fn fields_are_value_fields() {
         let mut v = ElementValues::default();
@@ -420,7 +406,8 @@ mod tests {
             tbf2: 23.5,
             tbf_a: 24.5,
         };
-        let all = fields(&v);
+        let mut all = [f64::NAN; FIELDS.len()];
+        write_fields(&v, &mut all);
         for (var, x) in FIELDS.iter().zip(all) {
             let field = value_field(*var).expect("a continuous variable");
             assert_eq!(field(&v).to_bits(), x.to_bits(), "{var:?}");

@@ -134,11 +134,14 @@ pub(super) struct Program {
     levels: Vec<Level>,
 }
 
+/// A `Dot` op: its slot, terms and offset.
+type Dot = (u32, Box<[(u32, f64)]>, Option<f64>);
+
 #[derive(Default)]
 struct Level {
     eval: Vec<(u32, Out)>,
     diff: Vec<(u32, u32, u32)>,
-    dot: Vec<(u32, Box<[(u32, f64)]>, Option<f64>)>,
+    dot: Vec<Dot>,
     affine: Vec<(u32, u32, f64, f64)>,
     scale: Vec<(u32, u32, f64)>,
 }

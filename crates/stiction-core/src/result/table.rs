@@ -81,7 +81,7 @@ impl SimResult {
                 .filter(|&(i, _)| only.is_none_or(|o| o == i))
                 .map(|(_, (_, out))| compile(out, 1.0, &mut general))
                 .collect();
-            let mut block = Block::new(sys, &flat, &general);
+            let mut block = Block::new(sys, &flat, &general, self.discs.len());
             let tr = &self.trajectory;
             self.visit_segment(first..end, sys, &mut |r, sys, row| {
                 block.push(sys, r, (tr.disc[r], tr.t[r]), row);
@@ -103,6 +103,8 @@ struct Block {
     frames: Vec<f64>,
     /// The discrete state whose variables each frame holds (`u32::MAX`: none yet).
     held: Vec<u32>,
+    /// The discrete variables of each discrete state of the run, once computed.
+    discrete: Vec<Option<Box<[f64]>>>,
     /// The result rows held (consecutive), and whether each could be evaluated (a mode that
     /// cannot be factored leaves every variable but time NaN, as the row recorder does).
     rows: Vec<(usize, bool)>,
@@ -125,7 +127,8 @@ struct Run {
 }
 
 impl Block {
-    fn new(sys: &System, flat: &[Flat], general: &[crate::system::Out]) -> Self {
+    /// The block of columns `flat` of a run with `states` discrete states.
+    fn new(sys: &System, flat: &[Flat], general: &[crate::system::Out], states: usize) -> Self {
         let layout = Layout::new(sys, flat, general);
         let stride = layout.len.div_ceil(PAGE).max(1) * PAGE;
         let mut frames = vec![0.0; BLOCK * stride];
@@ -156,6 +159,7 @@ impl Block {
             stride,
             frames,
             held: vec![u32::MAX; BLOCK],
+            discrete: vec![None; states],
             rows: Vec::with_capacity(BLOCK),
             flanges: BlockFlanges::default(),
             reader: Reader { index, runs },
@@ -178,11 +182,17 @@ impl Block {
         };
         let frame = &mut self.frames[i * self.stride..(i + 1) * self.stride];
         if self.held[i] != id {
-            // a mode or flag is a function of the discrete state alone
-            let none = ElementValues::default();
-            for &(k, var, slot) in &self.layout.discrete {
-                let state = &disc.switching[k];
-                frame[slot as usize] = sys.switching[k].variable(state, &none, var);
+            let values = self.discrete[id as usize].get_or_insert_with(|| {
+                // a mode or flag is a function of the discrete state alone
+                let none = ElementValues::default();
+                let vars = self.layout.discrete.iter();
+                let value = |&(k, var, _): &(usize, _, u32)| {
+                    sys.switching[k].variable(&disc.switching[k], &none, var)
+                };
+                vars.map(value).collect()
+            });
+            for (&(.., slot), v) in self.layout.discrete.iter().zip(values.iter()) {
+                frame[slot as usize] = *v;
             }
             self.held[i] = id;
         }

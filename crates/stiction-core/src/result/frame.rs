@@ -346,7 +346,7 @@ impl Layout {
                 slots.try_into().expect("one slot per field"),
             );
         }
-        (self.pre).run(frame, |out| value(out, sys, ws, disc, &[]));
+        (self.pre).run_frame(frame, |out| value(out, sys, ws, disc, &[]));
     }
 }
 

@@ -173,24 +173,73 @@ impl Program {
 
     /// Computes every op's slot of `frame`; `eval` gives `value` of an expression at the row.
     #[inline]
-    pub(super) fn run(&self, frame: &mut [f64], eval: impl Fn(&Out) -> f64) {
+    pub(super) fn run<S: Slots + ?Sized>(&self, frame: &mut S, eval: impl Fn(&Out) -> f64) {
         for l in &self.levels {
             for (dst, out) in &l.eval {
-                frame[*dst as usize] = eval(out);
+                frame.set(*dst, eval(out));
             }
             for &(dst, a, b) in &l.diff {
-                frame[dst as usize] = frame[a as usize] - frame[b as usize];
+                frame.set(dst, frame.get(a) - frame.get(b));
             }
             for (dst, terms, offset) in &l.dot {
-                let dot: f64 = terms.iter().map(|&(x, c)| c * frame[x as usize]).sum();
-                frame[*dst as usize] = offset.map_or(dot, |o| dot + o);
+                let dot: f64 = terms.iter().map(|&(x, c)| c * frame.get(x)).sum();
+                frame.set(*dst, offset.map_or(dot, |o| dot + o));
             }
             for &(dst, x, s, offset) in &l.affine {
-                frame[dst as usize] = s * frame[x as usize] + offset;
+                frame.set(dst, s * frame.get(x) + offset);
             }
             for &(dst, x, s) in &l.scale {
-                frame[dst as usize] = s * frame[x as usize];
+                frame.set(dst, s * frame.get(x));
             }
         }
+    }
+
+    /// `run` on a frame, through `Page` when the frame is one page.
+    #[inline]
+    pub(super) fn run_frame(&self, frame: &mut [f64], eval: impl Fn(&Out) -> f64) {
+        match frame.len() {
+            PAGE => {
+                let page = frame.try_into().expect("one page");
+                self.run(&mut Page(page), eval);
+            }
+            _ => self.run(frame, eval),
+        }
+    }
+}
+
+/// Values of a frame page: what a `u8` index reaches.
+pub(super) const PAGE: usize = 256;
+
+/// A frame's slots, read and written by index.
+pub(super) trait Slots {
+    fn get(&self, i: u32) -> f64;
+    fn set(&mut self, i: u32, v: f64);
+}
+
+impl Slots for [f64] {
+    #[inline]
+    fn get(&self, i: u32) -> f64 {
+        self[i as usize]
+    }
+
+    #[inline]
+    fn set(&mut self, i: u32, v: f64) {
+        self[i as usize] = v;
+    }
+}
+
+/// A frame of one page (the common case: a few hundred values at most): every slot is below
+/// `PAGE`, so it is its own `u8`, which indexes the fixed-size page without a bounds check.
+pub(super) struct Page<'a>(&'a mut [f64; PAGE]);
+
+impl Slots for Page<'_> {
+    #[inline]
+    fn get(&self, i: u32) -> f64 {
+        self.0[usize::from(i as u8)]
+    }
+
+    #[inline]
+    fn set(&mut self, i: u32, v: f64) {
+        self.0[usize::from(i as u8)] = v;
     }
 }

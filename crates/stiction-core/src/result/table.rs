@@ -7,6 +7,7 @@
 
 use super::flanges::BlockFlanges;
 use super::frame::Layout;
+use super::ops::PAGE;
 use super::{compile, Flat, SimResult};
 use crate::engine::eval::{DiscreteState, Workspace};
 use crate::error::SimError;
@@ -16,9 +17,6 @@ use crate::system::System;
 /// Rows whose flange torques are solved together: enough to amortize each step of the solve,
 /// few enough that their frames stay in cache.
 const BLOCK: usize = 64;
-
-/// Values of a frame page: what a `u8` index reaches.
-const PAGE: usize = 256;
 
 /// The most values the table of every variable may hold (2.4 GB), as for a run's states.
 pub const MAX_TABLE_VALUES: f64 = 3.0e8;
@@ -218,7 +216,7 @@ impl Block {
                 continue;
             }
             // what reads a flange torque never needs the workspace
-            post.run(frame, |_| f64::NAN);
+            post.run_frame(frame, |_| f64::NAN);
             self.reader.write(frame, out);
         }
         self.rows.clear();
@@ -243,7 +241,8 @@ impl Reader {
 
 #[cfg(test)]
 mod tests {
-    use super::super::Recorder;
+    use super::super::{compile, Recorder};
+    use super::{Layout, PAGE};
     use crate::ModelSpec;
 
     /// The row-by-row recorder's table, as it was computed before the columns.
@@ -259,6 +258,55 @@ mod tests {
             }
         });
         recorder.data
+    }
+
+    /// A drivetrain of `n` clutches between `n + 1` inertias, each clutch closing at its own
+    /// time (CoupledClutches, longer).
+    fn clutch_chain(n: usize) -> String {
+        let mut connect = vec![
+            r#"["sin1.y", "torque.tau"]"#.to_string(),
+            r#"["fixed.flange", "torque.support"]"#.to_string(),
+            r#"["torque.flange", "J0.flange_a"]"#.to_string(),
+        ];
+        let mut components = String::from(
+            "J0 = { type = \"Inertia\", J = 1.0, phi = 0.0, w = 10.0 }\n\
+             torque = { type = \"Torque\", useSupport = true }\n\
+             sin1 = { type = \"Sine\", amplitude = 10.0, f = 5.0 }\n\
+             fixed = { type = \"Fixed\" }\n",
+        );
+        for k in 1..=n {
+            connect.push(format!(r#"["J{}.flange_b", "clutch{k}.flange_a"]"#, k - 1));
+            connect.push(format!(r#"["clutch{k}.flange_b", "J{k}.flange_a"]"#));
+            connect.push(format!(r#"["step{k}.y", "clutch{k}.f_normalized"]"#));
+            components += &format!(
+                "J{k} = {{ type = \"Inertia\", J = 1.0, phi = 0.0, w = 0.0 }}\n\
+                 clutch{k} = {{ type = \"Clutch\", peak = 1.1, fn_max = 20.0 }}\n\
+                 step{k} = {{ type = \"Step\", startTime = {} }}\n",
+                0.02 * k as f64
+            );
+        }
+        format!(
+            "name = \"Chain\"\nconnect = [{}]\n[experiment]\nStartTime = 0.0\nStopTime = 0.5\n\
+             Interval = 0.001\nTolerance = 1e-6\n[components]\n{components}",
+            connect.join(", ")
+        )
+    }
+
+    /// A frame of several pages (16 clutches: 304 element fields alone) gives the row
+    /// recorder's values bit for bit too.
+    #[test]
+    fn frames_of_several_pages_equal_rows() {
+        let spec = ModelSpec::from_toml(&clutch_chain(16), ".").expect("valid model");
+        let r = crate::simulate(&spec).expect("runs");
+        let (columns, rows) = (r.table().expect("fits"), by_rows(&r));
+        assert_eq!(columns.len(), rows.len());
+        let mut general = Vec::new();
+        let outs = r.system.outputs.iter();
+        let flat: Vec<_> = outs.map(|(_, o)| compile(o, 1.0, &mut general)).collect();
+        let frame = Layout::new(&r.system, &flat, &general).len;
+        assert!(frame > 2 * PAGE, "{frame} values: more than two pages");
+        let same = (columns.iter().zip(&rows)).all(|(a, b)| a.to_bits() == b.to_bits());
+        assert!(same, "the columns differ from the rows");
     }
 
     /// Every element's continuous variables are the fields `value_field` reads (the table's

@@ -316,26 +316,8 @@ mod tests {
         use super::super::ops::FIELDS;
         use crate::switching::element::SwitchVar as V;
         use crate::switching::element::{is_discrete, value_field, ElementValues, Losses};
-        let all = [
-            V::Phi,
-            V::W,
-            V::A,
-            V::Tau,
-            V::Sa,
-            V::LossPower,
-            V::Tau0,
-            V::Tau0Max,
-            V::Fn,
-            V::Mu,
-            V::TauB,
-            V::TauSupport,
-            V::TauLoss,
-            V::TauEta,
-            V::Eta1,
-            V::Eta2,
-            V::Tbf1,
-            V::Tbf2,
-            V::TbfA,
+        // the continuous ones, then the modes and flags
+        let discrete = [
             V::Mode,
             V::Locked,
             V::StartForward,
@@ -344,6 +326,7 @@ mod tests {
             V::Stuck,
             V::TauEtaPos,
         ];
+        let all = FIELDS.iter().chain(&discrete).copied();
         let v = ElementValues {
             phi: 1.5,
             w: 2.5,
@@ -382,7 +365,7 @@ mod tests {
         );
         for e in &sys.switching {
             let st = e.initial_state();
-            for var in all {
+            for var in all.clone() {
                 let field = value_field(var);
                 assert_eq!(field.is_none(), is_discrete(var), "{var:?}");
                 // the frame holds exactly the continuous ones

@@ -3,7 +3,8 @@
 //! stride through copied workspace arrays, and a virtual call or a walk through an element's
 //! values per cell: more than the row's evaluation itself. Here each row copies the workspace
 //! arrays the columns read (a few `memcpy`s), the fields of the elements read, the discrete
-//! variables of its state (only when the state differs from the one last in that frame), and
+//! variables of its state (`table.rs`: computed once per state, written only into a frame that
+//! held another state), and
 //! computes each distinct derived value once (a scaled value, an angle plus its offset, a
 //! relative speed…); every column is then a plain read of one slot (`table.rs`), and aliases
 //! (`flange_b.phi` = `J1.phi`, a torque and its negative used by two ports) share their slot.
@@ -57,6 +58,7 @@ pub(super) struct Layout {
     /// flange torque (computed after the block's torques are solved).
     pre: Program,
     pub post: Program,
+    /// Both lists of ops while the layout is built, in the order they may run.
     ops: (Vec<Op>, Vec<Op>),
     pub flanges: Option<FlangePlan>,
     ports: Vec<u32>,

@@ -80,7 +80,6 @@ impl SimResult {
                 .map(|(_, (_, out))| compile(out, 1.0, &mut general))
                 .collect();
             let mut block = Block::new(sys, &flat, &general, self.discs.len());
-            let tr = &self.trajectory;
             self.visit_segment(first..end, sys, &mut |r, sys, row| {
                 block.push(sys, r, (tr.disc[r], tr.t[r]), row);
                 if block.rows.len() == BLOCK {

@@ -4,10 +4,11 @@
 mod audit;
 pub mod csv;
 mod flanges;
+mod frame;
 pub mod mat;
 pub mod metric;
+mod ops;
 mod probe;
-mod source;
 mod table;
 pub use table::MAX_TABLE_VALUES;
 

@@ -1,23 +1,21 @@
-//! Every variable of every row, computed column by column. Row by row, each of the ~100 columns
-//! of a row went through a `match` on its kind, bounds checks and a call per switching-element
-//! variable, which cost more than the row's evaluation itself. Here the rows are evaluated in
-//! blocks: each evaluation only copies the workspace arrays the columns read (angles, speeds,
-//! accelerations, signals, law torques, element values); then the flange cut torques are solved
-//! for the whole block (`flanges.rs`) and each column is filled for the block in one tight loop
-//! (an element's continuous variable read as a field of its values, a mode or flag once per run
-//! of rows in one discrete state). The arithmetic of each value is the row recorder's
-//! (`s * x + offset`, the same calls), so the values are bit for bit those of `Recorder::record`.
+//! Every variable of every row. Each evaluated row fills its frame (`frame.rs`: every value a
+//! column reads, each once, in one flat array); the flange cut torques are solved for a block
+//! of rows at once (`flanges.rs`); then each row of the row-major table is written in one pass
+//! as plain reads of its frame. The frame is read in pages of 256 values through `u8` indices,
+//! so that a cell costs a load and a store, without a bounds check: a page is a fixed-size array
+//! and no `u8` falls outside it. The values are the row recorder's, bit for bit.
 
-use super::flanges::{BlockFlanges, Planes};
-use super::source::Source;
+use super::flanges::BlockFlanges;
+use super::frame::Layout;
+use super::ops::PAGE;
 use super::{compile, Flat, SimResult};
 use crate::engine::eval::{DiscreteState, Workspace};
 use crate::error::SimError;
-use crate::switching::element::{is_discrete, value_field, ElementValues, SwitchVar};
+use crate::switching::element::ElementValues;
 use crate::system::System;
 
-/// Rows evaluated before their columns are filled: enough to amortize a column's dispatch,
-/// few enough that the copied workspaces stay in cache and memory stays bounded.
+/// Rows whose flange torques are solved together: enough to amortize each step of the solve,
+/// few enough that their frames stay in cache.
 const BLOCK: usize = 64;
 
 /// The most values the table of every variable may hold (2.4 GB), as for a run's states.
@@ -62,12 +60,12 @@ impl SimResult {
         self.table_limit = values;
     }
 
-    /// All variables, row-major (`rows × names.len()`), filled column by column.
+    /// All variables, row-major (`rows × names.len()`).
     pub(super) fn compute_table(&self) -> Vec<f64> {
         self.compute_columns(None)
     }
 
-    /// Time and the outputs (all, or only output `only`), row-major, filled column by column.
+    /// Time and the outputs (all, or only output `only`), row-major.
     pub(super) fn compute_columns(&self, only: Option<usize>) -> Vec<f64> {
         let tr = &self.trajectory;
         let width = only.map_or(self.system.outputs.len(), |_| 1) + 1;
@@ -81,270 +79,169 @@ impl SimResult {
                 .filter(|&(i, _)| only.is_none_or(|o| o == i))
                 .map(|(_, (_, out))| compile(out, 1.0, &mut general))
                 .collect();
-            let mut block = Block::new(sys, &flat, &general);
+            let mut block = Block::new(sys, &flat, &general, self.discs.len());
             self.visit_segment(first..end, sys, &mut |r, sys, row| {
-                block.push(sys, r, row);
+                block.push(sys, r, (tr.disc[r], tr.t[r]), row);
                 if block.rows.len() == BLOCK {
-                    block.flush(sys, self, &flat, &mut data, width);
+                    block.flush(sys, self, &mut data, width);
                 }
             });
-            block.flush(sys, self, &flat, &mut data, width);
+            block.flush(sys, self, &mut data, width);
         }
         data
     }
 }
 
-/// Copies of the workspace arrays of up to `BLOCK` evaluated rows (each array row after row).
+/// The frames of up to `BLOCK` evaluated rows, and how a table row reads its frame.
 struct Block {
-    /// The result rows held (consecutive), and whether each could be evaluated (a mode that cannot be
-    /// factored leaves every variable but time NaN, as the row recorder does).
+    layout: Layout,
+    /// Values per frame: whole pages.
+    stride: usize,
+    frames: Vec<f64>,
+    /// The discrete state whose variables each frame holds (`u32::MAX`: none yet).
+    held: Vec<u32>,
+    /// The discrete variables of each discrete state of the run, once computed.
+    discrete: Vec<Option<Box<[f64]>>>,
+    /// The result rows held (consecutive), and whether each could be evaluated (a mode that
+    /// cannot be factored leaves every variable but time NaN, as the row recorder does).
     rows: Vec<(usize, bool)>,
-    phi: Vec<f64>,
-    w: Vec<f64>,
-    a: Vec<f64>,
-    signals: Vec<f64>,
-    law_tau: Vec<f64>,
-    elements: Vec<ElementValues>,
-    general_values: Vec<f64>,
-    general: Vec<Source>,
-    /// The flange cut torques, if a column reads them.
-    flanges: Option<BlockFlanges>,
-    needs_elements: bool,
+    flanges: BlockFlanges,
+    reader: Reader,
+}
+
+/// How a table row reads its frame: each column's index in its page, and the runs of columns
+/// read from one page.
+struct Reader {
+    index: Vec<u8>,
+    runs: Vec<Run>,
+}
+
+/// Columns `start..end` of a table row, read from page `page` of its frame.
+struct Run {
+    page: usize,
+    start: usize,
+    end: usize,
 }
 
 impl Block {
-    fn new(sys: &System, flat: &[Flat], general: &[crate::system::Out]) -> Self {
-        let flanges = (sys.flange_torques.ports() > 0
-            && (flat.iter()).any(|f| matches!(f, Flat::Flange(..))))
-        .then(|| BlockFlanges::new(sys));
-        let needs_elements = flanges.as_ref().is_some_and(|f| f.reads_elements())
-            || (flat.iter()).any(|f| matches!(f, Flat::Switch(_, var, _) if !is_discrete(*var)));
+    /// The block of columns `flat` of a run with `states` discrete states.
+    fn new(sys: &System, flat: &[Flat], general: &[crate::system::Out], states: usize) -> Self {
+        let layout = Layout::new(sys, flat, general);
+        let stride = layout.len.div_ceil(PAGE).max(1) * PAGE;
+        let mut frames = vec![0.0; BLOCK * stride];
+        // constants once: nothing else writes their slots
+        for frame in frames.chunks_exact_mut(stride) {
+            for &(slot, c) in &layout.constants {
+                frame[slot as usize] = c;
+            }
+        }
+        let slots: Vec<usize> = std::iter::once(layout.time)
+            .chain(layout.columns.iter().copied())
+            .map(|s| s as usize)
+            .collect();
+        let index = slots.iter().map(|s| (s % PAGE) as u8).collect();
+        let mut runs: Vec<Run> = Vec::new();
+        for (c, s) in slots.iter().enumerate() {
+            match runs.last_mut() {
+                Some(run) if run.page == s / PAGE => run.end = c + 1,
+                _ => runs.push(Run {
+                    page: s / PAGE,
+                    start: c,
+                    end: c + 1,
+                }),
+            }
+        }
         Self {
+            layout,
+            stride,
+            frames,
+            held: vec![u32::MAX; BLOCK],
+            discrete: vec![None; states],
             rows: Vec::with_capacity(BLOCK),
-            phi: Vec::new(),
-            w: Vec::new(),
-            a: Vec::new(),
-            signals: Vec::new(),
-            law_tau: Vec::new(),
-            elements: Vec::new(),
-            general_values: Vec::new(),
-            general: general.iter().map(Source::of).collect(),
-            flanges,
-            needs_elements,
+            flanges: BlockFlanges::default(),
+            reader: Reader { index, runs },
         }
     }
 
-    /// Copies what the columns read from row `r`'s evaluation (or zeros, for a row that has none).
-    fn push(&mut self, sys: &System, r: usize, row: Option<(&Workspace, &DiscreteState)>) {
-        let Some((ws, disc)) = row else {
-            self.rows.push((r, false));
-            self.pad(sys);
-            return;
-        };
-        self.rows.push((r, true));
-        self.phi.extend_from_slice(&ws.phi);
-        self.w.extend_from_slice(&ws.w);
-        self.a.extend_from_slice(&ws.a);
-        self.signals.extend_from_slice(&ws.signals);
-        self.law_tau.extend_from_slice(&ws.law_tau);
-        if self.needs_elements {
-            self.elements.extend_from_slice(&ws.elements);
-        }
-        if let Some(f) = &mut self.flanges {
-            f.push(sys, ws, disc);
-        }
-        // outputs are `Scaled` trees that `compile` unwraps: none left here reads a flange torque
-        (self.general_values).extend(self.general.iter().map(|g| g.eval(sys, ws, disc, &[])));
-    }
-
-    /// Keeps the arrays aligned for a row without an evaluation (its values are not read).
-    fn pad(&mut self, sys: &System) {
-        let n = sys.nodes;
-        self.phi.resize(self.phi.len() + n, 0.0);
-        self.w.resize(self.w.len() + n, 0.0);
-        self.a.resize(self.a.len() + n, 0.0);
-        self.signals
-            .resize(self.signals.len() + sys.signals.slots, 0.0);
-        self.law_tau
-            .resize(self.law_tau.len() + sys.laws.len(), 0.0);
-        if self.needs_elements {
-            let e = self.elements.len() + sys.switching.len();
-            self.elements.resize(e, ElementValues::default());
-        }
-        if let Some(f) = &mut self.flanges {
-            f.pad();
-        }
-        let g = self.general_values.len() + self.general.len();
-        self.general_values.resize(g, 0.0);
-    }
-
-    /// Fills every column of the held rows into `data` and empties the block.
-    fn flush(
+    /// Fills the next frame from row `r`'s evaluation (at `t`, in discrete state `id`), if it has
+    /// one.
+    fn push(
         &mut self,
         sys: &System,
-        result: &SimResult,
-        flat: &[Flat],
-        data: &mut [f64],
-        width: usize,
+        r: usize,
+        (id, t): (u32, f64),
+        row: Option<(&Workspace, &DiscreteState)>,
     ) {
-        // the shapes, the same for every system of the run
-        let tr = &result.trajectory;
+        let i = self.rows.len();
+        self.rows.push((r, row.is_some()));
+        let Some((ws, disc)) = row else {
+            return;
+        };
+        let frame = &mut self.frames[i * self.stride..(i + 1) * self.stride];
+        if self.held[i] != id {
+            let values = self.discrete[id as usize].get_or_insert_with(|| {
+                // a mode or flag is a function of the discrete state alone
+                let none = ElementValues::default();
+                let vars = self.layout.discrete.iter();
+                let value = |&(k, var, _): &(usize, _, u32)| {
+                    sys.switching[k].variable(&disc.switching[k], &none, var)
+                };
+                vars.map(value).collect()
+            });
+            for (&(.., slot), v) in self.layout.discrete.iter().zip(values.iter()) {
+                frame[slot as usize] = *v;
+            }
+            self.held[i] = id;
+        }
+        self.layout.fill(frame, (sys, ws, disc), t);
+    }
+
+    /// Writes the held rows into `data` (`width` values a row) and empties the block.
+    fn flush(&mut self, sys: &System, result: &SimResult, data: &mut [f64], width: usize) {
         let Some(&(first, _)) = self.rows.first() else {
             return;
         };
-        let n = self.rows.len();
-        for &(r, _) in &self.rows {
-            data[r * width] = tr.t[r];
+        let (n, stride) = (self.rows.len(), self.stride);
+        let frames = &mut self.frames[..n * stride];
+        if let Some(plan) = &self.layout.flanges {
+            self.flanges.solve(plan, sys, frames, (stride, n));
         }
-        if let Some(f) = &mut self.flanges {
-            let planes = Planes {
-                a: &self.a,
-                law_tau: &self.law_tau,
-                elements: &self.elements,
-            };
-            f.solve(sys, n, &planes);
-        }
-        let tau = self.flanges.as_ref().map_or(&[][..], |f| &f.tau);
-        for (c, f) in flat.iter().enumerate() {
-            let fill = match *f {
-                Flat::Phi(node, s, offset) => column(&self.phi, sys.nodes, node, s, Some(offset)),
-                Flat::W(node, s) => column(&self.w, sys.nodes, node, s, None),
-                Flat::A(node, s) => column(&self.a, sys.nodes, node, s, None),
-                Flat::Signal(slot, s) => column(&self.signals, sys.signals.slots, slot, s, None),
-                Flat::LawTau(k, s) => column(&self.law_tau, sys.laws.len(), k, s, None),
-                // the torques are port after port: a port's rows are consecutive
-                Flat::Flange(p, s) => ColumnFill {
-                    plane: &tau[p * n..],
-                    stride: 1,
-                    s,
-                    offset: None,
-                },
-                Flat::General(i, s) => column(&self.general_values, self.general.len(), i, s, None),
-                Flat::Switch(k, var, s) => {
-                    let col = c + 1;
-                    self.fill_switch(sys, result, SwitchColumn { k, var, s, col }, data, width);
-                    continue;
-                }
-            };
-            fill.write(first, n, c + 1, data, width);
-        }
-        for &(r, ok) in &self.rows {
+        let post = &self.layout.post;
+        let rows = data[first * width..(first + n) * width].chunks_exact_mut(width);
+        for ((out, frame), &(r, ok)) in rows.zip(frames.chunks_exact_mut(stride)).zip(&self.rows) {
             if !ok {
-                data[r * width + 1..(r + 1) * width].fill(f64::NAN);
+                out[0] = result.trajectory.t[r];
+                out[1..].fill(f64::NAN);
+                continue;
             }
+            // what reads a flange torque never needs the workspace
+            post.run_frame(frame, |_| f64::NAN);
+            self.reader.write(frame, out);
         }
-        self.clear();
-    }
-
-    /// A switching element's variable: from its values row by row, or, for a mode or flag
-    /// (a function of the discrete state alone), once per run of rows in one discrete state.
-    fn fill_switch(
-        &self,
-        sys: &System,
-        result: &SimResult,
-        column: SwitchColumn,
-        data: &mut [f64],
-        width: usize,
-    ) {
-        let SwitchColumn { k, var, s, col } = column;
-        let element = &*sys.switching[k];
-        let (tr, discs) = (&result.trajectory, &result.discs);
-        let ne = sys.switching.len();
-        let first = self.rows[0].0;
-        let ids = &tr.disc[first..first + self.rows.len()];
-        let rows = data[first * width..(first + ids.len()) * width].chunks_exact_mut(width);
-        let state = |id: u32| &discs[id as usize].switching[k];
-        let mut last = (ids[0], state(ids[0]));
-        if is_discrete(var) {
-            let none = ElementValues::default();
-            let mut v = s * element.variable(last.1, &none, var);
-            for (row, &id) in rows.zip(ids) {
-                if id != last.0 {
-                    last = (id, state(id));
-                    v = s * element.variable(last.1, &none, var);
-                }
-                row[col] = v;
-            }
-        } else if let Some(field) = value_field(var) {
-            // a continuous variable is a field of the values (`variable` would return it)
-            let values = self.elements.iter().skip(k).step_by(ne);
-            for (row, v) in rows.zip(values) {
-                row[col] = s * field(v);
-            }
-        } else {
-            let values = self.elements.iter().skip(k).step_by(ne);
-            for ((row, &id), v) in rows.zip(ids).zip(values) {
-                if id != last.0 {
-                    last = (id, state(id));
-                }
-                row[col] = s * element.variable(last.1, v, var);
-            }
-        }
-    }
-
-    fn clear(&mut self) {
         self.rows.clear();
-        for plane in [
-            &mut self.phi,
-            &mut self.w,
-            &mut self.a,
-            &mut self.signals,
-            &mut self.law_tau,
-            &mut self.general_values,
-        ] {
-            plane.clear();
-        }
-        self.elements.clear();
     }
 }
 
-/// Variable `var` of switching element `k`, times `s`, into column `col`.
-struct SwitchColumn {
-    k: usize,
-    var: SwitchVar,
-    s: f64,
-    col: usize,
-}
-
-/// One column read from a copied array: every `stride`-th value of `plane`, times `s`, plus an
-/// angle's `offset` (added even when 0, as the row recorder does: −0 + 0 is +0).
-struct ColumnFill<'a> {
-    plane: &'a [f64],
-    stride: usize,
-    s: f64,
-    offset: Option<f64>,
-}
-
-/// The column of entry `i` of `plane`'s rows of `len` values.
-fn column(plane: &[f64], len: usize, i: usize, s: f64, offset: Option<f64>) -> ColumnFill<'_> {
-    ColumnFill {
-        plane: &plane[i..],
-        stride: len.max(1),
-        s,
-        offset,
-    }
-}
-
-impl ColumnFill<'_> {
-    /// Writes column `col` of the consecutive rows from `first` (`data` is row-major).
-    fn write(&self, first: usize, rows: usize, col: usize, data: &mut [f64], width: usize) {
-        // strided iterators rather than row slices: no bounds check per cell
-        let out = data[first * width + col..]
-            .iter_mut()
-            .step_by(width)
-            .take(rows);
-        let cells = out.zip(self.plane.iter().step_by(self.stride));
-        let s = self.s;
-        match self.offset {
-            Some(offset) => cells.for_each(|(y, x)| *y = s * x + offset),
-            None => cells.for_each(|(y, x)| *y = s * x),
+impl Reader {
+    /// One table row from its frame.
+    #[inline]
+    fn write(&self, frame: &[f64], out: &mut [f64]) {
+        for run in &self.runs {
+            let page: &[f64; PAGE] = (frame[run.page * PAGE..(run.page + 1) * PAGE])
+                .try_into()
+                .expect("whole pages");
+            let cells = out[run.start..run.end].iter_mut();
+            cells
+                .zip(&self.index[run.start..run.end])
+                .for_each(|(y, &i)| *y = page[usize::from(i)]);
         }
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::super::Recorder;
+    use super::super::{compile, Recorder};
+    use super::{Layout, PAGE};
     use crate::ModelSpec;
 
     /// The row-by-row recorder's table, as it was computed before the columns.
@@ -362,32 +259,64 @@ mod tests {
         recorder.data
     }
 
+    /// A drivetrain of `n` clutches between `n + 1` inertias, each clutch closing at its own
+    /// time (CoupledClutches, longer).
+    fn clutch_chain(n: usize) -> String {
+        let mut connect = vec![
+            r#"["sin1.y", "torque.tau"]"#.to_string(),
+            r#"["fixed.flange", "torque.support"]"#.to_string(),
+            r#"["torque.flange", "J0.flange_a"]"#.to_string(),
+        ];
+        let mut components = String::from(
+            "J0 = { type = \"Inertia\", J = 1.0, phi = 0.0, w = 10.0 }\n\
+             torque = { type = \"Torque\", useSupport = true }\n\
+             sin1 = { type = \"Sine\", amplitude = 10.0, f = 5.0 }\n\
+             fixed = { type = \"Fixed\" }\n",
+        );
+        for k in 1..=n {
+            connect.push(format!(r#"["J{}.flange_b", "clutch{k}.flange_a"]"#, k - 1));
+            connect.push(format!(r#"["clutch{k}.flange_b", "J{k}.flange_a"]"#));
+            connect.push(format!(r#"["step{k}.y", "clutch{k}.f_normalized"]"#));
+            components += &format!(
+                "J{k} = {{ type = \"Inertia\", J = 1.0, phi = 0.0, w = 0.0 }}\n\
+                 clutch{k} = {{ type = \"Clutch\", peak = 1.1, fn_max = 20.0 }}\n\
+                 step{k} = {{ type = \"Step\", startTime = {} }}\n",
+                0.02 * k as f64
+            );
+        }
+        format!(
+            "name = \"Chain\"\nconnect = [{}]\n[experiment]\nStartTime = 0.0\nStopTime = 0.5\n\
+             Interval = 0.001\nTolerance = 1e-6\n[components]\n{components}",
+            connect.join(", ")
+        )
+    }
+
+    /// A frame of several pages (16 clutches: 304 element fields alone) gives the row
+    /// recorder's values bit for bit too.
+    #[test]
+    fn frames_of_several_pages_equal_rows() {
+        let spec = ModelSpec::from_toml(&clutch_chain(16), ".").expect("valid model");
+        let r = crate::simulate(&spec).expect("runs");
+        let (columns, rows) = (r.table().expect("fits"), by_rows(&r));
+        assert_eq!(columns.len(), rows.len());
+        let mut general = Vec::new();
+        let outs = r.system.outputs.iter();
+        let flat: Vec<_> = outs.map(|(_, o)| compile(o, 1.0, &mut general)).collect();
+        let frame = Layout::new(&r.system, &flat, &general).len;
+        assert!(frame > 2 * PAGE, "{frame} values: more than two pages");
+        let same = (columns.iter().zip(&rows)).all(|(a, b)| a.to_bits() == b.to_bits());
+        assert!(same, "the columns differ from the rows");
+    }
+
     /// Every element's continuous variables are the fields `value_field` reads (the table's
     /// shortcut past the virtual `variable`), on values that differ in every field.
     #[test]
     fn continuous_variables_are_fields() {
+        use super::super::ops::FIELDS;
         use crate::switching::element::SwitchVar as V;
         use crate::switching::element::{is_discrete, value_field, ElementValues, Losses};
-        let all = [
-            V::Phi,
-            V::W,
-            V::A,
-            V::Tau,
-            V::Sa,
-            V::LossPower,
-            V::Tau0,
-            V::Tau0Max,
-            V::Fn,
-            V::Mu,
-            V::TauB,
-            V::TauSupport,
-            V::TauLoss,
-            V::TauEta,
-            V::Eta1,
-            V::Eta2,
-            V::Tbf1,
-            V::Tbf2,
-            V::TbfA,
+        // the continuous ones, then the modes and flags
+        let discrete = [
             V::Mode,
             V::Locked,
             V::StartForward,
@@ -396,6 +325,7 @@ mod tests {
             V::Stuck,
             V::TauEtaPos,
         ];
+        let all = FIELDS.iter().chain(&discrete).copied();
         let v = ElementValues {
             phi: 1.5,
             w: 2.5,
@@ -434,9 +364,11 @@ mod tests {
         );
         for e in &sys.switching {
             let st = e.initial_state();
-            for var in all {
+            for var in all.clone() {
                 let field = value_field(var);
                 assert_eq!(field.is_none(), is_discrete(var), "{var:?}");
+                // the frame holds exactly the continuous ones
+                assert_eq!(FIELDS.contains(&var), field.is_some(), "{var:?}");
                 if let Some(field) = field {
                     let (a, b) = (e.variable(&st, &v, var), field(&v));
                     assert_eq!(a.to_bits(), b.to_bits(), "{} {var:?}", e.name());

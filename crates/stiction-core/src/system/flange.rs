@@ -119,6 +119,16 @@ impl FlangeTorques {
         self.known.iter().map(|(_, out)| out)
     }
 
+    /// The known torques with their ports (a port's torque is its expression's value).
+    pub fn known_ports(&self) -> impl Iterator<Item = (usize, &Out)> {
+        self.known.iter().map(|(p, out)| (*p, out))
+    }
+
+    /// The ports whose torques the balance equations give.
+    pub fn unknown_ports(&self) -> &[usize] {
+        &self.unknown
+    }
+
     /// The expressions of the component sums (an Inertia's `J·a`), in `solve_rows`' order.
     pub fn total_outs(&self) -> impl Iterator<Item = &Out> {
         self.eq_total.iter().flatten()

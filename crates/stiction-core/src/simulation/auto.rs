@@ -261,38 +261,6 @@ fn stability_radius(lambda: Complex<f64>) -> f64 {
         .unwrap_or(6.0)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn stability_radius_of_tsit45_matches_its_tableau() {
-        // negative real axis: the known bound of Tsitouras 5(4), about 3.5
-        let real = stability_radius(Complex::new(-1.0, 0.0));
-        assert!((real - 3.5).abs() < 0.05, "{real}");
-        // a lightly damped oscillation has a much shorter bound
-        let ringing = stability_radius(Complex::new(-0.0022, 1.0));
-        assert!(ringing > 1.0 && ringing < 2.0, "{ringing}");
-        // |R(z)| equals |e^z| to order 5 near 0
-        let z = Complex::new(-0.1, 0.05);
-        assert!((tsit45_stability(z) - z.exp()).norm() < 1e-7);
-    }
-
-    #[test]
-    fn a_complex_pair_is_recovered_from_the_span_of_two_iterates() {
-        // J = [[-1, -100], [100, -1]]: eigenvalues -1 ± 100i
-        let j = |u: &[f64]| vec![-u[0] - 100.0 * u[1], 100.0 * u[0] - u[1]];
-        let u0 = vec![0.3, 0.9];
-        let u1 = j(&u0);
-        let u2 = j(&u1);
-        let lambda = pair_from_span(&u0, &u1, &u2);
-        assert!((lambda.re + 1.0).abs() < 1e-9 && (lambda.im.abs() - 100.0).abs() < 1e-9);
-        // a real dominant eigenvalue converged: u1 ∥ u0
-        let lambda = pair_from_span(&[1.0, 0.0], &[-5.0, 0.0], &[25.0, 0.0]);
-        assert!((lambda.re + 5.0).abs() < 1e-12 && lambda.im == 0.0);
-    }
-}
-
 impl Simulation {
     /// Solver = "auto": the explicit method is held back by stability, so the run continues
     /// with Esdirk34 from where it stands (between two steps), starting from the explicit
@@ -324,5 +292,37 @@ impl Simulation {
                 Ok(())
             })
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stability_radius_of_tsit45_matches_its_tableau() {
+        // negative real axis: the known bound of Tsitouras 5(4), about 3.5
+        let real = stability_radius(Complex::new(-1.0, 0.0));
+        assert!((real - 3.5).abs() < 0.05, "{real}");
+        // a lightly damped oscillation has a much shorter bound
+        let ringing = stability_radius(Complex::new(-0.0022, 1.0));
+        assert!(ringing > 1.0 && ringing < 2.0, "{ringing}");
+        // |R(z)| equals |e^z| to order 5 near 0
+        let z = Complex::new(-0.1, 0.05);
+        assert!((tsit45_stability(z) - z.exp()).norm() < 1e-7);
+    }
+
+    #[test]
+    fn a_complex_pair_is_recovered_from_the_span_of_two_iterates() {
+        // J = [[-1, -100], [100, -1]]: eigenvalues -1 ± 100i
+        let j = |u: &[f64]| vec![-u[0] - 100.0 * u[1], 100.0 * u[0] - u[1]];
+        let u0 = vec![0.3, 0.9];
+        let u1 = j(&u0);
+        let u2 = j(&u1);
+        let lambda = pair_from_span(&u0, &u1, &u2);
+        assert!((lambda.re + 1.0).abs() < 1e-9 && (lambda.im.abs() - 100.0).abs() < 1e-9);
+        // a real dominant eigenvalue converged: u1 ∥ u0
+        let lambda = pair_from_span(&[1.0, 0.0], &[-5.0, 0.0], &[25.0, 0.0]);
+        assert!((lambda.re + 5.0).abs() < 1e-12 && lambda.im == 0.0);
     }
 }

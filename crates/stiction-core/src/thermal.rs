@@ -3,7 +3,7 @@
 //! A node holds a capacity (its temperature is a state), a fixed temperature, or neither (its
 //! temperature is algebraic: the heat flows into it balance).
 
-use nalgebra::{DMatrix, DVector, Dyn, LU};
+use nalgebra::{DMatrix, DVectorViewMut, Dyn, LU};
 
 use crate::linalg::{BandLu, Factorization, LinearSolver, Triplets, BAND_FROM};
 
@@ -117,10 +117,9 @@ impl ThermalNet {
         }
         let solved = match cache.factors.as_ref().expect("factored above") {
             HeatFactors::Dense(lu) => {
-                let mut x = DVector::from_column_slice(rhs);
-                let ok = lu.solve_mut(&mut x);
-                rhs.copy_from_slice(x.as_slice());
-                ok
+                // solved in place through a view: no vector allocated per evaluation
+                let n = rhs.len();
+                lu.solve_mut(&mut DVectorViewMut::from_slice(rhs, n))
             }
             HeatFactors::Band(f) => {
                 f.solve_in_place(rhs);

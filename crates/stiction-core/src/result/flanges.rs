@@ -10,7 +10,7 @@ use super::frame::FlangePlan;
 use crate::system::System;
 
 /// Scratch space of the solve, kept across blocks.
-#[derive(Default)]
+#[derive(Default, Clone)]
 pub(super) struct BlockFlanges {
     /// The known torques, then the component sums, each over the block's rows.
     values: Vec<f64>,

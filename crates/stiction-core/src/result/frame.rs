@@ -23,6 +23,7 @@ use crate::system::{Out, System};
 
 /// Where the flange cut torques live in the frame: the known torques' and component sums'
 /// slots (in `FlangeTorques::solve_rows`' order) and the slot of each port it solves for.
+#[derive(Clone)]
 pub(super) struct FlangePlan {
     pub known: Vec<u32>,
     pub totals: Vec<u32>,
@@ -30,7 +31,7 @@ pub(super) struct FlangePlan {
 }
 
 /// A derived value, for sharing one slot between equal computations.
-#[derive(PartialEq, Eq, Hash)]
+#[derive(Clone, PartialEq, Eq, Hash)]
 enum Key {
     Scale(u32, u64),
     Affine(u32, u64, u64),
@@ -41,6 +42,7 @@ enum Key {
     Eval(u8, usize, u64),
 }
 
+#[derive(Clone)]
 pub(super) struct Layout {
     /// Slots per frame.
     pub len: usize,

@@ -129,7 +129,7 @@ impl Op {
 /// Derived values grouped by level (an op reads only slots below its level: copied ones, or
 /// those of lower levels) and by kind, so that each kind runs as a loop of its own rather than
 /// a `match` per op; the order within a level does not matter, nothing in it reads another.
-#[derive(Default)]
+#[derive(Default, Clone)]
 pub(super) struct Program {
     levels: Vec<Level>,
 }
@@ -137,7 +137,7 @@ pub(super) struct Program {
 /// A `Dot` op: its slot, terms and offset.
 type Dot = (u32, Box<[(u32, f64)]>, Option<f64>);
 
-#[derive(Default)]
+#[derive(Default, Clone)]
 struct Level {
     eval: Vec<(u32, Out)>,
     diff: Vec<(u32, u32, u32)>,

@@ -5,6 +5,8 @@
 //! so that a cell costs a load and a store, without a bounds check: a page is a fixed-size array
 //! and no `u8` falls outside it. The values are the row recorder's, bit for bit.
 
+use rayon::prelude::*;
+
 use super::flanges::BlockFlanges;
 use super::frame::Layout;
 use super::ops::PAGE;
@@ -65,12 +67,14 @@ impl SimResult {
         self.compute_columns(None)
     }
 
-    /// Time and the outputs (all, or only output `only`), row-major.
+    /// Time and the outputs (all, or only output `only`), row-major. Rows are independent once
+    /// the run has recorded their states and modes, so stretches of them are computed on all
+    /// of the pool's threads, each with its own workspace and mode factors.
     pub(super) fn compute_columns(&self, only: Option<usize>) -> Vec<f64> {
         let tr = &self.trajectory;
         let width = only.map_or(self.system.outputs.len(), |_| 1) + 1;
         let mut data = vec![0.0; tr.rows() * width];
-        // Each stretch of rows between parameter changes is filled from its own system: the
+        // Each segment of rows between parameter changes is filled from its own system: the
         // values (an inertia's J, a law's constants) enter the compiled columns and the flange
         // torques' terms, the shapes are the same throughout.
         for (first, end, sys) in self.segments() {
@@ -79,20 +83,62 @@ impl SimResult {
                 .filter(|&(i, _)| only.is_none_or(|o| o == i))
                 .map(|(_, (_, out))| compile(out, 1.0, &mut general))
                 .collect();
-            let mut block = Block::new(sys, &flat, &general, self.discs.len());
-            self.visit_segment(first..end, sys, &mut |r, sys, row| {
-                block.push(sys, r, (tr.disc[r], tr.t[r]), row);
-                if block.rows.len() == BLOCK {
-                    block.flush(sys, self, &mut data, width);
-                }
-            });
-            block.flush(sys, self, &mut data, width);
+            let template = Block::new(sys, &flat, &general, self.discs.len());
+            let chunk = stretch_rows(end - first);
+            let fill = |i: usize, out: &mut [f64]| {
+                let start = first + i * chunk;
+                let mut out = Stretch {
+                    data: out,
+                    first: start,
+                    width,
+                };
+                self.fill_stretch(sys, template.clone(), &mut out);
+            };
+            let rows = &mut data[first * width..end * width];
+            if chunk >= end - first {
+                // one stretch: on this thread, without handing it to the pool and waiting
+                fill(0, rows);
+            } else {
+                let stretches = rows.par_chunks_mut(chunk * width).enumerate();
+                stretches.for_each(|(i, out)| fill(i, out));
+            }
         }
         data
     }
 }
 
+impl SimResult {
+    /// Evaluates the rows of one stretch and writes them.
+    fn fill_stretch(&self, sys: &System, mut block: Block, out: &mut Stretch) {
+        let tr = &self.trajectory;
+        let rows = out.first..out.first + out.data.len() / out.width;
+        self.visit_segment(rows, sys, &mut |r, sys, row| {
+            block.push(sys, r, (tr.disc[r], tr.t[r]), row);
+            if block.rows.len() == BLOCK {
+                block.flush(sys, self, out);
+            }
+        });
+        block.flush(sys, self, out);
+    }
+}
+
+/// Rows per stretch computed on one thread: one stretch per thread (rows cost about the same,
+/// and each stretch pays for a workspace, its modes' factors and a hand-over to the pool), and
+/// never fewer than a few blocks.
+fn stretch_rows(rows: usize) -> usize {
+    const FEWEST_ROWS: usize = 2 * BLOCK;
+    rows.div_ceil(rayon::current_num_threads()).max(FEWEST_ROWS)
+}
+
+/// The table rows of one stretch: `data` holds rows `first..`, `width` values each.
+struct Stretch<'a> {
+    data: &'a mut [f64],
+    first: usize,
+    width: usize,
+}
+
 /// The frames of up to `BLOCK` evaluated rows, and how a table row reads its frame.
+#[derive(Clone)]
 struct Block {
     layout: Layout,
     /// Values per frame: whole pages.
@@ -111,12 +157,14 @@ struct Block {
 
 /// How a table row reads its frame: each column's index in its page, and the runs of columns
 /// read from one page.
+#[derive(Clone)]
 struct Reader {
     index: Vec<u8>,
     runs: Vec<Run>,
 }
 
 /// Columns `start..end` of a table row, read from page `page` of its frame.
+#[derive(Clone)]
 struct Run {
     page: usize,
     start: usize,
@@ -196,8 +244,8 @@ impl Block {
         self.layout.fill(frame, (sys, ws, disc), t);
     }
 
-    /// Writes the held rows into `data` (`width` values a row) and empties the block.
-    fn flush(&mut self, sys: &System, result: &SimResult, data: &mut [f64], width: usize) {
+    /// Writes the held rows into their stretch of the table and empties the block.
+    fn flush(&mut self, sys: &System, result: &SimResult, out: &mut Stretch) {
         let Some(&(first, _)) = self.rows.first() else {
             return;
         };
@@ -207,7 +255,8 @@ impl Block {
             self.flanges.solve(plan, sys, frames, (stride, n));
         }
         let post = &self.layout.post;
-        let rows = data[first * width..(first + n) * width].chunks_exact_mut(width);
+        let (width, at) = (out.width, first - out.first);
+        let rows = out.data[at * width..(at + n) * width].chunks_exact_mut(width);
         for ((out, frame), &(r, ok)) in rows.zip(frames.chunks_exact_mut(stride)).zip(&self.rows) {
             if !ok {
                 out[0] = result.trajectory.t[r];
@@ -377,8 +426,17 @@ mod tests {
         }
     }
 
+    /// The table computed on `threads` threads (as many stretches of rows, and more, as the
+    /// pool asks for).
+    fn table_on(r: &super::SimResult, threads: usize) -> Vec<f64> {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build();
+        pool.expect("a thread pool").install(|| r.compute_table())
+    }
+
     /// Column by column gives the row recorder's values bit for bit (more rows than a block,
-    /// events, every kind of column: heat, a lossy gear, flange torques).
+    /// events, every kind of column: heat, a lossy gear, flange torques), however many
+    /// stretches the rows are computed in (one thread, or five: stretches that start inside a
+    /// mode, each factoring the modes it meets).
     #[test]
     fn columns_equal_rows_bit_for_bit() {
         let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/msl");
@@ -391,13 +449,19 @@ mod tests {
             let text = std::fs::read_to_string(format!("{dir}/{name}.toml")).expect("example");
             let spec = ModelSpec::from_toml(&text, dir).expect("valid model");
             let r = crate::simulate(&spec).expect("runs");
-            let (columns, rows) = (r.table().expect("fits"), by_rows(&r));
-            assert_eq!(columns.len(), rows.len(), "{name}");
-            let same = columns
-                .iter()
-                .zip(&rows)
-                .all(|(a, b)| a.to_bits() == b.to_bits());
-            assert!(same, "{name}: the columns differ from the rows");
+            let rows = by_rows(&r);
+            for threads in [1, 5] {
+                let columns = table_on(&r, threads);
+                assert_eq!(columns.len(), rows.len(), "{name}");
+                let same = columns
+                    .iter()
+                    .zip(&rows)
+                    .all(|(a, b)| a.to_bits() == b.to_bits());
+                assert!(
+                    same,
+                    "{name}, {threads} threads: the columns differ from the rows"
+                );
+            }
         }
     }
 }

@@ -148,6 +148,10 @@ impl Layout {
             Out::ConstraintTau(k, s) => self.scaled_read(sys, Array::ConstraintTau, *k, *s),
             // the rare shapes (a law's loss, heat through a conductance…) at the row itself,
             // each once (a law's loss is its own and its heat port's, negated)
+            // a law with a heat port had its loss computed by the evaluation already
+            Out::LawLoss(k) if sys.laws[*k].heat_node.is_some() => {
+                self.array(sys, Array::LawLoss, *k)
+            }
             Out::LawLoss(k) => self.eval(Key::Eval(0, *k, 0), out),
             Out::HeatDerT(node) => self.eval(Key::Eval(1, *node, 0), out),
             Out::HeatLinkFlow(k, s) => self.eval(Key::Eval(2, *k, s.to_bits()), out),
@@ -175,6 +179,9 @@ impl Layout {
                 }
             }
             terms => {
+                if let Some((of_law, k)) = law_coordinate(sys, arr, rel, offset) {
+                    return self.array(sys, of_law, k);
+                }
                 let terms: Vec<(u32, f64)> = (terms.iter())
                     .map(|&(node, c)| (self.array(sys, arr, node), c))
                     .collect();
@@ -350,6 +357,28 @@ impl Layout {
         }
         (self.pre).run_frame(frame, |out| value(out, sys, ws, disc, &[]));
     }
+}
+
+/// The law whose relative angle (with its offset) or speed is `rel`'s over `arr`, when `rel` is
+/// its own row: `kinematics` computed that sum with the same terms in the same order
+/// (`Rel::angle`, `Rel::dot`), so the table reads it instead of summing again.
+fn law_coordinate(
+    sys: &System,
+    arr: Array,
+    rel: &Rel,
+    offset: Option<f64>,
+) -> Option<(Array, usize)> {
+    let of_law = match (arr, offset) {
+        (Array::Phi, Some(_)) => Array::LawPhi,
+        (Array::W, None) => Array::LawW,
+        _ => return None,
+    };
+    let bits =
+        |r: &Rel| -> Vec<(usize, u64)> { r.terms.iter().map(|&(i, c)| (i, c.to_bits())).collect() };
+    let same =
+        |r: &Rel| bits(r) == bits(rel) && offset.is_none_or(|o| o.to_bits() == r.offset.to_bits());
+    let k = sys.laws.iter().position(|law| same(&law.rel))?;
+    Some((of_law, k))
 }
 
 /// The continuous variables of an element's values, in `FIELDS`' order (what `value_field`

@@ -411,7 +411,7 @@ fn heat_and_energy(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Works
     let (mut loss, mut work, mut potential) = (0.0, 0.0, 0.0);
     for (k, law) in sys.laws.iter().enumerate() {
         let ctx = ws.law_ctx(sys, disc, k);
-        match law.law.role() {
+        match law.role {
             EnergyRole::Source => work -= ws.law_tau[k] * ws.law_w[k],
             _ => {
                 loss += law.law.dissipation(&ctx, ws.law_tau[k]);

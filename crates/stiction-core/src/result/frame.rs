@@ -20,6 +20,7 @@ use crate::rel::Rel;
 use crate::switching::element::{is_discrete, ElementValues, SwitchVar};
 use crate::system::outputs::EnergyVar;
 use crate::system::{Out, System};
+use crate::thermal::Conductance;
 
 /// Where the flange cut torques live in the frame: the known torques' and component sums'
 /// slots (in `FlangeTorques::solve_rows`' order) and the slot of each port it solves for.
@@ -35,6 +36,7 @@ enum Key {
     Scale(u32, u64),
     Affine(u32, u64, u64),
     Diff(u32, u32),
+    Mul(u32, u32),
     Dot(Vec<(u32, u64)>, Option<u64>),
     Const(u64),
     /// An expression `value` computes: its kind, index and parameter.
@@ -154,8 +156,33 @@ impl Layout {
             }
             Out::LawLoss(k) => self.eval(Key::Eval(0, *k, 0), out),
             Out::HeatDerT(node) => self.eval(Key::Eval(1, *node, 0), out),
-            Out::HeatLinkFlow(k, s) => self.eval(Key::Eval(2, *k, s.to_bits()), out),
+            Out::HeatLinkFlow(k, s) => self.link_flow(sys, *k, *s),
             Out::HeatCapacitorFlow(node, c) => self.eval(Key::Eval(3, *node, c.to_bits()), out),
+        }
+    }
+
+    /// The heat flow through link `k` scaled by `s`, with `value`'s arithmetic:
+    /// `(s·G)·(T_a − T_b)`, the product `s·G` made once when the conductance is a constant.
+    fn link_flow(&mut self, sys: &System, k: usize, s: f64) -> u32 {
+        let link = &sys.thermal.links[k];
+        let (a, b) = (
+            self.array(sys, Array::Temps, link.a),
+            self.array(sys, Array::Temps, link.b),
+        );
+        let diff = self.derived(Key::Diff(a, b), Op::Diff { dst: 0, a, b });
+        match link.g {
+            Conductance::Constant(g) => self.scale(diff, s * g),
+            Conductance::Signal(slot) => {
+                let g = self.scaled_read(sys, Array::Signals, slot, s);
+                self.derived(
+                    Key::Mul(g, diff),
+                    Op::Mul {
+                        dst: 0,
+                        a: g,
+                        b: diff,
+                    },
+                )
+            }
         }
     }
 

@@ -206,8 +206,10 @@ impl Layout {
                 }
             }
             terms => {
-                if let Some((of_law, k)) = law_coordinate(sys, arr, rel, offset) {
-                    return self.array(sys, of_law, k);
+                match computed_coordinate(sys, arr, rel, offset) {
+                    Some(Computed::Law(of_law, k)) => return self.array(sys, of_law, k),
+                    Some(Computed::Element(k)) => return self.switch(k, SwitchVar::Phi),
+                    None => {}
                 }
                 let terms: Vec<(u32, f64)> = (terms.iter())
                     .map(|&(node, c)| (self.array(sys, arr, node), c))
@@ -386,26 +388,35 @@ impl Layout {
     }
 }
 
-/// The law whose relative angle (with its offset) or speed is `rel`'s over `arr`, when `rel` is
-/// its own row: `kinematics` computed that sum with the same terms in the same order
-/// (`Rel::angle`, `Rel::dot`), so the table reads it instead of summing again.
-fn law_coordinate(
+/// A sum of `rel` over `arr` the evaluation made already, with the same terms in the same order
+/// (`Rel::angle`, `Rel::dot`): a law's relative angle (with its offset) or speed, which
+/// `kinematics` computes, or the relative angle of a switching element along its `motion`, its
+/// `phi` field (`forces`). The table reads it instead of summing again.
+enum Computed {
+    Law(Array, usize),
+    Element(usize),
+}
+
+fn computed_coordinate(
     sys: &System,
     arr: Array,
     rel: &Rel,
     offset: Option<f64>,
-) -> Option<(Array, usize)> {
-    let of_law = match (arr, offset) {
-        (Array::Phi, Some(_)) => Array::LawPhi,
-        (Array::W, None) => Array::LawW,
-        _ => return None,
-    };
+) -> Option<Computed> {
     let bits =
         |r: &Rel| -> Vec<(usize, u64)> { r.terms.iter().map(|&(i, c)| (i, c.to_bits())).collect() };
     let same =
         |r: &Rel| bits(r) == bits(rel) && offset.is_none_or(|o| o.to_bits() == r.offset.to_bits());
-    let k = sys.laws.iter().position(|law| same(&law.rel))?;
-    Some((of_law, k))
+    let law =
+        |of_law| (sys.laws.iter().position(|law| same(&law.rel))).map(|k| Computed::Law(of_law, k));
+    match (arr, offset) {
+        (Array::Phi, Some(_)) => law(Array::LawPhi).or_else(|| {
+            let element = sys.switching.iter().position(|e| same(e.motion()));
+            element.map(Computed::Element)
+        }),
+        (Array::W, None) => law(Array::LawW),
+        _ => None,
+    }
 }
 
 /// The continuous variables of an element's values, in `FIELDS`' order (what `value_field`

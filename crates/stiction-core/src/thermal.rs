@@ -59,6 +59,9 @@ pub struct HeatCache {
 }
 
 enum HeatFactors {
+    /// One algebraic node (heat ports joined to a convection, the common case): the pivot of
+    /// its 1×1 LU, by which `LU::solve_mut` divides (without a view and its checks per call).
+    Scalar(f64),
     Dense(LU<f64, Dyn, Dyn>),
     Band(Box<dyn Factorization>),
     Singular,
@@ -116,6 +119,12 @@ impl ThermalNet {
             }
         }
         let solved = match cache.factors.as_ref().expect("factored above") {
+            // `solve_mut`'s arithmetic for one unknown: no permutation, no elimination, and
+            // the division by the pivot unless it is zero
+            &HeatFactors::Scalar(pivot) => {
+                rhs[0] /= pivot;
+                pivot != 0.0
+            }
             HeatFactors::Dense(lu) => {
                 // solved in place through a view: no vector allocated per evaluation
                 let n = rhs.len();
@@ -156,7 +165,11 @@ impl ThermalNet {
         for &(r, c, v) in &m.entries {
             dense[(r, c)] += v;
         }
-        HeatFactors::Dense(dense.lu())
+        let lu = dense.lu();
+        match n {
+            1 => HeatFactors::Scalar(lu.u()[(0, 0)]),
+            _ => HeatFactors::Dense(lu),
+        }
     }
 
     /// Net heat flow into every node: losses plus conduction.

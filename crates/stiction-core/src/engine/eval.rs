@@ -59,6 +59,9 @@ pub struct Workspace {
     pub law_phi: Vec<f64>,
     pub law_w: Vec<f64>,
     pub law_tau: Vec<f64>,
+    /// The loss power of each law with a heat port (what it puts into its heat node), as
+    /// `heat_and_energy` computed it; 0 for the other laws, whose loss nothing here needs.
+    pub law_loss: Vec<f64>,
     pub constraint_tau: Vec<f64>,
     /// The values of each switching element.
     pub elements: Vec<ElementValues>,
@@ -88,6 +91,7 @@ impl Workspace {
             law_phi: vec![0.0; sys.laws.len()],
             law_w: vec![0.0; sys.laws.len()],
             law_tau: vec![0.0; sys.laws.len()],
+            law_loss: vec![0.0; sys.laws.len()],
             constraint_tau: vec![0.0; sys.constraints.len()],
             elements: vec![ElementValues::default(); sys.switching.len()],
             heat_in: vec![0.0; sys.thermal.nodes],
@@ -407,7 +411,7 @@ fn heat_and_energy(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Works
     let (mut loss, mut work, mut potential) = (0.0, 0.0, 0.0);
     for (k, law) in sys.laws.iter().enumerate() {
         let ctx = ws.law_ctx(sys, disc, k);
-        match law.law.role() {
+        match law.role {
             EnergyRole::Source => work -= ws.law_tau[k] * ws.law_w[k],
             _ => {
                 loss += law.law.dissipation(&ctx, ws.law_tau[k]);
@@ -415,7 +419,9 @@ fn heat_and_energy(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Works
             }
         }
         if let Some(node) = law.heat_node {
-            ws.heat_in[node] += law.law.loss_power(&ctx, ws.law_tau[k]);
+            let q = law.law.loss_power(&ctx, ws.law_tau[k]);
+            ws.law_loss[k] = q;
+            ws.heat_in[node] += q;
         }
     }
     // without a heat network no element has a heat node: no virtual call per element to ask

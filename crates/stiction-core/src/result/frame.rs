@@ -20,6 +20,7 @@ use crate::rel::Rel;
 use crate::switching::element::{is_discrete, ElementValues, SwitchVar};
 use crate::system::outputs::EnergyVar;
 use crate::system::{Out, System};
+use crate::thermal::Conductance;
 
 /// Where the flange cut torques live in the frame: the known torques' and component sums'
 /// slots (in `FlangeTorques::solve_rows`' order) and the slot of each port it solves for.
@@ -36,6 +37,7 @@ enum Key {
     Scale(u32, u64),
     Affine(u32, u64, u64),
     Diff(u32, u32),
+    Mul(u32, u32),
     Dot(Vec<(u32, u64)>, Option<u64>),
     Const(u64),
     /// An expression `value` computes: its kind, index and parameter.
@@ -150,10 +152,39 @@ impl Layout {
             Out::ConstraintTau(k, s) => self.scaled_read(sys, Array::ConstraintTau, *k, *s),
             // the rare shapes (a law's loss, heat through a conductance…) at the row itself,
             // each once (a law's loss is its own and its heat port's, negated)
+            // a law with a heat port had its loss computed by the evaluation already
+            Out::LawLoss(k) if sys.laws[*k].heat_node.is_some() => {
+                self.array(sys, Array::LawLoss, *k)
+            }
             Out::LawLoss(k) => self.eval(Key::Eval(0, *k, 0), out),
             Out::HeatDerT(node) => self.eval(Key::Eval(1, *node, 0), out),
-            Out::HeatLinkFlow(k, s) => self.eval(Key::Eval(2, *k, s.to_bits()), out),
+            Out::HeatLinkFlow(k, s) => self.link_flow(sys, *k, *s),
             Out::HeatCapacitorFlow(node, c) => self.eval(Key::Eval(3, *node, c.to_bits()), out),
+        }
+    }
+
+    /// The heat flow through link `k` scaled by `s`, with `value`'s arithmetic:
+    /// `(s·G)·(T_a − T_b)`, the product `s·G` made once when the conductance is a constant.
+    fn link_flow(&mut self, sys: &System, k: usize, s: f64) -> u32 {
+        let link = &sys.thermal.links[k];
+        let (a, b) = (
+            self.array(sys, Array::Temps, link.a),
+            self.array(sys, Array::Temps, link.b),
+        );
+        let diff = self.derived(Key::Diff(a, b), Op::Diff { dst: 0, a, b });
+        match link.g {
+            Conductance::Constant(g) => self.scale(diff, s * g),
+            Conductance::Signal(slot) => {
+                let g = self.scaled_read(sys, Array::Signals, slot, s);
+                self.derived(
+                    Key::Mul(g, diff),
+                    Op::Mul {
+                        dst: 0,
+                        a: g,
+                        b: diff,
+                    },
+                )
+            }
         }
     }
 
@@ -177,6 +208,11 @@ impl Layout {
                 }
             }
             terms => {
+                match computed_coordinate(sys, arr, rel, offset) {
+                    Some(Computed::Law(of_law, k)) => return self.array(sys, of_law, k),
+                    Some(Computed::Element(k)) => return self.switch(k, SwitchVar::Phi),
+                    None => {}
+                }
                 let terms: Vec<(u32, f64)> = (terms.iter())
                     .map(|&(node, c)| (self.array(sys, arr, node), c))
                     .collect();
@@ -351,6 +387,37 @@ impl Layout {
             );
         }
         (self.pre).run_frame(frame, |out| value(out, sys, ws, disc, &[]));
+    }
+}
+
+/// A sum of `rel` over `arr` the evaluation made already, with the same terms in the same order
+/// (`Rel::angle`, `Rel::dot`): a law's relative angle (with its offset) or speed, which
+/// `kinematics` computes, or the relative angle of a switching element along its `motion`, its
+/// `phi` field (`forces`). The table reads it instead of summing again.
+enum Computed {
+    Law(Array, usize),
+    Element(usize),
+}
+
+fn computed_coordinate(
+    sys: &System,
+    arr: Array,
+    rel: &Rel,
+    offset: Option<f64>,
+) -> Option<Computed> {
+    let bits =
+        |r: &Rel| -> Vec<(usize, u64)> { r.terms.iter().map(|&(i, c)| (i, c.to_bits())).collect() };
+    let same =
+        |r: &Rel| bits(r) == bits(rel) && offset.is_none_or(|o| o.to_bits() == r.offset.to_bits());
+    let law =
+        |of_law| (sys.laws.iter().position(|law| same(&law.rel))).map(|k| Computed::Law(of_law, k));
+    match (arr, offset) {
+        (Array::Phi, Some(_)) => law(Array::LawPhi).or_else(|| {
+            let element = sys.switching.iter().position(|e| same(e.motion()));
+            element.map(Computed::Element)
+        }),
+        (Array::W, None) => law(Array::LawW),
+        _ => None,
     }
 }
 

@@ -41,6 +41,10 @@ pub(super) enum Array {
     A,
     Signals,
     LawTau,
+    /// The laws' relative angles and speeds (`kinematics`) and losses (`Workspace::law_loss`).
+    LawPhi,
+    LawW,
+    LawLoss,
     Temps,
     HeatNet,
     Energy,
@@ -52,7 +56,7 @@ impl Array {
         match self {
             Array::Phi | Array::W | Array::A => sys.nodes,
             Array::Signals => sys.signals.slots,
-            Array::LawTau => sys.laws.len(),
+            Array::LawTau | Array::LawPhi | Array::LawW | Array::LawLoss => sys.laws.len(),
             Array::Temps | Array::HeatNet => sys.thermal.nodes,
             Array::Energy => 4,
             Array::ConstraintTau => sys.constraints.len(),
@@ -67,6 +71,9 @@ impl Array {
             Array::A => &ws.a,
             Array::Signals => &ws.signals,
             Array::LawTau => &ws.law_tau,
+            Array::LawPhi => &ws.law_phi,
+            Array::LawW => &ws.law_w,
+            Array::LawLoss => &ws.law_loss,
             Array::Temps => &ws.temps,
             Array::HeatNet => &ws.heat_net,
             Array::Energy => &ws.energy,
@@ -90,6 +97,8 @@ pub(super) enum Op {
     },
     /// `x − y` (a temperature difference)
     Diff { dst: u32, a: u32, b: u32 },
+    /// `x · y` (a conductance times a temperature difference)
+    Mul { dst: u32, a: u32, b: u32 },
     /// `Rel::dot` (`Σ c·x` as `sum` adds), plus an angle's offset
     Dot {
         dst: u32,
@@ -110,6 +119,7 @@ impl Op {
             Op::Scale { dst, .. }
             | Op::Affine { dst, .. }
             | Op::Diff { dst, .. }
+            | Op::Mul { dst, .. }
             | Op::Dot { dst, .. }
             | Op::Eval { dst, .. } => *dst = slot,
         }
@@ -119,7 +129,7 @@ impl Op {
     pub(super) fn sources(&self) -> Vec<u32> {
         match self {
             Op::Scale { x, .. } | Op::Affine { x, .. } => vec![*x],
-            Op::Diff { a, b, .. } => vec![*a, *b],
+            Op::Diff { a, b, .. } | Op::Mul { a, b, .. } => vec![*a, *b],
             Op::Dot { terms, .. } => terms.iter().map(|&(x, _)| x).collect(),
             Op::Eval { .. } => Vec::new(),
         }
@@ -141,6 +151,7 @@ type Dot = (u32, Box<[(u32, f64)]>, Option<f64>);
 struct Level {
     eval: Vec<(u32, Out)>,
     diff: Vec<(u32, u32, u32)>,
+    mul: Vec<(u32, u32, u32)>,
     dot: Vec<Dot>,
     affine: Vec<(u32, u32, f64, f64)>,
     scale: Vec<(u32, u32, f64)>,
@@ -163,6 +174,7 @@ impl Program {
                 Op::Scale { dst, x, s } => (level.scale.push((dst, x, s)), dst).1,
                 Op::Affine { dst, x, s, offset } => (level.affine.push((dst, x, s, offset)), dst).1,
                 Op::Diff { dst, a, b } => (level.diff.push((dst, a, b)), dst).1,
+                Op::Mul { dst, a, b } => (level.mul.push((dst, a, b)), dst).1,
                 Op::Dot { dst, terms, offset } => (level.dot.push((dst, terms, offset)), dst).1,
                 Op::Eval { dst, out } => (level.eval.push((dst, out)), dst).1,
             };
@@ -180,6 +192,9 @@ impl Program {
             }
             for &(dst, a, b) in &l.diff {
                 frame.set(dst, frame.get(a) - frame.get(b));
+            }
+            for &(dst, a, b) in &l.mul {
+                frame.set(dst, frame.get(a) * frame.get(b));
             }
             for (dst, terms, offset) in &l.dot {
                 let dot: f64 = terms.iter().map(|&(x, c)| c * frame.get(x)).sum();

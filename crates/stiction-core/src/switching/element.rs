@@ -171,7 +171,8 @@ pub trait SwitchingElement: Send + Sync {
     }
 
     // ---- its rows in the linear system
-    /// The relative motion it locks (and whose speed it watches).
+    /// The relative motion it locks (and whose speed it watches). `forces` sets its values'
+    /// `phi` to `motion().angle(phi)`, which the result table reads for that relative angle.
     fn motion(&self) -> &Rel;
     /// A row it keeps in every mode (a LossyGear's kinematic row), with its column.
     fn permanent_row(&self, _key: ModeKey) -> Option<(&Rel, Column<'_>)> {

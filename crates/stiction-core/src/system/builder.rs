@@ -100,12 +100,14 @@ impl Builder {
         let relation_count = law.relation_count();
         debug_assert!(relation_count <= super::law::MAX_LAW_RELATIONS);
         self.sys.relation_count += relation_count;
+        let role = law.role();
         self.sys.laws.push(LawElem {
             owner: self.name().to_string(),
             rel,
             law,
             relation_base,
             relation_count,
+            role,
             heat_node: None,
         });
         self.sys.laws.len() - 1

@@ -27,6 +27,8 @@ pub struct LawElem {
     pub relation_base: usize,
     /// `law.relation_count()`, kept so that an evaluation need not ask the law each time.
     pub relation_count: usize,
+    /// `law.role()`, kept likewise (every evaluation's energy balance asks it of each law).
+    pub role: EnergyRole,
     pub heat_node: Option<usize>,
 }
 

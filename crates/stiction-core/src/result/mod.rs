@@ -9,6 +9,7 @@ pub mod mat;
 pub mod metric;
 mod ops;
 mod probe;
+mod stretch;
 mod table;
 pub use table::MAX_TABLE_VALUES;
 

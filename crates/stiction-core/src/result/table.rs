@@ -12,6 +12,7 @@ use rayon::prelude::*;
 use super::flanges::BlockFlanges;
 use super::frame::Layout;
 use super::ops::PAGE;
+use super::stretch::{advise_huge_pages, stretch_rows, Stretch};
 use super::{compile, Flat, SimResult};
 use crate::engine::eval::{DiscreteState, Workspace};
 use crate::error::SimError;
@@ -20,7 +21,7 @@ use crate::system::System;
 
 /// Rows whose flange torques are solved together: enough to amortize each step of the solve,
 /// few enough that their frames stay in cache.
-const BLOCK: usize = 64;
+pub(super) const BLOCK: usize = 64;
 
 /// The most values the table of every variable may hold (2.4 GB), as for a run's states.
 pub const MAX_TABLE_VALUES: f64 = 3.0e8;
@@ -136,45 +137,6 @@ impl SimResult {
         });
         block.flush(sys, self, out);
     }
-}
-
-/// Asks Linux to back a large table with huge pages: its memory is fresh from the kernel
-/// (above glibc's 32 MB reuse limit), and faulting it in 4 KiB pages took about 8 700 faults
-/// and 40 % of HeatLosses' table time. Only advice: where huge pages are off, nothing changes.
-#[cfg(target_os = "linux")]
-fn advise_huge_pages(data: &mut Vec<f64>) {
-    const HUGE: usize = 2 << 20;
-    let (start, len) = (
-        data.as_mut_ptr() as usize,
-        data.capacity() * size_of::<f64>(),
-    );
-    let first = start.next_multiple_of(HUGE);
-    let end = (start + len) / HUGE * HUGE;
-    if end > first {
-        // SAFETY: the range lies inside the vector's own allocation; MADV_HUGEPAGE changes
-        // neither its contents nor its mapping, and its result (advice refused) is ignored.
-        unsafe { libc::madvise(first as *mut libc::c_void, end - first, libc::MADV_HUGEPAGE) };
-    }
-}
-
-#[cfg(not(target_os = "linux"))]
-fn advise_huge_pages(_: &mut Vec<f64>) {}
-
-/// Rows per stretch computed on one thread: one stretch per thread (rows cost about the same,
-/// and each stretch pays for a workspace, its modes' factors and a hand-over to the pool), and
-/// never fewer than a few blocks.
-fn stretch_rows(rows: usize) -> usize {
-    const FEWEST_ROWS: usize = 2 * BLOCK;
-    rows.div_ceil(rayon::current_num_threads()).max(FEWEST_ROWS)
-}
-
-/// The table rows of one stretch: `data` holds rows `first..`, `width` values each, not yet
-/// written; `written` counts the cells written so far.
-struct Stretch<'a> {
-    data: &'a mut [MaybeUninit<f64>],
-    first: usize,
-    width: usize,
-    written: usize,
 }
 
 /// The frames of up to `BLOCK` evaluated rows, and how a table row reads its frame.

@@ -4,8 +4,6 @@
 
 use std::mem::MaybeUninit;
 
-use super::table::BLOCK;
-
 /// Asks Linux to back a large table with huge pages: its memory is fresh from the kernel
 /// (above glibc's 32 MB reuse limit), and faulting it in 4 KiB pages took about 8 700 faults
 /// and 40 % of HeatLosses' table time. Only advice: where huge pages are off, nothing changes.
@@ -30,10 +28,9 @@ pub(super) fn advise_huge_pages(_: &mut Vec<f64>) {}
 
 /// Rows per stretch computed on one thread: one stretch per thread (rows cost about the same,
 /// and each stretch pays for a workspace, its modes' factors and a hand-over to the pool), and
-/// never fewer than a few blocks.
-pub(super) fn stretch_rows(rows: usize) -> usize {
-    const FEWEST_ROWS: usize = 2 * BLOCK;
-    rows.div_ceil(rayon::current_num_threads()).max(FEWEST_ROWS)
+/// never fewer than `fewest`.
+pub(super) fn stretch_rows(rows: usize, fewest: usize) -> usize {
+    rows.div_ceil(rayon::current_num_threads()).max(fewest)
 }
 
 /// The table rows of one stretch: `data` holds rows `first..`, `width` values each, not yet

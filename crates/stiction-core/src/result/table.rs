@@ -21,7 +21,7 @@ use crate::system::System;
 
 /// Rows whose flange torques are solved together: enough to amortize each step of the solve,
 /// few enough that their frames stay in cache.
-pub(super) const BLOCK: usize = 64;
+const BLOCK: usize = 64;
 
 /// The most values the table of every variable may hold (2.4 GB), as for a run's states.
 pub const MAX_TABLE_VALUES: f64 = 3.0e8;
@@ -92,7 +92,7 @@ impl SimResult {
                 .map(|(_, (_, out))| compile(out, 1.0, &mut general))
                 .collect();
             let template = Block::new(sys, &flat, &general, self.discs.len());
-            let chunk = stretch_rows(end - first);
+            let chunk = stretch_rows(end - first, 2 * BLOCK);
             let fill = |i: usize, out: &mut [MaybeUninit<f64>]| {
                 let start = first + i * chunk;
                 let mut out = Stretch {

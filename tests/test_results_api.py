@@ -3,6 +3,8 @@ index for pandas, units in plots and DataFrames; Model.set with construction's c
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -138,3 +140,26 @@ def test_a_result_too_large_for_every_variable_at_once_gives_them_one_at_a_time(
     np.testing.assert_array_equal(r["brake.tau"], [1.0, 2.0, 3.0])
     with pytest.raises(st.UsageError, match="more than fits in memory"):
         _ = r.data
+
+
+def test_a_large_table_outlives_its_result_and_its_memory_goes_to_a_later_one() -> None:
+    """A large table (HeatLosses': 35 MB) is a NumPy array over the engine's memory, which the
+    engine reuses for a later table only once no array uses it: a column kept after its result
+    is gone keeps its values while later runs compute theirs; once it is gone too, the next table
+    is written into that memory, with the values of one written into fresh memory."""
+    model = st.Model.load(Path(__file__).resolve().parents[1] / "examples" / "msl" / "HeatLosses.toml")
+    kept = model.simulate().data
+    assert kept.nbytes >= 32 << 20  # large enough for the engine to keep its memory
+    address = kept.__array_interface__["data"][0]
+    column, expected = kept[:, 7], kept[:, 7].copy()
+    del kept  # the column, a view, still holds the memory
+    other = {"params": {"sine.amplitude": 19.0}, "StopTime": 0.99}  # other values, fewer rows
+    later = model.simulate(**other).data
+    assert later.__array_interface__["data"][0] != address
+    np.testing.assert_array_equal(column, expected)
+    del later, column  # the last one freed is kept: the first table's memory
+    again = model.simulate(**other).data
+    assert again.__array_interface__["data"][0] == address
+    fresh = model.simulate(**other).data
+    assert fresh.__array_interface__["data"][0] != address
+    assert again.shape == fresh.shape and again.tobytes() == fresh.tobytes()

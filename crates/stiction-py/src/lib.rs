@@ -3,6 +3,7 @@
 
 mod compiled;
 mod info;
+mod table_memory;
 mod toml_doc;
 
 use std::collections::HashMap;
@@ -80,8 +81,8 @@ fn guarded<T>(f: impl FnOnce() -> Result<T, SimError>) -> PyResult<T> {
 #[pyclass(frozen, module = "stiction._core")]
 struct RawResult {
     result: SimResult,
-    /// The whole table once asked for: NumPy owns the engine's vector (no copy), and later
-    /// columns are read from it rather than computed again.
+    /// The whole table once asked for: a NumPy array over the engine's vector (no copy), and
+    /// later columns are read from it rather than computed again.
     table: OnceLock<Py<PyArray2<f64>>>,
 }
 
@@ -200,7 +201,7 @@ impl RawResult {
         }
         let values = py.detach(|| self.result.table_vec()).map_err(sim_err)?;
         let shape = [self.result.rows(), self.result.names.len()];
-        let table = PyArray1::from_vec(py, values).reshape(shape)?;
+        let table = table_memory::table_array(py, values, shape)?;
         Ok(self
             .table
             .get_or_init(|| table.clone().unbind())

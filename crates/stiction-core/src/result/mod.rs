@@ -11,6 +11,7 @@ mod ops;
 mod probe;
 mod stretch;
 mod table;
+pub use stretch::recycle_table;
 pub use table::MAX_TABLE_VALUES;
 
 use std::rc::Rc;

@@ -12,7 +12,7 @@ use rayon::prelude::*;
 use super::flanges::BlockFlanges;
 use super::frame::Layout;
 use super::ops::PAGE;
-use super::stretch::{advise_huge_pages, stretch_rows, Stretch};
+use super::stretch::{put, settle, streams, stretch_rows, table_memory, Stretch};
 use super::{compile, Flat, SimResult};
 use crate::engine::eval::{DiscreteState, Workspace};
 use crate::error::SimError;
@@ -79,8 +79,7 @@ impl SimResult {
         let cells = tr.rows() * width;
         // Not zeroed first: every cell is written below, and zeroing a table of megabytes cost
         // a tenth of CoupledClutches' table, on one thread before the others start.
-        let mut data: Vec<f64> = Vec::with_capacity(cells);
-        advise_huge_pages(&mut data);
+        let mut data = table_memory(cells);
         let spare = &mut data.spare_capacity_mut()[..cells];
         // Each segment of rows between parameter changes is filled from its own system: the
         // values (an inertia's J, a law's constants) enter the compiled columns and the flange
@@ -100,6 +99,7 @@ impl SimResult {
                     first: start,
                     width,
                     written: 0,
+                    stream: streams(cells),
                 };
                 self.fill_stretch(sys, template.clone(), &mut out);
                 assert_eq!(
@@ -136,6 +136,7 @@ impl SimResult {
             }
         });
         block.flush(sys, self, out);
+        settle(out);
     }
 }
 
@@ -257,7 +258,7 @@ impl Block {
             self.flanges.solve(plan, sys, frames, (stride, n));
         }
         let post = &self.layout.post;
-        let (width, at) = (out.width, first - out.first);
+        let (width, at, stream) = (out.width, first - out.first, out.stream);
         let rows = out.data[at * width..(at + n) * width].chunks_exact_mut(width);
         for ((out, frame), &(r, ok)) in rows.zip(frames.chunks_exact_mut(stride)).zip(&self.rows) {
             if !ok {
@@ -267,7 +268,11 @@ impl Block {
             }
             // what reads a flange torque never needs the workspace
             post.run_frame(frame, |_| f64::NAN);
-            self.reader.write(frame, out);
+            if stream {
+                self.reader.write::<true>(frame, out);
+            } else {
+                self.reader.write::<false>(frame, out);
+            }
         }
         out.written += n * width;
         self.rows.clear();
@@ -275,9 +280,9 @@ impl Block {
 }
 
 impl Reader {
-    /// One table row from its frame.
+    /// One table row from its frame (past the caches: `STREAM`).
     #[inline]
-    fn write(&self, frame: &[f64], out: &mut [MaybeUninit<f64>]) {
+    fn write<const STREAM: bool>(&self, frame: &[f64], out: &mut [MaybeUninit<f64>]) {
         for run in &self.runs {
             let page: &[f64; PAGE] = (frame[run.page * PAGE..(run.page + 1) * PAGE])
                 .try_into()
@@ -285,7 +290,7 @@ impl Reader {
             let cells = out[run.start..run.end].iter_mut();
             cells
                 .zip(&self.index[run.start..run.end])
-                .for_each(|(y, &i)| _ = y.write(page[usize::from(i)]));
+                .for_each(|(y, &i)| put::<STREAM>(y, page[usize::from(i)]));
         }
     }
 }

@@ -17,7 +17,8 @@ pub struct LossyGearElem {
     pub ratio: f64,
     /// `lossTable = [0, 1, 1, 0, 0]` exactly: an ideal gear (mode 2 for ever).
     pub ideal: bool,
-    /// Columns 2..5 of lossTable against |w_a|: eta_mf1, eta_mf2, tau_bf1, tau_bf2.
+    /// Columns 2..5 of lossTable against |w_a|: eta_mf1, eta_mf2, tau_bf1, tau_bf2 (one
+    /// abscissa, lossTable's first column: `losses` looks its interval up once).
     pub table: [Table1D; 4],
     /// Whether the losses depend on the speed (more than one table row).
     pub speed_dependent: bool,
@@ -65,8 +66,10 @@ impl LossyGearElem {
             };
         }
         let u = w_a.abs();
-        let (eta1, eta2) = (self.table[0].eval(u), self.table[1].eval(u));
-        let (tbf1, tbf2) = (self.table[2].eval(u).abs(), self.table[3].eval(u).abs());
+        let i = self.table[0].interval(u);
+        let at = |k: usize| self.table[k].eval_in(i, u);
+        let (eta1, eta2) = (at(0), at(1));
+        let (tbf1, tbf2) = (at(2).abs(), at(3).abs());
         Losses {
             eta1,
             eta2,

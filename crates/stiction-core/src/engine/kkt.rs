@@ -143,10 +143,16 @@ impl ModeMatrix {
         let mut u = self.scratch.borrow_mut();
         u.clear();
         u.resize(self.size, 0.0);
-        for &(i, c) in &column.terms {
-            u[i] += ds * c;
+        match sparse_column(column, ds) {
+            // a gear's column has two or three entries of the system's many
+            Some((entries, len)) => self.factors.solve_sparse(&entries[..len], &mut u),
+            None => {
+                for &(i, c) in &column.terms {
+                    u[i] += ds * c;
+                }
+                self.solve(&mut u);
+            }
         }
-        self.solve(&mut u);
         let s = 1.0 + u[r];
         if s == 0.0 {
             rhs.fill(f64::NAN);
@@ -183,6 +189,30 @@ impl ModeMatrix {
             None => rhs.fill(f64::NAN),
         }
     }
+}
+
+/// Most entries `sparse_column` takes.
+const SPARSE_TERMS: usize = 4;
+
+/// `ds·column` as `woodbury_one`'s dense vector would hold it (each entry `0 + Σ ds·c` over the
+/// terms on its node, in order), its entries by increasing index; None for a long column.
+fn sparse_column(column: &Rel, ds: f64) -> Option<([(usize, f64); SPARSE_TERMS], usize)> {
+    if column.terms.len() > SPARSE_TERMS {
+        return None;
+    }
+    let mut entries = [(0, 0.0); SPARSE_TERMS];
+    let mut len = 0;
+    for &(i, c) in &column.terms {
+        match entries[..len].iter_mut().find(|(j, _)| *j == i) {
+            Some(entry) => entry.1 += ds * c,
+            None => {
+                entries[len] = (i, 0.0 + ds * c);
+                len += 1;
+            }
+        }
+    }
+    entries[..len].sort_unstable_by_key(|&(i, _)| i);
+    Some((entries, len))
 }
 
 /// The rows of G in order — permanent constraints, the switching elements' permanent rows,

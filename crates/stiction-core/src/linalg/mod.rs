@@ -59,6 +59,15 @@ pub trait Factorization {
     fn bytes(&self) -> usize;
     /// Solves `A·x = b` in place (`b` on entry, `x` on exit).
     fn solve_in_place(&self, b: &mut [f64]);
+    /// `solve_in_place` of the `b` that is zero but at `entries` (indices increasing, each
+    /// once) into `x`, all zeros on entry: a rank-one correction's right-hand side has a few
+    /// entries of many.
+    fn solve_sparse(&self, entries: &[(usize, f64)], x: &mut [f64]) {
+        for &(i, v) in entries {
+            x[i] = v;
+        }
+        self.solve_in_place(x);
+    }
 }
 
 /// Factors square matrices.
@@ -156,6 +165,31 @@ impl Factorization for DenseFactors {
         }
         let mut v = nalgebra::DVectorViewMut::from_slice(b, b.len());
         self.lu.solve_mut(&mut v);
+    }
+
+    /// With the inverse: the columns of the entries only, the same sums as `solve_in_place`
+    /// (which leaves out the columns of the zeros when the inverse is finite).
+    fn solve_sparse(&self, entries: &[(usize, f64)], x: &mut [f64]) {
+        let n = x.len();
+        match &self.inverse {
+            Some(inv) if self.finite && n > 0 => {
+                for &(j, bj) in entries {
+                    if bj == 0.0 {
+                        continue;
+                    }
+                    let column = &inv[j * n..(j + 1) * n];
+                    for (xi, a) in x.iter_mut().zip(column) {
+                        *xi += a * bj;
+                    }
+                }
+            }
+            _ => {
+                for &(i, v) in entries {
+                    x[i] = v;
+                }
+                self.solve_in_place(x);
+            }
+        }
     }
 }
 

@@ -9,7 +9,7 @@ use super::kkt::ModeMatrix;
 use super::massless::Massless;
 use crate::switching::element::{ElementValues, Kinematics, ModeKey, Solved, SwitchState};
 use crate::switching::logic::STUCK;
-use crate::system::{EnergyRole, LawCtx, System};
+use crate::system::{angle_and_speed, EnergyRole, LawCtx, System};
 use crate::thermal::HeatCache;
 
 /// Discrete state between events: the switching elements' states, the frozen relations of
@@ -169,8 +169,7 @@ pub fn kinematics(
     }
     sys.follow(&mut ws.phi, &mut ws.w);
     for (k, law) in sys.laws.iter().enumerate() {
-        ws.law_phi[k] = law.rel.angle(&ws.phi);
-        ws.law_w[k] = law.rel.dot(&ws.w);
+        (ws.law_phi[k], ws.law_w[k]) = angle_and_speed(&law.rel, &ws.phi, &ws.w);
     }
 }
 

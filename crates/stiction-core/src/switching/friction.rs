@@ -8,6 +8,7 @@ use super::element::{
 use super::logic::{self, relation_index as R, Discrete, Relations};
 use super::relation::flip_indicator;
 use crate::rel::Rel;
+use crate::system::angle_and_speed;
 use crate::table::Table1D;
 
 /// One friction element as the engine sees it.
@@ -174,8 +175,7 @@ impl SwitchingElement for FrictionElem {
     }
 
     fn forces(&self, st: &SwitchState, k: &Kinematics, v: &mut ElementValues, f: &mut [f64]) {
-        v.phi = self.rel.angle(k.phi);
-        v.w = self.rel.dot(k.w);
+        (v.phi, v.w) = angle_and_speed(&self.rel, k.phi, k.w);
         v.fn_ = self.reported_normal_force(k.signals, st.free);
         (v.tau0, v.tau0_max) = self.limits(v.fn_, st.free);
         let (sf, sb) = (st.pre.start_forward, st.pre.start_backward);

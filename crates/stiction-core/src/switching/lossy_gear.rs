@@ -9,6 +9,7 @@ use super::element::{
 use super::logic::{Discrete, BACKWARD, FORWARD, FREE, STUCK};
 use super::relation::{flip_indicator, RelationSet};
 use crate::rel::Rel;
+use crate::system::angle_and_speed;
 use crate::table::Table1D;
 
 /// One LossyGear as the engine sees it.
@@ -206,8 +207,7 @@ impl SwitchingElement for LossyGearElem {
     }
 
     fn forces(&self, st: &SwitchState, k: &Kinematics, v: &mut ElementValues, f: &mut [f64]) {
-        v.phi = self.lock_row.angle(k.phi);
-        v.w = self.lock_row.dot(k.w);
+        (v.phi, v.w) = angle_and_speed(&self.lock_row, k.phi, k.w);
         v.losses = self.losses(v.w);
         v.slope = self.mode_at(st, &v.losses).slope;
         if !self.ideal && !st.locked {

@@ -117,25 +117,44 @@ impl ModeMatrix {
     /// Allocates only when the slopes of two or more elements have changed.
     pub fn solve_with_slopes(&self, sys: &System, slope: impl Fn(usize) -> f64, rhs: &mut [f64]) {
         self.solve(rhs);
-        let mut changed = (self.sloped.iter())
-            .filter(|&&k| slope(k) != self.keys[k].slope)
-            .filter_map(|&k| {
-                let row = self.element_rows[k].permanent?;
-                let column = sys.switching[k].slope_column()?;
-                Some((column, sys.nodes + row, slope(k) - self.keys[k].slope))
-            });
-        let Some(first) = changed.next() else {
-            return;
-        };
-        match changed.next() {
-            // one gear (the common case): a scalar Woodbury step in the reused scratch vector,
-            // the arithmetic of the general path's 1×1 LU
-            None => self.woodbury_one(first, rhs),
-            Some(second) => {
-                let all: Vec<_> = [first, second].into_iter().chain(changed).collect();
-                self.woodbury(&all, rhs);
+        // a plain loop: the adaptor chain it replaces was not inlined (a call per evaluation)
+        let mut first = None;
+        for (at, &k) in self.sloped.iter().enumerate() {
+            let Some(change) = self.slope_change(sys, k, slope(k)) else {
+                continue;
+            };
+            if first.is_none() {
+                first = Some(change);
+                continue;
             }
+            let rest = self.sloped[at + 1..].iter();
+            let all: Vec<_> = (first.into_iter().chain([change]))
+                .chain(rest.filter_map(|&k| self.slope_change(sys, k, slope(k))))
+                .collect();
+            self.woodbury(&all, rhs);
+            return;
         }
+        // one gear (the common case): a scalar Woodbury step in the reused scratch vector,
+        // the arithmetic of the general path's 1×1 LU
+        if let Some(first) = first {
+            self.woodbury_one(first, rhs);
+        }
+    }
+
+    /// Element k's changed column, its row and the change of its slope; None if unchanged.
+    #[inline]
+    fn slope_change<'s>(
+        &self,
+        sys: &'s System,
+        k: usize,
+        slope: f64,
+    ) -> Option<(&'s Rel, usize, f64)> {
+        if slope == self.keys[k].slope {
+            return None;
+        }
+        let row = self.element_rows[k].permanent?;
+        let column = sys.switching[k].slope_column()?;
+        Some((column, sys.nodes + row, slope - self.keys[k].slope))
     }
 
     /// `solve_with_slopes` for a single changed column, without allocating.

@@ -68,6 +68,7 @@ impl FrictionElem {
     }
 
     /// `mu` and the sliding torque `mu·cgeo·fn` with the sign pair of (sf, sb, pre(mode)).
+    #[inline]
     pub fn sliding(&self, w: f64, fn_: f64, pre_mode: i8, sf: bool, sb: bool) -> (f64, f64) {
         let mu = if self.one_way.is_some() {
             self.mu_pos.eval(w) // no sign handling: w_rel is assumed >= 0

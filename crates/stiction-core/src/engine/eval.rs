@@ -66,6 +66,9 @@ pub struct Workspace {
     /// The values of each switching element.
     pub elements: Vec<ElementValues>,
     pub heat_in: Vec<f64>,
+    /// Each switching element's heat node (None for all without a heat network), asked once
+    /// here instead of by a virtual call per element and evaluation.
+    element_heat: Vec<Option<usize>>,
     pub temps: Vec<f64>,
     pub heat_net: Vec<f64>,
     heat_cache: HeatCache,
@@ -95,6 +98,9 @@ impl Workspace {
             constraint_tau: vec![0.0; sys.constraints.len()],
             elements: vec![ElementValues::default(); sys.switching.len()],
             heat_in: vec![0.0; sys.thermal.nodes],
+            element_heat: (sys.switching.iter())
+                .map(|e| (sys.thermal.nodes > 0).then(|| e.heat_node()).flatten())
+                .collect(),
             temps: vec![0.0; sys.thermal.nodes],
             heat_net: vec![0.0; sys.thermal.nodes],
             heat_cache: HeatCache::default(),
@@ -423,11 +429,9 @@ fn heat_and_energy(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Works
             ws.heat_in[node] += q;
         }
     }
-    // without a heat network no element has a heat node: no virtual call per element to ask
-    let heat = sys.thermal.nodes > 0;
-    for (e, v) in sys.switching.iter().zip(&ws.elements) {
+    for (v, heat) in ws.elements.iter().zip(&ws.element_heat) {
         loss += v.loss;
-        if let Some(node) = heat.then(|| e.heat_node()).flatten() {
+        if let Some(node) = *heat {
             ws.heat_in[node] += v.loss;
         }
     }

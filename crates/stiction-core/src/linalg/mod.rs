@@ -145,22 +145,18 @@ impl Factorization for DenseFactors {
             return;
         }
         if let Some(inv) = &self.inverse {
-            // x = Σⱼ bⱼ·(column j of A⁻¹), accumulated on the stack
-            let n = b.len();
-            let mut x = [0.0; INVERSE_UP_TO];
-            let x = &mut x[..n];
-            for (column, &bj) in inv.chunks_exact(n).zip(&*b) {
-                // A mode's right-hand side is mostly zeros (its lock rows, the shafts no torque
-                // acts on). A finite a·0 is ±0, and adding ±0 changes no sum that started at +0
-                // (it is +0 or nonzero, never -0): the same bits without the column.
-                if bj == 0.0 && self.finite {
-                    continue;
-                }
-                for (xi, a) in x.iter_mut().zip(column) {
-                    *xi += a * bj;
-                }
+            // x = Σⱼ bⱼ·(column j of A⁻¹), with the order known at compile time: x stays in
+            // registers (a loop of unknown length kept it in memory, a load and a store per
+            // multiply-add)
+            macro_rules! by_size {
+                ($($n:literal)*) => {
+                    match b.len() {
+                        $($n => solve_by_inverse::<$n>(inv, b, self.finite),)*
+                        n => unreachable!("an inverse is kept up to {INVERSE_UP_TO} unknowns, not {n}"),
+                    }
+                };
             }
-            b.copy_from_slice(x);
+            by_size!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16);
             return;
         }
         let mut v = nalgebra::DVectorViewMut::from_slice(b, b.len());
@@ -191,6 +187,26 @@ impl Factorization for DenseFactors {
             }
         }
     }
+}
+
+/// `b ← A⁻¹·b` for an order-`N` inverse stored column by column: `Σⱼ bⱼ·(column j)` from +0,
+/// j increasing. A mode's right-hand side is mostly zeros (its lock rows, the shafts no torque
+/// acts on). A finite a·0 is ±0, and adding ±0 changes no sum that started at +0 (it is +0 or
+/// nonzero, never -0): with a finite inverse, the same bits without the column.
+#[inline]
+fn solve_by_inverse<const N: usize>(inv: &[f64], b: &mut [f64], finite: bool) {
+    let b: &mut [f64; N] = b.try_into().expect("order N");
+    let mut x = [0.0; N];
+    for (column, &bj) in inv.chunks_exact(N).zip(b.iter()) {
+        if bj == 0.0 && finite {
+            continue;
+        }
+        let column: &[f64; N] = column.try_into().expect("a column of N");
+        for (xi, a) in x.iter_mut().zip(column) {
+            *xi += a * bj;
+        }
+    }
+    *b = x;
 }
 
 impl LinearSolver for DenseLu {

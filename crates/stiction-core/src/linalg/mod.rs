@@ -169,15 +169,15 @@ impl Factorization for DenseFactors {
         let n = x.len();
         match &self.inverse {
             Some(inv) if self.finite && n > 0 => {
-                for &(j, bj) in entries {
-                    if bj == 0.0 {
-                        continue;
-                    }
-                    let column = &inv[j * n..(j + 1) * n];
-                    for (xi, a) in x.iter_mut().zip(column) {
-                        *xi += a * bj;
-                    }
+                macro_rules! by_size {
+                    ($($n:literal)*) => {
+                        match n {
+                            $($n => solve_sparse_by_inverse::<$n>(inv, entries, x),)*
+                            n => unreachable!("an inverse is kept up to {INVERSE_UP_TO} unknowns, not {n}"),
+                        }
+                    };
                 }
+                by_size!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16);
             }
             _ => {
                 for &(i, v) in entries {
@@ -189,24 +189,42 @@ impl Factorization for DenseFactors {
     }
 }
 
-/// `b ← A⁻¹·b` for an order-`N` inverse stored column by column: `Σⱼ bⱼ·(column j)` from +0,
-/// j increasing. A mode's right-hand side is mostly zeros (its lock rows, the shafts no torque
+/// `Σⱼ bⱼ·(column j of A⁻¹)` into `out` for an order-`N` inverse stored column by column, from
+/// +0, over the `(j, bⱼ)` of `b` in order; with the order known at compile time the sums stay
+/// in registers. A mode's right-hand side is mostly zeros (its lock rows, the shafts no torque
 /// acts on). A finite a·0 is ±0, and adding ±0 changes no sum that started at +0 (it is +0 or
 /// nonzero, never -0): with a finite inverse, the same bits without the column.
 #[inline]
-fn solve_by_inverse<const N: usize>(inv: &[f64], b: &mut [f64], finite: bool) {
-    let b: &mut [f64; N] = b.try_into().expect("order N");
+fn combine_columns<const N: usize>(
+    inv: &[f64],
+    b: impl Iterator<Item = (usize, f64)>,
+    finite: bool,
+    out: &mut [f64],
+) {
     let mut x = [0.0; N];
-    for (column, &bj) in inv.chunks_exact(N).zip(b.iter()) {
+    for (j, bj) in b {
         if bj == 0.0 && finite {
             continue;
         }
-        let column: &[f64; N] = column.try_into().expect("a column of N");
+        let column: &[f64; N] = (inv[j * N..(j + 1) * N]).try_into().expect("a column of N");
         for (xi, a) in x.iter_mut().zip(column) {
             *xi += a * bj;
         }
     }
-    *b = x;
+    out.copy_from_slice(&x);
+}
+
+/// `b ← A⁻¹·b` through `combine_columns`.
+#[inline]
+fn solve_by_inverse<const N: usize>(inv: &[f64], b: &mut [f64], finite: bool) {
+    let rhs: [f64; N] = (&*b).try_into().expect("order N");
+    combine_columns::<N>(inv, rhs.into_iter().enumerate(), finite, b);
+}
+
+/// `x ← A⁻¹·b` for `b` zero but at `entries`, through `combine_columns` (a finite inverse).
+#[inline]
+fn solve_sparse_by_inverse<const N: usize>(inv: &[f64], entries: &[(usize, f64)], x: &mut [f64]) {
+    combine_columns::<N>(inv, entries.iter().copied(), true, x);
 }
 
 impl LinearSolver for DenseLu {

@@ -9,7 +9,7 @@ use super::kkt::ModeMatrix;
 use super::massless::Massless;
 use crate::switching::element::{ElementValues, Kinematics, ModeKey, Solved, SwitchState};
 use crate::switching::logic::STUCK;
-use crate::system::{angle_and_speed, EnergyRole, LawCtx, System};
+use crate::system::{angle_and_speed, EnergyRole, LawCtx, LawElem, System};
 use crate::thermal::HeatCache;
 
 /// Discrete state between events: the switching elements' states, the frozen relations of
@@ -123,6 +123,29 @@ impl Workspace {
             signals: &self.signals,
             relations: &disc.relations[base..base + law.relation_count],
         }
+    }
+}
+
+/// `Workspace::law_ctx` from the workspace's fields and the law's relative angle and speed,
+/// for loops that zip the laws with their values instead of indexing them.
+#[inline]
+fn law_view<'a>(
+    t: f64,
+    horizon: f64,
+    signals: &'a [f64],
+    disc: &'a DiscreteState,
+    law: &LawElem,
+    phi_rel: f64,
+    w_rel: f64,
+) -> LawCtx<'a> {
+    let base = law.relation_base;
+    LawCtx {
+        t,
+        horizon,
+        phi_rel,
+        w_rel,
+        signals,
+        relations: &disc.relations[base..base + law.relation_count],
     }
 }
 
@@ -266,19 +289,20 @@ fn accelerations(sys: &System, mm: &ModeMatrix, disc: &DiscreteState, ws: &mut W
         ws.constraint_tau.copy_from_slice(&rhs[n..n + m]);
     }
     let multiplier = |row: Option<usize>| row.map(|r| rhs[n + r]);
-    for (k, (e, st)) in sys.switching.iter().zip(&disc.switching).enumerate() {
-        let rows = &mm.element_rows[k];
+    let elements = (sys.switching.iter().zip(&disc.switching))
+        .zip(mm.element_rows.iter().zip(&mut ws.elements));
+    for ((e, st), (rows, v)) in elements {
         let solved = Solved {
             a: &ws.a,
             permanent: multiplier(rows.permanent),
             lock: multiplier(rows.lock),
             held: rows.held,
         };
-        e.solved(st, &solved, &mut ws.elements[k]);
+        e.solved(st, &solved, v);
         if rows.forced && !st.free && st.pre.mode == STUCK {
             let beyond = forced_breakaway(e.motion().dot(&ws.w), e.motion().dot(&ws.a));
             if beyond != 0.0 {
-                ws.elements[k].sa = beyond;
+                v.sa = beyond;
             }
         }
     }
@@ -307,9 +331,14 @@ pub fn forced_breakaway(w: f64, a: f64) -> f64 {
 /// The generalized forces `f` of the laws and switching elements at the speeds in `ws`.
 fn forces(sys: &System, disc: &DiscreteState, ws: &mut Workspace, f: &mut [f64]) {
     f.fill(0.0);
-    for (k, law) in sys.laws.iter().enumerate() {
-        let tau = law.law.tau(&ws.law_ctx(sys, disc, k));
-        ws.law_tau[k] = tau;
+    // zipped, not indexed: no bounds checks per law in every evaluation
+    let laws = (sys.laws.iter())
+        .zip(ws.law_phi.iter().zip(&ws.law_w))
+        .zip(&mut ws.law_tau);
+    for ((law, (&phi_rel, &w_rel)), law_tau) in laws {
+        let ctx = law_view(ws.t, ws.horizon, &ws.signals, disc, law, phi_rel, w_rel);
+        let tau = law.law.tau(&ctx);
+        *law_tau = tau;
         law.rel.apply(tau, f);
     }
     let kin = Kinematics {
@@ -414,18 +443,21 @@ fn heat_and_energy(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Works
     let lay = Layout::of(sys);
     ws.heat_in.iter_mut().for_each(|q| *q = 0.0);
     let (mut loss, mut work, mut potential) = (0.0, 0.0, 0.0);
-    for (k, law) in sys.laws.iter().enumerate() {
-        let ctx = ws.law_ctx(sys, disc, k);
+    let laws = (sys.laws.iter())
+        .zip(ws.law_phi.iter().zip(&ws.law_w))
+        .zip(ws.law_tau.iter().zip(&mut ws.law_loss));
+    for ((law, (&phi_rel, &w_rel)), (&tau, law_loss)) in laws {
+        let ctx = law_view(ws.t, ws.horizon, &ws.signals, disc, law, phi_rel, w_rel);
         match law.role {
-            EnergyRole::Source => work -= ws.law_tau[k] * ws.law_w[k],
+            EnergyRole::Source => work -= tau * w_rel,
             _ => {
-                loss += law.law.dissipation(&ctx, ws.law_tau[k]);
+                loss += law.law.dissipation(&ctx, tau);
                 potential += law.law.potential(&ctx);
             }
         }
         if let Some(node) = law.heat_node {
-            let q = law.law.loss_power(&ctx, ws.law_tau[k]);
-            ws.law_loss[k] = q;
+            let q = law.law.loss_power(&ctx, tau);
+            *law_loss = q;
             ws.heat_in[node] += q;
         }
     }

@@ -264,11 +264,8 @@ fn accelerations(sys: &System, mm: &ModeMatrix, disc: &DiscreteState, ws: &mut W
     let n = sys.nodes;
     let mut rhs = std::mem::take(&mut ws.rhs);
     rhs.resize(mm.size, 0.0);
-    // `forces` sets the node rows; the rows below them start at zero (a mode without locks
-    // has none: no memset call for an empty slice)
-    if mm.size > n {
-        rhs[n..].fill(0.0);
-    }
+    // `forces` adds into the node rows; every row starts at zero (one memset call)
+    rhs.fill(0.0);
     forces(sys, disc, ws, &mut rhs[..n]);
     // the permanent constraints are G's first rows; a prescribed motion's holds its acceleration
     for (k, c) in sys.constraints.iter().enumerate() {
@@ -328,9 +325,9 @@ pub fn forced_breakaway(w: f64, a: f64) -> f64 {
     }
 }
 
-/// The generalized forces `f` of the laws and switching elements at the speeds in `ws`.
+/// The generalized forces of the laws and switching elements at the speeds in `ws`, added into
+/// `f` (zero on entry).
 fn forces(sys: &System, disc: &DiscreteState, ws: &mut Workspace, f: &mut [f64]) {
-    f.fill(0.0);
     // zipped, not indexed: no bounds checks per law in every evaluation
     let laws = (sys.laws.iter())
         .zip(ws.law_phi.iter().zip(&ws.law_w))
@@ -432,6 +429,7 @@ fn refresh(sys: &System, disc: &DiscreteState, ws: &mut Workspace, f: &mut [f64]
     for (k, law) in sys.laws.iter().enumerate() {
         ws.law_w[k] = law.rel.dot(&ws.w);
     }
+    f.fill(0.0);
     forces(sys, disc, ws, f);
 }
 
@@ -472,8 +470,8 @@ fn heat_and_energy(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Works
             work -= tau * c.rel.dot(&ws.w);
         }
     }
-    let kinetic: f64 = (0..sys.nodes)
-        .map(|i| 0.5 * sys.mass[i] * ws.w[i] * ws.w[i])
+    let kinetic: f64 = (sys.mass.iter().zip(&ws.w))
+        .map(|(m, w)| 0.5 * m * w * w)
         .sum();
     ws.energy = [kinetic, potential, x[lay.loss()], x[lay.work()]];
     if sys.thermal.nodes > 0 {

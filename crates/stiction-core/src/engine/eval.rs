@@ -7,9 +7,11 @@ use nalgebra::{DMatrix, DVector};
 
 use super::kkt::ModeMatrix;
 use super::massless::Massless;
-use crate::switching::element::{ElementValues, Kinematics, ModeKey, Solved, SwitchState};
+use crate::switching::element::{
+    angle_and_speed, ElementValues, Kinematics, ModeKey, Solved, SwitchState,
+};
 use crate::switching::logic::STUCK;
-use crate::system::{angle_and_speed, EnergyRole, LawCtx, LawElem, System};
+use crate::system::{EnergyRole, LawCtx, System};
 use crate::thermal::HeatCache;
 
 /// Discrete state between events: the switching elements' states, the frozen relations of
@@ -113,39 +115,13 @@ impl Workspace {
 
     #[inline]
     pub fn law_ctx<'a>(&'a self, sys: &System, disc: &'a DiscreteState, k: usize) -> LawCtx<'a> {
-        let law = &sys.laws[k];
-        let base = law.relation_base;
-        LawCtx {
-            t: self.t,
-            horizon: self.horizon,
-            phi_rel: self.law_phi[k],
-            w_rel: self.law_w[k],
-            signals: &self.signals,
-            relations: &disc.relations[base..base + law.relation_count],
-        }
-    }
-}
-
-/// `Workspace::law_ctx` from the workspace's fields and the law's relative angle and speed,
-/// for loops that zip the laws with their values instead of indexing them.
-#[inline]
-fn law_view<'a>(
-    t: f64,
-    horizon: f64,
-    signals: &'a [f64],
-    disc: &'a DiscreteState,
-    law: &LawElem,
-    phi_rel: f64,
-    w_rel: f64,
-) -> LawCtx<'a> {
-    let base = law.relation_base;
-    LawCtx {
-        t,
-        horizon,
-        phi_rel,
-        w_rel,
-        signals,
-        relations: &disc.relations[base..base + law.relation_count],
+        let (law, phi_rel, w_rel) = (&sys.laws[k], self.law_phi[k], self.law_w[k]);
+        law.view(
+            (self.t, self.horizon),
+            (phi_rel, w_rel),
+            &self.signals,
+            &disc.relations,
+        )
     }
 }
 
@@ -333,7 +309,12 @@ fn forces(sys: &System, disc: &DiscreteState, ws: &mut Workspace, f: &mut [f64])
         .zip(ws.law_phi.iter().zip(&ws.law_w))
         .zip(&mut ws.law_tau);
     for ((law, (&phi_rel, &w_rel)), law_tau) in laws {
-        let ctx = law_view(ws.t, ws.horizon, &ws.signals, disc, law, phi_rel, w_rel);
+        let ctx = law.view(
+            (ws.t, ws.horizon),
+            (phi_rel, w_rel),
+            &ws.signals,
+            &disc.relations,
+        );
         let tau = law.law.tau(&ctx);
         *law_tau = tau;
         law.rel.apply(tau, f);
@@ -445,7 +426,12 @@ fn heat_and_energy(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Works
         .zip(ws.law_phi.iter().zip(&ws.law_w))
         .zip(ws.law_tau.iter().zip(&mut ws.law_loss));
     for ((law, (&phi_rel, &w_rel)), (&tau, law_loss)) in laws {
-        let ctx = law_view(ws.t, ws.horizon, &ws.signals, disc, law, phi_rel, w_rel);
+        let ctx = law.view(
+            (ws.t, ws.horizon),
+            (phi_rel, w_rel),
+            &ws.signals,
+            &disc.relations,
+        );
         match law.role {
             EnergyRole::Source => work -= tau * w_rel,
             _ => {

@@ -3,12 +3,12 @@
 //! to it (the OneWayClutch's own one-directional rules included).
 
 use super::element::{
-    slip_rate_sign, ElementValues, Kinematics, Solved, SwitchState, SwitchingElement, NEVER,
+    angle_and_speed, slip_rate_sign, ElementValues, Kinematics, Solved, SwitchState,
+    SwitchingElement, NEVER,
 };
 use super::logic::{self, relation_index as R, Discrete, Relations};
 use super::relation::flip_indicator;
 use crate::rel::Rel;
-use crate::system::angle_and_speed;
 use crate::table::Table1D;
 
 /// One friction element as the engine sees it.

@@ -3,13 +3,12 @@
 
 pub use super::element::Losses;
 use super::element::{
-    common_variable, slip_rate_sign, Column, ElementValues, Kinematics, ModeKey, Solved,
-    SwitchState, SwitchVar, SwitchingElement, NEVER,
+    angle_and_speed, common_variable, slip_rate_sign, Column, ElementValues, Kinematics, ModeKey,
+    Solved, SwitchState, SwitchVar, SwitchingElement, NEVER,
 };
 use super::logic::{Discrete, BACKWARD, FORWARD, FREE, STUCK};
 use super::relation::{flip_indicator, RelationSet};
 use crate::rel::Rel;
-use crate::system::angle_and_speed;
 use crate::table::Table1D;
 
 /// One LossyGear as the engine sees it.

@@ -19,22 +19,6 @@ use crate::signals::SignalGraph;
 use crate::switching::element::SwitchingElement;
 use crate::thermal::ThermalNet;
 
-/// `(rel.angle(phi), rel.dot(w))` in one pass over the terms, each the same sum as apart
-/// (from the neutral element `sum` starts with, terms in order): an evaluation asks both of
-/// every law and element.
-#[inline]
-pub fn angle_and_speed(rel: &Rel, phi: &[f64], w: &[f64]) -> (f64, f64) {
-    // one bounds check per term serves both (the same length)
-    let w = &w[..phi.len()];
-    let zero: f64 = std::iter::empty::<f64>().sum();
-    let (mut angle, mut speed) = (zero, zero);
-    for &(i, c) in &rel.terms {
-        angle += c * phi[i];
-        speed += c * w[i];
-    }
-    (angle + rel.offset, speed)
-}
-
 pub struct LawElem {
     pub owner: String,
     pub rel: Rel,
@@ -73,6 +57,30 @@ pub struct Prescribed {
     pub phi: usize,
     pub w: Option<usize>,
     pub a: Option<usize>,
+}
+
+impl LawElem {
+    /// What the law sees at (t, horizon) with its relative angle and speed, given the signals
+    /// and all frozen relations (it takes its own): the evaluation's loops zip the laws with
+    /// their values instead of indexing them.
+    #[inline]
+    pub fn view<'a>(
+        &self,
+        (t, horizon): (f64, f64),
+        (phi_rel, w_rel): (f64, f64),
+        signals: &'a [f64],
+        relations: &'a [bool],
+    ) -> LawCtx<'a> {
+        let base = self.relation_base;
+        LawCtx {
+            t,
+            horizon,
+            phi_rel,
+            w_rel,
+            signals,
+            relations: &relations[base..base + self.relation_count],
+        }
+    }
 }
 
 impl Constraint {

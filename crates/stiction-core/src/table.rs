@@ -72,10 +72,9 @@ impl Table1D {
     }
 
     /// The interval `eval(u)` interpolates in: i with x[i] <= u < x[i+1], the first/last
-    /// interval extrapolating (0 for a one-row table). Tables sharing their abscissa share it,
-    /// so a LossyGear looks it up once for its four columns.
+    /// interval extrapolating (0 for a one-row table).
     #[inline]
-    pub fn interval(&self, u: f64) -> usize {
+    fn interval(&self, u: f64) -> usize {
         let n = self.x.len();
         if n == 1 {
             return 0;
@@ -87,14 +86,30 @@ impl Table1D {
         }
     }
 
-    /// The value at `u` in interval `i` (`interval(u)` of this table or one with its abscissa).
+    /// The value at `u` in interval `i` (`interval(u)`).
     #[inline]
-    pub fn eval_in(&self, i: usize, u: f64) -> f64 {
+    fn eval_in(&self, i: usize, u: f64) -> f64 {
         if self.x.len() == 1 {
             return self.y[0];
         }
         let (x, y) = (&self.x[i..i + 2], &self.y[i..i + 2]);
         y[0] + (y[1] - y[0]) * (u - x[0]) / (x[1] - x[0])
+    }
+
+    /// `eval(u)` of each of tables with one abscissa (a LossyGear's loss columns): the
+    /// interval, `u − x[i]` and `x[i+1] − x[i]` found once, each value `eval`'s.
+    #[inline]
+    pub fn eval_columns<const K: usize>(tables: &[Table1D; K], u: f64) -> [f64; K] {
+        let x = &tables[0].x;
+        if x.len() == 1 {
+            return tables.each_ref().map(|t| t.y[0]);
+        }
+        let i = tables[0].interval(u);
+        let (du, dx) = (u - x[i], x[i + 1] - x[i]);
+        tables.each_ref().map(|t| {
+            let y = &t.y[i..i + 2];
+            y[0] + (y[1] - y[0]) * du / dx
+        })
     }
 
     pub fn abscissa(&self) -> &[f64] {

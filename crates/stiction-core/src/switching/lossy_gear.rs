@@ -18,7 +18,7 @@ pub struct LossyGearElem {
     /// `lossTable = [0, 1, 1, 0, 0]` exactly: an ideal gear (mode 2 for ever).
     pub ideal: bool,
     /// Columns 2..5 of lossTable against |w_a|: eta_mf1, eta_mf2, tau_bf1, tau_bf2 (one
-    /// abscissa, lossTable's first column: `losses` looks its interval up once).
+    /// abscissa, lossTable's first column: `losses` reads them at once).
     pub table: [Table1D; 4],
     /// Whether the losses depend on the speed (more than one table row).
     pub speed_dependent: bool,
@@ -66,10 +66,8 @@ impl LossyGearElem {
             };
         }
         let u = w_a.abs();
-        let i = self.table[0].interval(u);
-        let at = |k: usize| self.table[k].eval_in(i, u);
-        let (eta1, eta2) = (at(0), at(1));
-        let (tbf1, tbf2) = (at(2).abs(), at(3).abs());
+        let [eta1, eta2, tbf1, tbf2] = Table1D::eval_columns(&self.table, u);
+        let (tbf1, tbf2) = (tbf1.abs(), tbf2.abs());
         Losses {
             eta1,
             eta2,

@@ -57,19 +57,59 @@ impl Table1D {
         Ok(())
     }
 
+    /// Inline for a one-row table (a friction characteristic's usual constant: no call).
+    #[inline]
     pub fn eval(&self, u: f64) -> f64 {
-        let n = self.x.len();
-        if n == 1 {
+        if self.x.len() == 1 {
             return self.y[0];
         }
-        // Interval i with x[i] <= u < x[i+1]; the first/last interval extrapolates.
-        let i = match self.x.partition_point(|&xi| xi <= u) {
+        self.interpolate(u)
+    }
+
+    #[inline(never)]
+    fn interpolate(&self, u: f64) -> f64 {
+        self.eval_in(self.interval(u), u)
+    }
+
+    /// The interval `eval(u)` interpolates in: i with x[i] <= u < x[i+1], the first/last
+    /// interval extrapolating (0 for a one-row table).
+    #[inline]
+    fn interval(&self, u: f64) -> usize {
+        let n = self.x.len();
+        if n == 1 {
+            return 0;
+        }
+        match self.x.partition_point(|&xi| xi <= u) {
             0 => 0,
             k if k >= n => n - 2,
             k => k - 1,
-        };
-        let (x0, x1, y0, y1) = (self.x[i], self.x[i + 1], self.y[i], self.y[i + 1]);
-        y0 + (y1 - y0) * (u - x0) / (x1 - x0)
+        }
+    }
+
+    /// The value at `u` in interval `i` (`interval(u)`).
+    #[inline]
+    fn eval_in(&self, i: usize, u: f64) -> f64 {
+        if self.x.len() == 1 {
+            return self.y[0];
+        }
+        let (x, y) = (&self.x[i..i + 2], &self.y[i..i + 2]);
+        y[0] + (y[1] - y[0]) * (u - x[0]) / (x[1] - x[0])
+    }
+
+    /// `eval(u)` of each of tables with one abscissa (a LossyGear's loss columns): the
+    /// interval, `u − x[i]` and `x[i+1] − x[i]` found once, each value `eval`'s.
+    #[inline]
+    pub fn eval_columns<const K: usize>(tables: &[Table1D; K], u: f64) -> [f64; K] {
+        let x = &tables[0].x;
+        if x.len() == 1 {
+            return tables.each_ref().map(|t| t.y[0]);
+        }
+        let i = tables[0].interval(u);
+        let (du, dx) = (u - x[i], x[i + 1] - x[i]);
+        tables.each_ref().map(|t| {
+            let y = &t.y[i..i + 2];
+            y[0] + (y[1] - y[0]) * du / dx
+        })
     }
 
     pub fn abscissa(&self) -> &[f64] {

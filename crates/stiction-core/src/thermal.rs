@@ -89,8 +89,8 @@ impl ThermalNet {
         temps: &mut [f64],
         cache: &mut HeatCache,
     ) {
-        for (node, kind) in self.kind.iter().enumerate() {
-            temps[node] = match *kind {
+        for (temp, kind) in temps.iter_mut().zip(&self.kind) {
+            *temp = match *kind {
                 NodeKind::Capacitive(i) => states[i],
                 NodeKind::Fixed(t) => t,
                 NodeKind::Algebraic(_) => 0.0,
@@ -100,10 +100,15 @@ impl ThermalNet {
             return;
         }
         // Σ_links G·(T_other − T_i) + heat_in_i = 0 for every algebraic node i.
-        let conductances = self.links.iter().map(|l| l.conductance(signals));
-        if cache.factors.is_none() || !conductances.clone().eq(cache.g.iter().copied()) {
+        // (a plain loop: `Iterator::eq` on the adaptors was a call of its own)
+        let same = cache.factors.is_some()
+            && cache.g.len() == self.links.len()
+            && (self.links.iter().zip(&cache.g)).all(|(l, &g)| l.conductance(signals) == g);
+        if !same {
             cache.g.clear();
-            cache.g.extend(conductances);
+            cache
+                .g
+                .extend(self.links.iter().map(|l| l.conductance(signals)));
             cache.factors = Some(self.factor_balance(&cache.g));
         }
         let rhs = &mut cache.rhs;

@@ -7,7 +7,9 @@ use nalgebra::{DMatrix, DVector};
 
 use super::kkt::ModeMatrix;
 use super::massless::Massless;
-use crate::switching::element::{ElementValues, Kinematics, ModeKey, Solved, SwitchState};
+use crate::switching::element::{
+    angle_and_speed, ElementValues, Kinematics, ModeKey, Solved, SwitchState,
+};
 use crate::switching::logic::STUCK;
 use crate::system::{EnergyRole, LawCtx, System};
 use crate::thermal::HeatCache;
@@ -66,6 +68,9 @@ pub struct Workspace {
     /// The values of each switching element.
     pub elements: Vec<ElementValues>,
     pub heat_in: Vec<f64>,
+    /// Each switching element's heat node (None for all without a heat network), asked once
+    /// here instead of by a virtual call per element and evaluation.
+    element_heat: Vec<Option<usize>>,
     pub temps: Vec<f64>,
     pub heat_net: Vec<f64>,
     heat_cache: HeatCache,
@@ -95,6 +100,9 @@ impl Workspace {
             constraint_tau: vec![0.0; sys.constraints.len()],
             elements: vec![ElementValues::default(); sys.switching.len()],
             heat_in: vec![0.0; sys.thermal.nodes],
+            element_heat: (sys.switching.iter())
+                .map(|e| (sys.thermal.nodes > 0).then(|| e.heat_node()).flatten())
+                .collect(),
             temps: vec![0.0; sys.thermal.nodes],
             heat_net: vec![0.0; sys.thermal.nodes],
             heat_cache: HeatCache::default(),
@@ -107,16 +115,13 @@ impl Workspace {
 
     #[inline]
     pub fn law_ctx<'a>(&'a self, sys: &System, disc: &'a DiscreteState, k: usize) -> LawCtx<'a> {
-        let law = &sys.laws[k];
-        let base = law.relation_base;
-        LawCtx {
-            t: self.t,
-            horizon: self.horizon,
-            phi_rel: self.law_phi[k],
-            w_rel: self.law_w[k],
-            signals: &self.signals,
-            relations: &disc.relations[base..base + law.relation_count],
-        }
+        let (law, phi_rel, w_rel) = (&sys.laws[k], self.law_phi[k], self.law_w[k]);
+        law.view(
+            (self.t, self.horizon),
+            (phi_rel, w_rel),
+            &self.signals,
+            &disc.relations,
+        )
     }
 }
 
@@ -169,8 +174,7 @@ pub fn kinematics(
     }
     sys.follow(&mut ws.phi, &mut ws.w);
     for (k, law) in sys.laws.iter().enumerate() {
-        ws.law_phi[k] = law.rel.angle(&ws.phi);
-        ws.law_w[k] = law.rel.dot(&ws.w);
+        (ws.law_phi[k], ws.law_w[k]) = angle_and_speed(&law.rel, &ws.phi, &ws.w);
     }
 }
 
@@ -236,11 +240,8 @@ fn accelerations(sys: &System, mm: &ModeMatrix, disc: &DiscreteState, ws: &mut W
     let n = sys.nodes;
     let mut rhs = std::mem::take(&mut ws.rhs);
     rhs.resize(mm.size, 0.0);
-    // `forces` sets the node rows; the rows below them start at zero (a mode without locks
-    // has none: no memset call for an empty slice)
-    if mm.size > n {
-        rhs[n..].fill(0.0);
-    }
+    // `forces` adds into the node rows; every row starts at zero (one memset call)
+    rhs.fill(0.0);
     forces(sys, disc, ws, &mut rhs[..n]);
     // the permanent constraints are G's first rows; a prescribed motion's holds its acceleration
     for (k, c) in sys.constraints.iter().enumerate() {
@@ -261,19 +262,20 @@ fn accelerations(sys: &System, mm: &ModeMatrix, disc: &DiscreteState, ws: &mut W
         ws.constraint_tau.copy_from_slice(&rhs[n..n + m]);
     }
     let multiplier = |row: Option<usize>| row.map(|r| rhs[n + r]);
-    for (k, (e, st)) in sys.switching.iter().zip(&disc.switching).enumerate() {
-        let rows = &mm.element_rows[k];
+    let elements = (sys.switching.iter().zip(&disc.switching))
+        .zip(mm.element_rows.iter().zip(&mut ws.elements));
+    for ((e, st), (rows, v)) in elements {
         let solved = Solved {
             a: &ws.a,
             permanent: multiplier(rows.permanent),
             lock: multiplier(rows.lock),
             held: rows.held,
         };
-        e.solved(st, &solved, &mut ws.elements[k]);
+        e.solved(st, &solved, v);
         if rows.forced && !st.free && st.pre.mode == STUCK {
             let beyond = forced_breakaway(e.motion().dot(&ws.w), e.motion().dot(&ws.a));
             if beyond != 0.0 {
-                ws.elements[k].sa = beyond;
+                v.sa = beyond;
             }
         }
     }
@@ -299,12 +301,22 @@ pub fn forced_breakaway(w: f64, a: f64) -> f64 {
     }
 }
 
-/// The generalized forces `f` of the laws and switching elements at the speeds in `ws`.
+/// The generalized forces of the laws and switching elements at the speeds in `ws`, added into
+/// `f` (zero on entry).
 fn forces(sys: &System, disc: &DiscreteState, ws: &mut Workspace, f: &mut [f64]) {
-    f.fill(0.0);
-    for (k, law) in sys.laws.iter().enumerate() {
-        let tau = law.law.tau(&ws.law_ctx(sys, disc, k));
-        ws.law_tau[k] = tau;
+    // zipped, not indexed: no bounds checks per law in every evaluation
+    let laws = (sys.laws.iter())
+        .zip(ws.law_phi.iter().zip(&ws.law_w))
+        .zip(&mut ws.law_tau);
+    for ((law, (&phi_rel, &w_rel)), law_tau) in laws {
+        let ctx = law.view(
+            (ws.t, ws.horizon),
+            (phi_rel, w_rel),
+            &ws.signals,
+            &disc.relations,
+        );
+        let tau = law.law.tau(&ctx);
+        *law_tau = tau;
         law.rel.apply(tau, f);
     }
     let kin = Kinematics {
@@ -398,6 +410,7 @@ fn refresh(sys: &System, disc: &DiscreteState, ws: &mut Workspace, f: &mut [f64]
     for (k, law) in sys.laws.iter().enumerate() {
         ws.law_w[k] = law.rel.dot(&ws.w);
     }
+    f.fill(0.0);
     forces(sys, disc, ws, f);
 }
 
@@ -409,26 +422,32 @@ fn heat_and_energy(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Works
     let lay = Layout::of(sys);
     ws.heat_in.iter_mut().for_each(|q| *q = 0.0);
     let (mut loss, mut work, mut potential) = (0.0, 0.0, 0.0);
-    for (k, law) in sys.laws.iter().enumerate() {
-        let ctx = ws.law_ctx(sys, disc, k);
+    let laws = (sys.laws.iter())
+        .zip(ws.law_phi.iter().zip(&ws.law_w))
+        .zip(ws.law_tau.iter().zip(&mut ws.law_loss));
+    for ((law, (&phi_rel, &w_rel)), (&tau, law_loss)) in laws {
+        let ctx = law.view(
+            (ws.t, ws.horizon),
+            (phi_rel, w_rel),
+            &ws.signals,
+            &disc.relations,
+        );
         match law.role {
-            EnergyRole::Source => work -= ws.law_tau[k] * ws.law_w[k],
+            EnergyRole::Source => work -= tau * w_rel,
             _ => {
-                loss += law.law.dissipation(&ctx, ws.law_tau[k]);
+                loss += law.law.dissipation(&ctx, tau);
                 potential += law.law.potential(&ctx);
             }
         }
         if let Some(node) = law.heat_node {
-            let q = law.law.loss_power(&ctx, ws.law_tau[k]);
-            ws.law_loss[k] = q;
+            let q = law.law.loss_power(&ctx, tau);
+            *law_loss = q;
             ws.heat_in[node] += q;
         }
     }
-    // without a heat network no element has a heat node: no virtual call per element to ask
-    let heat = sys.thermal.nodes > 0;
-    for (e, v) in sys.switching.iter().zip(&ws.elements) {
+    for (v, heat) in ws.elements.iter().zip(&ws.element_heat) {
         loss += v.loss;
-        if let Some(node) = heat.then(|| e.heat_node()).flatten() {
+        if let Some(node) = *heat {
             ws.heat_in[node] += v.loss;
         }
     }
@@ -437,8 +456,8 @@ fn heat_and_energy(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Works
             work -= tau * c.rel.dot(&ws.w);
         }
     }
-    let kinetic: f64 = (0..sys.nodes)
-        .map(|i| 0.5 * sys.mass[i] * ws.w[i] * ws.w[i])
+    let kinetic: f64 = (sys.mass.iter().zip(&ws.w))
+        .map(|(m, w)| 0.5 * m * w * w)
         .sum();
     ws.energy = [kinetic, potential, x[lay.loss()], x[lay.work()]];
     if sys.thermal.nodes > 0 {

@@ -117,25 +117,44 @@ impl ModeMatrix {
     /// Allocates only when the slopes of two or more elements have changed.
     pub fn solve_with_slopes(&self, sys: &System, slope: impl Fn(usize) -> f64, rhs: &mut [f64]) {
         self.solve(rhs);
-        let mut changed = (self.sloped.iter())
-            .filter(|&&k| slope(k) != self.keys[k].slope)
-            .filter_map(|&k| {
-                let row = self.element_rows[k].permanent?;
-                let column = sys.switching[k].slope_column()?;
-                Some((column, sys.nodes + row, slope(k) - self.keys[k].slope))
-            });
-        let Some(first) = changed.next() else {
-            return;
-        };
-        match changed.next() {
-            // one gear (the common case): a scalar Woodbury step in the reused scratch vector,
-            // the arithmetic of the general path's 1×1 LU
-            None => self.woodbury_one(first, rhs),
-            Some(second) => {
-                let all: Vec<_> = [first, second].into_iter().chain(changed).collect();
-                self.woodbury(&all, rhs);
+        // a plain loop: the adaptor chain it replaces was not inlined (a call per evaluation)
+        let mut first = None;
+        for (at, &k) in self.sloped.iter().enumerate() {
+            let Some(change) = self.slope_change(sys, k, slope(k)) else {
+                continue;
+            };
+            if first.is_none() {
+                first = Some(change);
+                continue;
             }
+            let rest = self.sloped[at + 1..].iter();
+            let all: Vec<_> = (first.into_iter().chain([change]))
+                .chain(rest.filter_map(|&k| self.slope_change(sys, k, slope(k))))
+                .collect();
+            self.woodbury(&all, rhs);
+            return;
         }
+        // one gear (the common case): a scalar Woodbury step in the reused scratch vector,
+        // the arithmetic of the general path's 1×1 LU
+        if let Some(first) = first {
+            self.woodbury_one(first, rhs);
+        }
+    }
+
+    /// Element k's changed column, its row and the change of its slope; None if unchanged.
+    #[inline]
+    fn slope_change<'s>(
+        &self,
+        sys: &'s System,
+        k: usize,
+        slope: f64,
+    ) -> Option<(&'s Rel, usize, f64)> {
+        if slope == self.keys[k].slope {
+            return None;
+        }
+        let row = self.element_rows[k].permanent?;
+        let column = sys.switching[k].slope_column()?;
+        Some((column, sys.nodes + row, slope - self.keys[k].slope))
     }
 
     /// `solve_with_slopes` for a single changed column, without allocating.
@@ -143,10 +162,16 @@ impl ModeMatrix {
         let mut u = self.scratch.borrow_mut();
         u.clear();
         u.resize(self.size, 0.0);
-        for &(i, c) in &column.terms {
-            u[i] += ds * c;
+        match sparse_column(column, ds) {
+            // a gear's column has two or three entries of the system's many
+            Some((entries, len)) => self.factors.solve_sparse(&entries[..len], &mut u),
+            None => {
+                for &(i, c) in &column.terms {
+                    u[i] += ds * c;
+                }
+                self.solve(&mut u);
+            }
         }
-        self.solve(&mut u);
         let s = 1.0 + u[r];
         if s == 0.0 {
             rhs.fill(f64::NAN);
@@ -183,6 +208,30 @@ impl ModeMatrix {
             None => rhs.fill(f64::NAN),
         }
     }
+}
+
+/// Most entries `sparse_column` takes.
+const SPARSE_TERMS: usize = 4;
+
+/// `ds·column` as `woodbury_one`'s dense vector would hold it (each entry `0 + Σ ds·c` over the
+/// terms on its node, in order), its entries by increasing index; None for a long column.
+fn sparse_column(column: &Rel, ds: f64) -> Option<([(usize, f64); SPARSE_TERMS], usize)> {
+    if column.terms.len() > SPARSE_TERMS {
+        return None;
+    }
+    let mut entries = [(0, 0.0); SPARSE_TERMS];
+    let mut len = 0;
+    for &(i, c) in &column.terms {
+        match entries[..len].iter_mut().find(|(j, _)| *j == i) {
+            Some(entry) => entry.1 += ds * c,
+            None => {
+                entries[len] = (i, 0.0 + ds * c);
+                len += 1;
+            }
+        }
+    }
+    entries[..len].sort_unstable_by_key(|&(i, _)| i);
+    Some((entries, len))
 }
 
 /// The rows of G in order — permanent constraints, the switching elements' permanent rows,

@@ -59,6 +59,15 @@ pub trait Factorization {
     fn bytes(&self) -> usize;
     /// Solves `A·x = b` in place (`b` on entry, `x` on exit).
     fn solve_in_place(&self, b: &mut [f64]);
+    /// `solve_in_place` of the `b` that is zero but at `entries` (indices increasing, each
+    /// once) into `x`, all zeros on entry: a rank-one correction's right-hand side has a few
+    /// entries of many.
+    fn solve_sparse(&self, entries: &[(usize, f64)], x: &mut [f64]) {
+        for &(i, v) in entries {
+            x[i] = v;
+        }
+        self.solve_in_place(x);
+    }
 }
 
 /// Factors square matrices.
@@ -136,27 +145,86 @@ impl Factorization for DenseFactors {
             return;
         }
         if let Some(inv) = &self.inverse {
-            // x = Σⱼ bⱼ·(column j of A⁻¹), accumulated on the stack
-            let n = b.len();
-            let mut x = [0.0; INVERSE_UP_TO];
-            let x = &mut x[..n];
-            for (column, &bj) in inv.chunks_exact(n).zip(&*b) {
-                // A mode's right-hand side is mostly zeros (its lock rows, the shafts no torque
-                // acts on). A finite a·0 is ±0, and adding ±0 changes no sum that started at +0
-                // (it is +0 or nonzero, never -0): the same bits without the column.
-                if bj == 0.0 && self.finite {
-                    continue;
-                }
-                for (xi, a) in x.iter_mut().zip(column) {
-                    *xi += a * bj;
-                }
+            // x = Σⱼ bⱼ·(column j of A⁻¹), with the order known at compile time: x stays in
+            // registers (a loop of unknown length kept it in memory, a load and a store per
+            // multiply-add)
+            macro_rules! by_size {
+                ($($n:literal)*) => {
+                    match b.len() {
+                        $($n => solve_by_inverse::<$n>(inv, b, self.finite),)*
+                        n => unreachable!("an inverse is kept up to {INVERSE_UP_TO} unknowns, not {n}"),
+                    }
+                };
             }
-            b.copy_from_slice(x);
+            by_size!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16);
             return;
         }
         let mut v = nalgebra::DVectorViewMut::from_slice(b, b.len());
         self.lu.solve_mut(&mut v);
     }
+
+    /// With the inverse: the columns of the entries only, the same sums as `solve_in_place`
+    /// (which leaves out the columns of the zeros when the inverse is finite).
+    fn solve_sparse(&self, entries: &[(usize, f64)], x: &mut [f64]) {
+        let n = x.len();
+        match &self.inverse {
+            Some(inv) if self.finite && n > 0 => {
+                macro_rules! by_size {
+                    ($($n:literal)*) => {
+                        match n {
+                            $($n => solve_sparse_by_inverse::<$n>(inv, entries, x),)*
+                            n => unreachable!("an inverse is kept up to {INVERSE_UP_TO} unknowns, not {n}"),
+                        }
+                    };
+                }
+                by_size!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16);
+            }
+            _ => {
+                for &(i, v) in entries {
+                    x[i] = v;
+                }
+                self.solve_in_place(x);
+            }
+        }
+    }
+}
+
+/// `Σⱼ bⱼ·(column j of A⁻¹)` into `out` for an order-`N` inverse stored column by column, from
+/// +0, over the `(j, bⱼ)` of `b` in order; with the order known at compile time the sums stay
+/// in registers. A mode's right-hand side is mostly zeros (its lock rows, the shafts no torque
+/// acts on). A finite a·0 is ±0, and adding ±0 changes no sum that started at +0 (it is +0 or
+/// nonzero, never -0): with a finite inverse, the same bits without the column.
+#[inline]
+fn combine_columns<const N: usize>(
+    inv: &[f64],
+    b: impl Iterator<Item = (usize, f64)>,
+    finite: bool,
+    out: &mut [f64],
+) {
+    let mut x = [0.0; N];
+    for (j, bj) in b {
+        if bj == 0.0 && finite {
+            continue;
+        }
+        let column: &[f64; N] = (inv[j * N..(j + 1) * N]).try_into().expect("a column of N");
+        for (xi, a) in x.iter_mut().zip(column) {
+            *xi += a * bj;
+        }
+    }
+    out.copy_from_slice(&x);
+}
+
+/// `b ← A⁻¹·b` through `combine_columns`.
+#[inline]
+fn solve_by_inverse<const N: usize>(inv: &[f64], b: &mut [f64], finite: bool) {
+    let rhs: [f64; N] = (&*b).try_into().expect("order N");
+    combine_columns::<N>(inv, rhs.into_iter().enumerate(), finite, b);
+}
+
+/// `x ← A⁻¹·b` for `b` zero but at `entries`, through `combine_columns` (a finite inverse).
+#[inline]
+fn solve_sparse_by_inverse<const N: usize>(inv: &[f64], entries: &[(usize, f64)], x: &mut [f64]) {
+    combine_columns::<N>(inv, entries.iter().copied(), true, x);
 }
 
 impl LinearSolver for DenseLu {

@@ -101,6 +101,22 @@ pub struct Kinematics<'a> {
     pub signals: &'a [f64],
 }
 
+/// `(rel.angle(phi), rel.dot(w))` in one pass over the terms, each the same sum as apart
+/// (from the neutral element `sum` starts with, terms in order): an evaluation asks both of
+/// every law and element.
+#[inline]
+pub fn angle_and_speed(rel: &Rel, phi: &[f64], w: &[f64]) -> (f64, f64) {
+    // one bounds check per term serves both (the same length)
+    let w = &w[..phi.len()];
+    let zero: f64 = std::iter::empty::<f64>().sum();
+    let (mut angle, mut speed) = (zero, zero);
+    for &(i, c) in &rel.terms {
+        angle += c * phi[i];
+        speed += c * w[i];
+    }
+    (angle + rel.offset, speed)
+}
+
 /// What the linear solve gives an element: the node accelerations and its multipliers.
 pub struct Solved<'a> {
     pub a: &'a [f64],

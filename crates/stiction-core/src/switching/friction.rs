@@ -3,7 +3,8 @@
 //! to it (the OneWayClutch's own one-directional rules included).
 
 use super::element::{
-    slip_rate_sign, ElementValues, Kinematics, Solved, SwitchState, SwitchingElement, NEVER,
+    angle_and_speed, slip_rate_sign, ElementValues, Kinematics, Solved, SwitchState,
+    SwitchingElement, NEVER,
 };
 use super::logic::{self, relation_index as R, Discrete, Relations};
 use super::relation::flip_indicator;
@@ -67,6 +68,7 @@ impl FrictionElem {
     }
 
     /// `mu` and the sliding torque `mu·cgeo·fn` with the sign pair of (sf, sb, pre(mode)).
+    #[inline]
     pub fn sliding(&self, w: f64, fn_: f64, pre_mode: i8, sf: bool, sb: bool) -> (f64, f64) {
         let mu = if self.one_way.is_some() {
             self.mu_pos.eval(w) // no sign handling: w_rel is assumed >= 0
@@ -174,8 +176,7 @@ impl SwitchingElement for FrictionElem {
     }
 
     fn forces(&self, st: &SwitchState, k: &Kinematics, v: &mut ElementValues, f: &mut [f64]) {
-        v.phi = self.rel.angle(k.phi);
-        v.w = self.rel.dot(k.w);
+        (v.phi, v.w) = angle_and_speed(&self.rel, k.phi, k.w);
         v.fn_ = self.reported_normal_force(k.signals, st.free);
         (v.tau0, v.tau0_max) = self.limits(v.fn_, st.free);
         let (sf, sb) = (st.pre.start_forward, st.pre.start_backward);

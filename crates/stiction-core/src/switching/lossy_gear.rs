@@ -3,8 +3,8 @@
 
 pub use super::element::Losses;
 use super::element::{
-    common_variable, slip_rate_sign, Column, ElementValues, Kinematics, ModeKey, Solved,
-    SwitchState, SwitchVar, SwitchingElement, NEVER,
+    angle_and_speed, common_variable, slip_rate_sign, Column, ElementValues, Kinematics, ModeKey,
+    Solved, SwitchState, SwitchVar, SwitchingElement, NEVER,
 };
 use super::logic::{Discrete, BACKWARD, FORWARD, FREE, STUCK};
 use super::relation::{flip_indicator, RelationSet};
@@ -17,7 +17,8 @@ pub struct LossyGearElem {
     pub ratio: f64,
     /// `lossTable = [0, 1, 1, 0, 0]` exactly: an ideal gear (mode 2 for ever).
     pub ideal: bool,
-    /// Columns 2..5 of lossTable against |w_a|: eta_mf1, eta_mf2, tau_bf1, tau_bf2.
+    /// Columns 2..5 of lossTable against |w_a|: eta_mf1, eta_mf2, tau_bf1, tau_bf2 (one
+    /// abscissa, lossTable's first column: `losses` reads them at once).
     pub table: [Table1D; 4],
     /// Whether the losses depend on the speed (more than one table row).
     pub speed_dependent: bool,
@@ -65,8 +66,8 @@ impl LossyGearElem {
             };
         }
         let u = w_a.abs();
-        let (eta1, eta2) = (self.table[0].eval(u), self.table[1].eval(u));
-        let (tbf1, tbf2) = (self.table[2].eval(u).abs(), self.table[3].eval(u).abs());
+        let [eta1, eta2, tbf1, tbf2] = Table1D::eval_columns(&self.table, u);
+        let (tbf1, tbf2) = (tbf1.abs(), tbf2.abs());
         Losses {
             eta1,
             eta2,
@@ -203,8 +204,7 @@ impl SwitchingElement for LossyGearElem {
     }
 
     fn forces(&self, st: &SwitchState, k: &Kinematics, v: &mut ElementValues, f: &mut [f64]) {
-        v.phi = self.lock_row.angle(k.phi);
-        v.w = self.lock_row.dot(k.w);
+        (v.phi, v.w) = angle_and_speed(&self.lock_row, k.phi, k.w);
         v.losses = self.losses(v.w);
         v.slope = self.mode_at(st, &v.losses).slope;
         if !self.ideal && !st.locked {

@@ -6,7 +6,7 @@
 //! into small independent blocks (equations sharing an unknown); the pseudo-inverse of the whole
 //! is that of each block, which keeps assembly and each result row linear in the model's size.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use nalgebra::DMatrix;
 
@@ -86,12 +86,20 @@ impl FlangeBuilder {
             }
         }
         let blocks = blocks(&rows, unknown.len());
+        let solved: HashSet<usize> = (blocks.iter())
+            .flat_map(|b| b.cols.iter().copied())
+            .collect();
+        let unsolved = (unknown.iter().enumerate())
+            .filter(|(c, _)| !solved.contains(c))
+            .map(|(_, &p)| p)
+            .collect();
         let mut known: Vec<(usize, Out)> = self.known.into_iter().collect();
         known.sort_by_key(|(p, _)| *p);
         FlangeTorques {
             ports: cut_root.len(),
             known,
             unknown,
+            unsolved,
             eq_known,
             eq_total,
             blocks,
@@ -104,6 +112,8 @@ pub struct FlangeTorques {
     ports: usize,
     known: Vec<(usize, Out)>,
     unknown: Vec<usize>,
+    /// The unknown ports in no block (0); the blocks' sums set the others.
+    unsolved: Vec<usize>,
     eq_known: Vec<Vec<usize>>,
     eq_total: Vec<Option<Out>>,
     blocks: Vec<Block>,
@@ -193,7 +203,8 @@ impl FlangeTorques {
                 None => out.iter_mut().for_each(|o| *o = -*o),
             }
         }
-        for &p in &self.unknown {
+        // (the blocks' sums start from their own zero: no plane filled twice)
+        for &p in &self.unsolved {
             tau[plane(p)].fill(0.0);
         }
         for b in &self.blocks {

@@ -45,6 +45,7 @@ impl System {
 
     /// Sets the followers' angles and speeds so that their gears' rows hold (after the
     /// prescribed motions are set).
+    #[inline]
     pub fn follow(&self, phi: &mut [f64], w: &mut [f64]) {
         for &(k, node) in &self.followers {
             let rel = &self.constraints[k].rel;

@@ -59,6 +59,30 @@ pub struct Prescribed {
     pub a: Option<usize>,
 }
 
+impl LawElem {
+    /// What the law sees at (t, horizon) with its relative angle and speed, given the signals
+    /// and all frozen relations (it takes its own): the evaluation's loops zip the laws with
+    /// their values instead of indexing them.
+    #[inline]
+    pub fn view<'a>(
+        &self,
+        (t, horizon): (f64, f64),
+        (phi_rel, w_rel): (f64, f64),
+        signals: &'a [f64],
+        relations: &'a [bool],
+    ) -> LawCtx<'a> {
+        let base = self.relation_base;
+        LawCtx {
+            t,
+            horizon,
+            phi_rel,
+            w_rel,
+            signals,
+            relations: &relations[base..base + self.relation_count],
+        }
+    }
+}
+
 impl Constraint {
     /// Sets `phi[node]` and `w[node]` so that the row's angle and speed are the inputs'.
     pub fn prescribe(&self, signals: &[f64], phi: &mut [f64], w: &mut [f64]) {

@@ -106,3 +106,16 @@ def test_compare_against_a_perturbed_reference_exits_1(simulated: tuple[Path, Pa
     failed = [line for line in proc.stdout.splitlines() if line.startswith("FAIL")]
     assert len(failed) == 1 and failed[0].startswith("FAIL clutch1.w_rel"), proc.stdout
     assert "Traceback" not in proc.stderr
+
+
+def test_bench_prints_what_every_variable_costs_against_the_states() -> None:
+    """`stiction bench MODEL` prints a row per model whose all/states column is the run with
+    every variable (median + "+all vars") over the run that records the states (median)."""
+    proc = _stiction("bench", "--repeat", "3", MODEL)
+    assert proc.returncode == 0, proc.stderr
+    header, row = proc.stdout.splitlines()[-2:]
+    assert "all/states" in header and row.startswith("CoupledClutches")
+    fields = row.split()
+    median, table, ratio = float(fields[1]), float(fields[5]), float(fields[6].rstrip("×"))
+    assert table > 0.0
+    assert ratio == pytest.approx((median + table) / median, abs=0.01 + 1e-3 * ratio)

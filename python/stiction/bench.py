@@ -41,6 +41,12 @@ class BenchRow:
     core_min_ms: float = float("nan")
 
     @property
+    def all_variables_ratio(self) -> float:
+        """A run that records every variable against one that records the states (medians):
+        ``Model.simulate`` and then ``Result.data``, over ``Model.simulate`` alone."""
+        return (self.median_ms + self.table_ms) / self.median_ms
+
+    @property
     def python_ms(self) -> float:
         """What the Python path adds to the core's run (medians): ``Model.simulate`` against
         the core's own ``wall_ms``, which it measures around building and running."""

@@ -57,6 +57,8 @@ pub(super) fn settle(stretch: &Stretch) {
         // SAFETY: SFENCE has no operands and is part of x86-64.
         unsafe { std::arch::x86_64::_mm_sfence() };
     }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = stretch; // plain stores elsewhere: nothing to order
 }
 
 /// Tables from this size (bytes) on get memory fresh from the kernel, which clears every page

@@ -103,6 +103,19 @@ pub struct DenseLu;
 /// at the MSL examples' 4–10 unknowns, where a mode is solved hundreds of times per factoring).
 const INVERSE_UP_TO: usize = 16;
 
+/// Calls `f::<N>(args)` with the order `n` (1 to `INVERSE_UP_TO`) known at compile time.
+macro_rules! with_order {
+    ($n:expr, $f:ident $args:tt) => {
+        with_order!(@ $n, $f $args; 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16)
+    };
+    (@ $n:expr, $f:ident $args:tt; $($k:literal)*) => {
+        match $n {
+            $($k => $f::<$k> $args,)*
+            n => unreachable!("an inverse is kept up to {INVERSE_UP_TO} unknowns, not {n}"),
+        }
+    };
+}
+
 struct DenseFactors {
     lu: LU<f64, Dyn, Dyn>,
     /// The order (nalgebra's `lu.l()` would build L to tell it).
@@ -148,15 +161,7 @@ impl Factorization for DenseFactors {
             // x = Σⱼ bⱼ·(column j of A⁻¹), with the order known at compile time: x stays in
             // registers (a loop of unknown length kept it in memory, a load and a store per
             // multiply-add)
-            macro_rules! by_size {
-                ($($n:literal)*) => {
-                    match b.len() {
-                        $($n => solve_by_inverse::<$n>(inv, b, self.finite),)*
-                        n => unreachable!("an inverse is kept up to {INVERSE_UP_TO} unknowns, not {n}"),
-                    }
-                };
-            }
-            by_size!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16);
+            with_order!(b.len(), solve_by_inverse(inv, b, self.finite));
             return;
         }
         let mut v = nalgebra::DVectorViewMut::from_slice(b, b.len());
@@ -169,15 +174,7 @@ impl Factorization for DenseFactors {
         let n = x.len();
         match &self.inverse {
             Some(inv) if self.finite && n > 0 => {
-                macro_rules! by_size {
-                    ($($n:literal)*) => {
-                        match n {
-                            $($n => solve_sparse_by_inverse::<$n>(inv, entries, x),)*
-                            n => unreachable!("an inverse is kept up to {INVERSE_UP_TO} unknowns, not {n}"),
-                        }
-                    };
-                }
-                by_size!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16);
+                with_order!(n, solve_sparse_by_inverse(inv, entries, x));
             }
             _ => {
                 for &(i, v) in entries {

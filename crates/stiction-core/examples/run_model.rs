@@ -1,6 +1,7 @@
 //! Runs a model file N times and prints the median wall time: `cargo run --release --example
 //! run_model -- MODEL.toml [N] [--no-table]`. For profiling the core without Python in the way
-//! (`--no-table` leaves out computing every variable, to profile the run alone).
+//! (`--no-table` leaves out computing every variable, to profile the run alone). The model is
+//! compiled once and run N times, as `Model.simulate` does from Python.
 
 use std::time::Instant;
 
@@ -18,11 +19,12 @@ fn main() {
         .parent()
         .unwrap_or(std::path::Path::new("."));
     let spec = stiction_core::ModelSpec::from_toml(&text, dir).expect("valid model");
+    let model = stiction_core::assembly::CompiledModel::new(spec).expect("a model that compiles");
     let (mut run, mut table, mut wall) = (Vec::new(), Vec::new(), Vec::new());
     let mut last = None;
     for _ in 0..n {
         let t0 = Instant::now();
-        let r = stiction_core::simulate(&spec).expect("simulation");
+        let r = stiction_core::simulation::run(model.system()).expect("simulation");
         run.push(t0.elapsed().as_secs_f64() * 1e3);
         wall.push(r.stats.wall_ms);
         let t1 = Instant::now();

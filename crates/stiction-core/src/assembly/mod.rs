@@ -192,6 +192,7 @@ fn builder(spec: &SpecView, topo: &Topology) -> Builder {
             time_events: Vec::new(),
             inputs: topo.inputs.clone(),
             followers: Vec::new(),
+            derived: Default::default(),
         },
         flanges: FlangeBuilder::default(),
         fixed_temperature: vec![None; heat_nodes],

@@ -97,12 +97,19 @@ impl SimResult {
         // values (an inertia's J, a law's constants) enter the compiled columns and the flange
         // torques' terms, the shapes are the same throughout.
         for (first, end, sys) in self.segments() {
-            let mut general = Vec::new();
-            let flat: Vec<Flat> = (sys.outputs.iter().enumerate())
-                .filter(|&(i, _)| only.is_none_or(|o| o == i))
-                .map(|(_, (_, out))| compile(out, 1.0, &mut general))
-                .collect();
-            let template = Block::new(sys, &flat, &general, self.discs.len());
+            // every variable's shape is kept with its system, for the next run's table
+            let own;
+            let shape = match only {
+                None => sys.derived.get_or_init(|| Shape::new(sys, None)),
+                Some(_) => None,
+            };
+            let shape = match shape {
+                Some(shape) => shape,
+                None => {
+                    own = Shape::new(sys, only);
+                    &own
+                }
+            };
             let chunk = stretch_rows(end - first, FEWEST_ROWS);
             let fill = |i: usize, out: &mut [MaybeUninit<f64>]| {
                 let start = first + i * chunk;
@@ -113,7 +120,7 @@ impl SimResult {
                     written: 0,
                     stream: streams(cells),
                 };
-                self.fill_stretch(sys, template.clone(), &mut out);
+                self.fill_stretch(sys, Block::new(shape, self.discs.len()), &mut out);
                 assert_eq!(
                     out.written,
                     out.data.len(),
@@ -138,7 +145,7 @@ impl SimResult {
 
 impl SimResult {
     /// Evaluates the rows of one stretch and writes them.
-    fn fill_stretch(&self, sys: &System, mut block: Block, out: &mut Stretch) {
+    fn fill_stretch(&self, sys: &System, mut block: Block<'_>, out: &mut Stretch) {
         let tr = &self.trajectory;
         let rows = out.first..out.first + out.data.len() / out.width;
         self.visit_segment(rows, sys, &mut |r, sys, row| {
@@ -152,14 +159,20 @@ impl SimResult {
     }
 }
 
-/// The frames of up to `BLOCK` evaluated rows, and how a table row reads its frame.
-#[derive(Clone)]
-struct Block {
+/// The frame of a table row (what it holds, `Layout`) and how the row reads it: the same for
+/// every run of a system, so built once and kept with the system (`System::derived`).
+struct Shape {
     layout: Layout,
     /// Values from one frame to the next: its pages (`span`) and `PAD`.
     stride: usize,
     /// Values per frame: whole pages.
     span: usize,
+    reader: Reader,
+}
+
+/// The frames of up to `BLOCK` evaluated rows.
+struct Block<'a> {
+    shape: &'a Shape,
     frames: Vec<f64>,
     /// The discrete state whose variables each frame holds (`u32::MAX`: none yet).
     held: Vec<u32>,
@@ -169,7 +182,6 @@ struct Block {
     /// cannot be factored leaves every variable but time NaN, as the row recorder does).
     rows: Vec<(usize, bool)>,
     flanges: BlockFlanges,
-    reader: Reader,
 }
 
 /// How a table row reads its frame: each column's index in its page, and the runs of columns
@@ -188,19 +200,16 @@ struct Run {
     end: usize,
 }
 
-impl Block {
-    /// The block of columns `flat` of a run with `states` discrete states.
-    fn new(sys: &System, flat: &[Flat], general: &[crate::system::Out], states: usize) -> Self {
-        let layout = Layout::new(sys, flat, general);
+impl Shape {
+    /// The shape of a table of time and the outputs of `sys` (all, or only output `only`).
+    fn new(sys: &System, only: Option<usize>) -> Self {
+        let mut general = Vec::new();
+        let flat: Vec<Flat> = (sys.outputs.iter().enumerate())
+            .filter(|&(i, _)| only.is_none_or(|o| o == i))
+            .map(|(_, (_, out))| compile(out, 1.0, &mut general))
+            .collect();
+        let layout = Layout::new(sys, &flat, &general);
         let span = layout.len.div_ceil(PAGE).max(1) * PAGE;
-        let stride = span + PAD;
-        let mut frames = vec![0.0; BLOCK * stride];
-        // constants once: nothing else writes their slots
-        for frame in frames.chunks_exact_mut(stride) {
-            for &(slot, c) in &layout.constants {
-                frame[slot as usize] = c;
-            }
-        }
         let slots: Vec<usize> = std::iter::once(layout.time)
             .chain(layout.columns.iter().copied())
             .map(|s| s as usize)
@@ -219,14 +228,30 @@ impl Block {
         }
         Self {
             layout,
-            stride,
+            stride: span + PAD,
             span,
+            reader: Reader { index, runs },
+        }
+    }
+}
+
+impl<'a> Block<'a> {
+    /// An empty block of frames of `shape`, for a run with `states` discrete states.
+    fn new(shape: &'a Shape, states: usize) -> Self {
+        let mut frames = vec![0.0; BLOCK * shape.stride];
+        // constants once: nothing else writes their slots
+        for frame in frames.chunks_exact_mut(shape.stride) {
+            for &(slot, c) in &shape.layout.constants {
+                frame[slot as usize] = c;
+            }
+        }
+        Self {
+            shape,
             frames,
             held: vec![u32::MAX; BLOCK],
             discrete: vec![None; states],
             rows: Vec::with_capacity(BLOCK),
             flanges: BlockFlanges::default(),
-            reader: Reader { index, runs },
         }
     }
 
@@ -244,23 +269,24 @@ impl Block {
         let Some((ws, disc)) = row else {
             return;
         };
-        let frame = &mut self.frames[i * self.stride..i * self.stride + self.span];
+        let (layout, stride) = (&self.shape.layout, self.shape.stride);
+        let frame = &mut self.frames[i * stride..i * stride + self.shape.span];
         if self.held[i] != id {
             let values = self.discrete[id as usize].get_or_insert_with(|| {
                 // a mode or flag is a function of the discrete state alone
                 let none = ElementValues::default();
-                let vars = self.layout.discrete.iter();
+                let vars = layout.discrete.iter();
                 let value = |&(k, var, _): &(usize, _, u32)| {
                     sys.switching[k].variable(&disc.switching[k], &none, var)
                 };
                 vars.map(value).collect()
             });
-            for (&(.., slot), v) in self.layout.discrete.iter().zip(values.iter()) {
+            for (&(.., slot), v) in layout.discrete.iter().zip(values.iter()) {
                 frame[slot as usize] = *v;
             }
             self.held[i] = id;
         }
-        self.layout.fill(frame, (sys, ws, disc), t);
+        layout.fill(frame, (sys, ws, disc), t);
     }
 
     /// Writes the held rows into their stretch of the table and empties the block.
@@ -268,12 +294,18 @@ impl Block {
         let Some(&(first, _)) = self.rows.first() else {
             return;
         };
-        let (n, stride, span) = (self.rows.len(), self.stride, self.span);
+        let Shape {
+            layout,
+            stride,
+            span,
+            reader,
+        } = self.shape;
+        let (n, stride, span) = (self.rows.len(), *stride, *span);
         let frames = &mut self.frames[..n * stride];
-        if let Some(plan) = &self.layout.flanges {
+        if let Some(plan) = &layout.flanges {
             self.flanges.solve(plan, sys, frames, (stride, n));
         }
-        let post = &self.layout.post;
+        let post = &layout.post;
         let (width, at, stream) = (out.width, first - out.first, out.stream);
         let rows = out.data[at * width..(at + n) * width].chunks_exact_mut(width);
         for ((out, frame), &(r, ok)) in rows.zip(frames.chunks_exact_mut(stride)).zip(&self.rows) {
@@ -286,9 +318,9 @@ impl Block {
             // what reads a flange torque never needs the workspace
             post.run_frame(frame, |_| f64::NAN);
             if stream {
-                self.reader.write::<true>(frame, out);
+                reader.write::<true>(frame, out);
             } else {
-                self.reader.write::<false>(frame, out);
+                reader.write::<false>(frame, out);
             }
         }
         out.written += n * width;
@@ -488,5 +520,56 @@ mod tests {
                 );
             }
         }
+    }
+    /// The table's shape is kept with its system: the second run of a compiled model reuses
+    /// the first's and gives its table bit for bit; a variant (another system, other values)
+    /// builds its own and gives the row recorder's values.
+    #[test]
+    fn shape_kept_with_its_system() {
+        use crate::assembly::CompiledModel;
+        use crate::simulation::run;
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/msl");
+        let text = std::fs::read_to_string(format!("{dir}/CoupledClutches.toml")).expect("example");
+        let model = CompiledModel::new(ModelSpec::from_toml(&text, dir).expect("valid model"));
+        let model = model.expect("builds");
+        let first = run(model.system()).expect("runs");
+        let kept = |r: &super::SimResult| {
+            r.system
+                .derived
+                .get::<super::Shape>()
+                .map(|s| s as *const _)
+        };
+        assert!(kept(&first).is_none(), "nothing kept before a table");
+        let table = first.table().expect("fits").to_vec();
+        let second = run(model.system()).expect("runs");
+        assert!(kept(&second).is_some(), "the first table's shape kept");
+        let before = kept(&second);
+        let again = second.table().expect("fits");
+        let same = table
+            .iter()
+            .zip(again)
+            .all(|(a, b)| a.to_bits() == b.to_bits());
+        assert!(
+            same && table.len() == again.len(),
+            "the second run's table differs"
+        );
+        assert_eq!(
+            kept(&second),
+            before,
+            "the kept shape reused, not built again"
+        );
+        let float = toml::Value::Float(2.5);
+        let variant = model.with(&[("J1.J", float)]).expect("a variant");
+        let r = run(variant.system()).expect("runs");
+        let (columns, rows) = (r.table().expect("fits"), by_rows(&r));
+        assert!(
+            columns.iter().zip(&table).any(|(a, b)| a != b),
+            "J1.J changed nothing"
+        );
+        let same = columns
+            .iter()
+            .zip(&rows)
+            .all(|(a, b)| a.to_bits() == b.to_bits());
+        assert!(same, "the variant's table differs from its rows");
     }
 }

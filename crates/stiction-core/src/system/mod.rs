@@ -14,6 +14,9 @@ pub use flange::FlangeTorques;
 pub use law::{EnergyRole, ForceLaw, LawCtx};
 pub use outputs::Out;
 
+use std::any::Any;
+use std::sync::OnceLock;
+
 use crate::model::{Experiment, InitValue};
 use crate::signals::SignalGraph;
 use crate::switching::element::SwitchingElement;
@@ -154,6 +157,28 @@ pub struct System {
     pub inputs: Vec<ModelInput>,
     /// Shafts ideal gears tie to prescribed ones (`follow`).
     pub followers: Vec<(usize, usize)>,
+    /// What a layer above derives from this system once and keeps with it (`Derived`).
+    pub derived: Derived,
+}
+
+/// A value derived from a system on first use and kept with it: the result table's layout of
+/// every variable, built in about 20 µs for CoupledClutches, once per compiled model rather
+/// than once per run. A system never changes once built (its values change by building
+/// another), so neither does what is derived from it. Type-erased so that this layer does not
+/// name the types of the layers that use it.
+#[derive(Default)]
+pub struct Derived(OnceLock<Box<dyn Any + Send + Sync>>);
+
+impl Derived {
+    /// The kept value, made by `make` on first use; `None` if a value of another type was kept.
+    pub fn get_or_init<T: Any + Send + Sync>(&self, make: impl FnOnce() -> T) -> Option<&T> {
+        self.0.get_or_init(|| Box::new(make())).downcast_ref()
+    }
+
+    /// The kept value, if one of type `T` was kept.
+    pub fn get<T: Any + Send + Sync>(&self) -> Option<&T> {
+        self.0.get()?.downcast_ref()
+    }
 }
 
 impl System {

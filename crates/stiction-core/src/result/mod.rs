@@ -9,6 +9,7 @@ pub mod mat;
 pub mod metric;
 mod ops;
 mod probe;
+mod shape;
 mod stretch;
 mod table;
 pub use stretch::recycle_table;

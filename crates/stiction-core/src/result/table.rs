@@ -10,10 +10,9 @@ use std::mem::MaybeUninit;
 use rayon::prelude::*;
 
 use super::flanges::BlockFlanges;
-use super::frame::Layout;
-use super::ops::PAGE;
-use super::stretch::{put, settle, streams, stretch_rows, table_memory, Stretch};
-use super::{compile, Flat, SimResult};
+use super::shape::Shape;
+use super::stretch::{settle, streams, stretch_rows, table_memory, Stretch};
+use super::SimResult;
 use crate::engine::eval::{DiscreteState, Workspace};
 use crate::error::SimError;
 use crate::switching::element::ElementValues;
@@ -22,12 +21,6 @@ use crate::system::System;
 /// Rows whose flange torques are solved together: enough to amortize each step of the solve,
 /// few enough that their frames stay in cache.
 const BLOCK: usize = 64;
-
-/// Values between the end of one frame's pages and the start of the next: one cache line. At a
-/// stride of whole pages (2 KiB), slot `k` of every frame of a block fell in the same few cache
-/// sets, more frames than the L1 cache has ways: CoupledClutches' table 0.73 ms on one thread,
-/// 0.65 ms with this line between frames (HeatLosses 11.3 → 10.3 ms).
-const PAD: usize = 8;
 
 /// The fewest rows a stretch of the table is computed in: handing a stretch to the pool and
 /// waiting for it costs about 0.05–0.1 ms on this 2-core VM (waking its threads), more than a
@@ -159,17 +152,6 @@ impl SimResult {
     }
 }
 
-/// The frame of a table row (what it holds, `Layout`) and how the row reads it: the same for
-/// every run of a system, so built once and kept with the system (`System::derived`).
-struct Shape {
-    layout: Layout,
-    /// Values from one frame to the next: its pages (`span`) and `PAD`.
-    stride: usize,
-    /// Values per frame: whole pages.
-    span: usize,
-    reader: Reader,
-}
-
 /// The frames of up to `BLOCK` evaluated rows.
 struct Block<'a> {
     shape: &'a Shape,
@@ -182,57 +164,6 @@ struct Block<'a> {
     /// cannot be factored leaves every variable but time NaN, as the row recorder does).
     rows: Vec<(usize, bool)>,
     flanges: BlockFlanges,
-}
-
-/// How a table row reads its frame: each column's index in its page, and the runs of columns
-/// read from one page.
-#[derive(Clone)]
-struct Reader {
-    index: Vec<u8>,
-    runs: Vec<Run>,
-}
-
-/// Columns `start..end` of a table row, read from page `page` of its frame.
-#[derive(Clone)]
-struct Run {
-    page: usize,
-    start: usize,
-    end: usize,
-}
-
-impl Shape {
-    /// The shape of a table of time and the outputs of `sys` (all, or only output `only`).
-    fn new(sys: &System, only: Option<usize>) -> Self {
-        let mut general = Vec::new();
-        let flat: Vec<Flat> = (sys.outputs.iter().enumerate())
-            .filter(|&(i, _)| only.is_none_or(|o| o == i))
-            .map(|(_, (_, out))| compile(out, 1.0, &mut general))
-            .collect();
-        let layout = Layout::new(sys, &flat, &general);
-        let span = layout.len.div_ceil(PAGE).max(1) * PAGE;
-        let slots: Vec<usize> = std::iter::once(layout.time)
-            .chain(layout.columns.iter().copied())
-            .map(|s| s as usize)
-            .collect();
-        let index = slots.iter().map(|s| (s % PAGE) as u8).collect();
-        let mut runs: Vec<Run> = Vec::new();
-        for (c, s) in slots.iter().enumerate() {
-            match runs.last_mut() {
-                Some(run) if run.page == s / PAGE => run.end = c + 1,
-                _ => runs.push(Run {
-                    page: s / PAGE,
-                    start: c,
-                    end: c + 1,
-                }),
-            }
-        }
-        Self {
-            layout,
-            stride: span + PAD,
-            span,
-            reader: Reader { index, runs },
-        }
-    }
 }
 
 impl<'a> Block<'a> {
@@ -328,26 +259,11 @@ impl<'a> Block<'a> {
     }
 }
 
-impl Reader {
-    /// One table row from its frame (past the caches: `STREAM`).
-    #[inline]
-    fn write<const STREAM: bool>(&self, frame: &[f64], out: &mut [MaybeUninit<f64>]) {
-        for run in &self.runs {
-            let page: &[f64; PAGE] = (frame[run.page * PAGE..(run.page + 1) * PAGE])
-                .try_into()
-                .expect("whole pages");
-            let cells = out[run.start..run.end].iter_mut();
-            cells
-                .zip(&self.index[run.start..run.end])
-                .for_each(|(y, &i)| put::<STREAM>(y, page[usize::from(i)]));
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
+    use super::super::frame::Layout;
+    use super::super::ops::PAGE;
     use super::super::{compile, Recorder};
-    use super::{Layout, PAGE};
     use crate::ModelSpec;
 
     /// The row-by-row recorder's table, as it was computed before the columns.

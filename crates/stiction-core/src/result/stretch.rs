@@ -3,7 +3,9 @@
 //! is written past the caches, and its memory reused by the next.
 
 use std::mem::MaybeUninit;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Mutex, PoisonError};
+use std::time::{Duration, Instant};
 
 use super::SimResult;
 
@@ -12,6 +14,39 @@ use super::SimResult;
 /// never fewer than `fewest`.
 pub(super) fn stretch_rows(rows: usize, fewest: usize) -> usize {
     rows.div_ceil(rayon::current_num_threads()).max(fewest)
+}
+
+/// How long the calling thread waits awake for the stretches the pool's threads still compute
+/// before it sleeps: a sleeping thread took 50–60 µs to wake on this 2-core VM.
+const WAIT_AWAKE: Duration = Duration::from_micros(200);
+
+/// Runs `fill` on every stretch, on this thread and on the pool's threads, each taking the
+/// next stretch not yet taken. The calling thread starts at once and never waits asleep for a
+/// stretch nobody has started (it takes it itself); for those the pool's threads are still
+/// computing, it waits awake (`WAIT_AWAKE`). Rayon's `par_chunks_mut` puts the calling thread to
+/// sleep and wakes it at the end, and a pool thread woken late left a stretch for after the
+/// other: CoupledClutches' table 0.43 ms (90th percentile 0.79) that way, 0.38 (0.47) this way.
+pub(super) fn share<T: Send>(stretches: Vec<T>, fill: impl Fn(T) + Sync) {
+    let count = stretches.len();
+    let left = Mutex::new(stretches);
+    let done = AtomicUsize::new(0);
+    let take = || loop {
+        let next = left.lock().unwrap_or_else(PoisonError::into_inner).pop();
+        let Some(stretch) = next else { break };
+        fill(stretch);
+        done.fetch_add(1, Ordering::Release);
+    };
+    rayon::in_place_scope(|scope| {
+        for _ in 1..count {
+            scope.spawn(|_| take());
+        }
+        take();
+        let start = Instant::now();
+        while done.load(Ordering::Acquire) < count && start.elapsed() < WAIT_AWAKE {
+            std::hint::spin_loop();
+        }
+        // leaving the scope waits (asleep) for the rest
+    });
 }
 
 /// The table rows of one stretch: `data` holds rows `first..`, `width` values each, not yet

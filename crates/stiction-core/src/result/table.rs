@@ -7,11 +7,9 @@
 
 use std::mem::MaybeUninit;
 
-use rayon::prelude::*;
-
 use super::flanges::BlockFlanges;
 use super::shape::Shape;
-use super::stretch::{settle, streams, stretch_rows, table_memory, Stretch};
+use super::stretch::{settle, share, streams, stretch_rows, table_memory, Stretch};
 use super::SimResult;
 use crate::engine::eval::{DiscreteState, Workspace};
 use crate::error::SimError;
@@ -22,11 +20,12 @@ use crate::system::System;
 /// few enough that their frames stay in cache.
 const BLOCK: usize = 64;
 
-/// The fewest rows a stretch of the table is computed in: handing a stretch to the pool and
-/// waiting for it costs about 0.05–0.1 ms on this 2-core VM (waking its threads), more than a
-/// thousand rows on one thread. SimpleGearShift's 1 012 rows: 0.202 ms on one thread, 0.246 ms
-/// in two stretches.
-const FEWEST_ROWS: usize = 16 * BLOCK;
+/// The fewest rows a stretch of the table is computed in: each stretch factors its modes again
+/// and takes a pool thread's wake-up (20–40 µs on this 2-core VM; the calling thread starts
+/// at once, `share`). 1 024 was the floor when the calling thread slept through the table and
+/// was woken at its end; now SimpleGearShift's 1 012 rows take 0.145 ms in two stretches, 0.18
+/// on one thread, and Modelica's `First` (2 001 rows) 0.21 ms, 0.31 on one.
+const FEWEST_ROWS: usize = 4 * BLOCK;
 
 /// The most values the table of every variable may hold (2.4 GB), as for a run's states.
 pub const MAX_TABLE_VALUES: f64 = 3.0e8;
@@ -125,8 +124,8 @@ impl SimResult {
                 // one stretch: on this thread, without handing it to the pool and waiting
                 fill(0, rows);
             } else {
-                let stretches = rows.par_chunks_mut(chunk * width).enumerate();
-                stretches.for_each(|(i, out)| fill(i, out));
+                let stretches = rows.chunks_mut(chunk * width).enumerate().collect();
+                share(stretches, |(i, out)| fill(i, out));
             }
         }
         // SAFETY: the segments cover rows 0..rows(), each stretch of a segment wrote every one

@@ -77,17 +77,32 @@ impl Shape {
 }
 
 impl Reader {
-    /// One table row from its frame (past the caches: `STREAM`).
+    /// One table row from its frame (past the caches: `STREAM`). Four cells per pass: the
+    /// compiler does not unroll a loop of streaming stores itself, and HeatLosses' 4.4 million
+    /// streamed cells took a tenth longer one by one.
     #[inline]
     pub(super) fn write<const STREAM: bool>(&self, frame: &[f64], out: &mut [MaybeUninit<f64>]) {
         for run in &self.runs {
             let page: &[f64; PAGE] = (frame[run.page * PAGE..(run.page + 1) * PAGE])
                 .try_into()
                 .expect("whole pages");
-            let cells = out[run.start..run.end].iter_mut();
-            cells
-                .zip(&self.index[run.start..run.end])
-                .for_each(|(y, &i)| put::<STREAM>(y, page[usize::from(i)]));
+            let read = |i: &u8| page[usize::from(*i)];
+            let (cells, index) = (
+                &mut out[run.start..run.end],
+                &self.index[run.start..run.end],
+            );
+            let (mut cells, mut index) = (cells.chunks_exact_mut(4), index.chunks_exact(4));
+            for (y, i) in (&mut cells).zip(&mut index) {
+                let (y, i): (&mut [_; 4], &[u8; 4]) =
+                    (y.try_into().expect("4"), i.try_into().expect("4"));
+                let [y0, y1, y2, y3] = y;
+                put::<STREAM>(y0, read(&i[0]));
+                put::<STREAM>(y1, read(&i[1]));
+                put::<STREAM>(y2, read(&i[2]));
+                put::<STREAM>(y3, read(&i[3]));
+            }
+            let rest = cells.into_remainder().iter_mut().zip(index.remainder());
+            rest.for_each(|(y, i)| put::<STREAM>(y, read(i)));
         }
     }
 }

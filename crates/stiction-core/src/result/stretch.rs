@@ -1,6 +1,7 @@
 //! How the table's rows are shared out over threads, and the memory they are written into:
-//! one stretch of rows per thread, written into a table that is not zeroed first; a large one
-//! is written past the caches, and its memory reused by the next.
+//! one stretch of rows per thread, the calling thread's among them (`share`), written into a
+//! table that is not zeroed first; a large one is written past the caches, and its memory
+//! reused by the next.
 
 use std::mem::MaybeUninit;
 use std::sync::atomic::{AtomicUsize, Ordering};

@@ -9,22 +9,22 @@ pub mod mat;
 pub mod metric;
 mod ops;
 mod probe;
+mod rows;
 mod shape;
 mod stretch;
 mod table;
+
+use rows::RowEvaluator;
 pub use stretch::recycle_table;
 pub use table::MAX_TABLE_VALUES;
 
-use std::rc::Rc;
 use std::sync::{Arc, OnceLock};
 
 pub use audit::ElementAudit;
 pub use metric::{Accumulator, Metric};
 pub use probe::{Probe, RowView};
 
-use crate::engine::eval::{evaluate, DiscreteState, Workspace};
-use crate::engine::kkt::ModeMatrix;
-use crate::engine::ModeCache;
+use crate::engine::eval::{DiscreteState, Workspace};
 use crate::switching::element::is_discrete;
 use crate::switching::element::ElementValues;
 use crate::switching::logic::{FORWARD, STUCK};
@@ -247,25 +247,7 @@ impl SimResult {
         sys: &System,
         visit: &mut impl FnMut(usize, &System, Option<(&Workspace, &DiscreteState)>),
     ) {
-        let tr = &self.trajectory;
-        let mut ws = Workspace::new(sys);
-        let mut cache = ModeCache::default();
-        let mut modes: Vec<Option<Rc<ModeMatrix>>> = vec![None; self.discs.len()];
-        for r in rows {
-            let id = tr.disc[r] as usize;
-            let disc = &self.discs[id];
-            if modes[id].is_none() {
-                // The run factored this mode already; it cannot be singular here.
-                modes[id] = cache.get(sys, disc, tr.t[r]).ok();
-            }
-            match modes[id].as_ref() {
-                Some(mm) => {
-                    evaluate(sys, mm, disc, tr.t[r], tr.x(r), tr.horizon[r], &mut ws);
-                    visit(r, sys, Some((&ws, disc)));
-                }
-                None => visit(r, sys, None),
-            }
-        }
+        RowEvaluator::new(sys, self.discs.len()).visit(self, rows, sys, visit);
     }
 }
 

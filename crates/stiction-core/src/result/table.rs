@@ -8,6 +8,7 @@
 use std::mem::MaybeUninit;
 
 use super::flanges::BlockFlanges;
+use super::rows::RowEvaluator;
 use super::shape::Shape;
 use super::stretch::{settle, share, streams, stretch_rows, table_memory, Stretch};
 use super::SimResult;
@@ -20,11 +21,11 @@ use crate::system::System;
 /// few enough that their frames stay in cache.
 const BLOCK: usize = 64;
 
-/// The fewest rows a stretch of the table is computed in: each stretch factors its modes again
-/// and takes a pool thread's wake-up (20–40 µs on this 2-core VM; the calling thread starts
-/// at once, `share`). 1 024 was the floor when the calling thread slept through the table and
-/// was woken at its end; now SimpleGearShift's 1 012 rows take 0.145 ms in two stretches, 0.18
-/// on one thread, and Modelica's `First` (2 001 rows) 0.21 ms, 0.31 on one.
+/// The fewest rows a stretch of the table is computed in: a table of fewer rows is not worth a
+/// pool thread's wake-up (20–40 µs on this 2-core VM; the calling thread starts at once,
+/// `share`). 1 024 was the floor when the calling thread slept through the table and was woken
+/// at its end; now SimpleGearShift's 1 012 rows take 0.145 ms in stretches of 256, 0.18 on one
+/// thread, and Modelica's `First` (2 001 rows) 0.21 ms, 0.31 on one.
 const FEWEST_ROWS: usize = 4 * BLOCK;
 
 /// The most values the table of every variable may hold (2.4 GB), as for a run's states.
@@ -103,7 +104,9 @@ impl SimResult {
                 }
             };
             let chunk = stretch_rows(end - first, FEWEST_ROWS);
-            let fill = |i: usize, out: &mut [MaybeUninit<f64>]| {
+            let states = self.discs.len();
+            let context = || (Block::new(shape, states), RowEvaluator::new(sys, states));
+            let fill = |context: &mut Context, (i, out): (usize, &mut [MaybeUninit<f64>])| {
                 let start = first + i * chunk;
                 let mut out = Stretch {
                     data: out,
@@ -112,7 +115,7 @@ impl SimResult {
                     written: 0,
                     stream: streams(cells),
                 };
-                self.fill_stretch(sys, Block::new(shape, self.discs.len()), &mut out);
+                self.fill_stretch(sys, context, &mut out);
                 assert_eq!(
                     out.written,
                     out.data.len(),
@@ -122,10 +125,10 @@ impl SimResult {
             let rows = &mut spare[first * width..end * width];
             if chunk >= end - first {
                 // one stretch: on this thread, without handing it to the pool and waiting
-                fill(0, rows);
+                fill(&mut context(), (0, rows));
             } else {
                 let stretches = rows.chunks_mut(chunk * width).enumerate().collect();
-                share(stretches, |(i, out)| fill(i, out));
+                share(stretches, context, fill);
             }
         }
         // SAFETY: the segments cover rows 0..rows(), each stretch of a segment wrote every one
@@ -137,10 +140,10 @@ impl SimResult {
 
 impl SimResult {
     /// Evaluates the rows of one stretch and writes them.
-    fn fill_stretch(&self, sys: &System, mut block: Block<'_>, out: &mut Stretch) {
+    fn fill_stretch(&self, sys: &System, (block, rows_of): &mut Context, out: &mut Stretch) {
         let tr = &self.trajectory;
         let rows = out.first..out.first + out.data.len() / out.width;
-        self.visit_segment(rows, sys, &mut |r, sys, row| {
+        rows_of.visit(self, rows, sys, &mut |r, sys, row| {
             block.push(sys, r, (tr.disc[r], tr.t[r]), row);
             if block.rows.len() == BLOCK {
                 block.flush(sys, self, out);
@@ -150,6 +153,9 @@ impl SimResult {
         settle(out);
     }
 }
+
+/// What a thread keeps from one stretch of rows to the next: its frames and its evaluator.
+type Context<'a> = (Block<'a>, RowEvaluator);
 
 /// The frames of up to `BLOCK` evaluated rows.
 struct Block<'a> {
@@ -407,8 +413,9 @@ mod tests {
 
     /// Column by column gives the row recorder's values bit for bit (more rows than a block,
     /// events, every kind of column: heat, a lossy gear, flange torques), however many
-    /// stretches the rows are computed in (one thread, or five: stretches that start inside a
-    /// mode, each factoring the modes it meets).
+    /// stretches the rows are computed in (one thread taking four stretches one after the other
+    /// with the same frames and modes, or five threads taking twelve: stretches that start
+    /// inside a mode, each thread factoring the modes it meets).
     #[test]
     fn columns_equal_rows_bit_for_bit() {
         let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/msl");

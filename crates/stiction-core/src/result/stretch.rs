@@ -13,9 +13,9 @@ use super::SimResult;
 /// Stretches per thread: a pool thread that wakes late still finds stretches left to take
 /// rather than the caller doing them all, and the threads end close together. A thread keeps its
 /// workspace, factored modes and frames from one stretch to the next (`share`'s context), so a
-/// stretch costs little more than its rows. CoupledClutches' table: median the same as with one
-/// stretch per thread (0.465 against 0.466 ms, twelve alternating rounds), 90th percentile
-/// 0.53–0.63 against 0.76–0.90 ms; Friction's 0.94–1.0 against 1.5–1.7 ms.
+/// stretch costs little more than its rows. Against one stretch per thread (alternating runs):
+/// CoupledClutches' table 0.415 → 0.401 ms, Friction's 0.756 → 0.732 ms and its 90th
+/// percentile 1.46–1.68 → 0.96–1.04 ms, HeatLosses' the same (5.30 and 5.35 ms).
 const STRETCHES_PER_THREAD: usize = 4;
 
 /// Rows per stretch: `STRETCHES_PER_THREAD` for each thread of the pool, and never fewer than
@@ -43,8 +43,11 @@ pub(super) fn share<T: Send, C>(
 ) {
     let count = stretches.len();
     let left = Mutex::new(stretches);
-    let done = AtomicUsize::new(0);
+    // stretches computed, and threads inside `take` (a pool thread is done once it has
+    // dropped its context: the caller waits awake for that too, not only for its stretches)
+    let (done, busy) = (AtomicUsize::new(0), AtomicUsize::new(0));
     let take = || {
+        busy.fetch_add(1, Ordering::AcqRel);
         let mut own = None;
         loop {
             let next = left.lock().unwrap_or_else(PoisonError::into_inner).pop();
@@ -52,6 +55,8 @@ pub(super) fn share<T: Send, C>(
             fill(own.get_or_insert_with(&context), stretch);
             done.fetch_add(1, Ordering::Release);
         }
+        drop(own);
+        busy.fetch_sub(1, Ordering::Release);
     };
     rayon::in_place_scope(|scope| {
         for _ in 1..count.min(rayon::current_num_threads()) {
@@ -59,7 +64,8 @@ pub(super) fn share<T: Send, C>(
         }
         take();
         let start = Instant::now();
-        while done.load(Ordering::Acquire) < count && start.elapsed() < WAIT_AWAKE {
+        let working = || done.load(Ordering::Acquire) < count || busy.load(Ordering::Acquire) > 0;
+        while working() && start.elapsed() < WAIT_AWAKE {
             std::hint::spin_loop();
         }
         // leaving the scope waits (asleep) for the rest

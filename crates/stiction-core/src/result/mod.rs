@@ -2,6 +2,7 @@
 //! event (as MSL reference files have them), the event log and solver statistics.
 
 mod audit;
+mod block;
 pub mod csv;
 mod flanges;
 mod frame;

@@ -1,6 +1,6 @@
 //! Evaluating recorded rows: a workspace and the factored modes of one system, kept from one
-//! stretch of rows to the next that a thread computes (factoring a mode again, and a new
-//! workspace, for each stretch made short stretches dear).
+//! stretch of rows to the next that a thread computes (a calling thread that also takes the
+//! stretch of a pool thread that woke late neither factors its modes again nor allocates).
 
 use std::ops::Range;
 use std::rc::Rc;

@@ -10,19 +10,13 @@ use std::time::{Duration, Instant};
 
 use super::SimResult;
 
-/// Stretches per thread: a pool thread that wakes late still finds stretches left to take
-/// rather than the caller doing them all, and the threads end close together. A thread keeps its
-/// workspace, factored modes and frames from one stretch to the next (`share`'s context), so a
-/// stretch costs little more than its rows. Against one stretch per thread (alternating runs):
-/// CoupledClutches' table 0.415 → 0.401 ms, Friction's 0.756 → 0.732 ms and its 90th
-/// percentile 1.46–1.68 → 0.96–1.04 ms, HeatLosses' the same (5.30 and 5.35 ms).
-const STRETCHES_PER_THREAD: usize = 4;
-
-/// Rows per stretch: `STRETCHES_PER_THREAD` for each thread of the pool, and never fewer than
-/// `fewest`.
+/// Rows per stretch: one stretch per thread of the pool (the calling thread counted as one),
+/// and never fewer than `fewest`. Four per thread, so that a pool thread waking late would still
+/// find stretches to take, measured better in the core alone but worse from Python
+/// (CoupledClutches' table 0.383 → 0.427 ms, SimpleGearShift's 0.146 → 0.160, alternating
+/// processes): each stretch's last partial block and hand-over cost more than the balance won.
 pub(super) fn stretch_rows(rows: usize, fewest: usize) -> usize {
-    let stretches = STRETCHES_PER_THREAD * rayon::current_num_threads();
-    rows.div_ceil(stretches).max(fewest)
+    rows.div_ceil(rayon::current_num_threads()).max(fewest)
 }
 
 /// How long the calling thread waits awake for the stretches the pool's threads still compute

@@ -1,25 +1,20 @@
-//! Every variable of every row. Each evaluated row fills its frame (`frame.rs`: every value a
-//! column reads, each once, in one flat array); the flange cut torques are solved for a block
-//! of rows at once (`flanges.rs`); then each row of the row-major table is written in one pass
-//! as plain reads of its frame. The frame is read in pages of 256 values through `u8` indices,
+//! Every variable of every row, in stretches of rows shared out over threads (`stretch.rs`).
+//! Each evaluated row fills its frame (`frame.rs`: every value a column reads, each once, in one
+//! flat array); the flange cut torques are solved for a block of rows at once (`block.rs`,
+//! `flanges.rs`); then each row of the row-major table is written in one pass as plain reads of
+//! its frame. The frame is read in pages of 256 values through `u8` indices,
 //! so that a cell costs a load and a store, without a bounds check: a page is a fixed-size array
 //! and no `u8` falls outside it. The values are the row recorder's, bit for bit.
 
 use std::mem::MaybeUninit;
 
-use super::flanges::BlockFlanges;
+use super::block::{Block, BLOCK};
 use super::rows::RowEvaluator;
 use super::shape::Shape;
 use super::stretch::{settle, share, streams, stretch_rows, table_memory, Stretch};
 use super::SimResult;
-use crate::engine::eval::{DiscreteState, Workspace};
 use crate::error::SimError;
-use crate::switching::element::ElementValues;
 use crate::system::System;
-
-/// Rows whose flange torques are solved together: enough to amortize each step of the solve,
-/// few enough that their frames stay in cache.
-const BLOCK: usize = 64;
 
 /// The fewest rows a stretch of the table is computed in: a table of fewer rows is not worth a
 /// pool thread's wake-up (20–40 µs on this 2-core VM; the calling thread starts at once,
@@ -77,8 +72,13 @@ impl SimResult {
 
     /// Time and the outputs (all, or only output `only`), row-major. Rows are independent once
     /// the run has recorded their states and modes, so stretches of them are computed on all
-    /// of the pool's threads, each with its own workspace and mode factors.
+    /// of the pool's threads, each thread with its own workspace and mode factors.
     pub(super) fn compute_columns(&self, only: Option<usize>) -> Vec<f64> {
+        self.columns_in(only, |rows| stretch_rows(rows, FEWEST_ROWS))
+    }
+
+    /// `compute_columns` in stretches of `stretch(rows)` rows for a segment of `rows` rows.
+    fn columns_in(&self, only: Option<usize>, stretch: impl Fn(usize) -> usize) -> Vec<f64> {
         let tr = &self.trajectory;
         let width = only.map_or(self.system.outputs.len(), |_| 1) + 1;
         let cells = tr.rows() * width;
@@ -103,7 +103,7 @@ impl SimResult {
                     &own
                 }
             };
-            let chunk = stretch_rows(end - first, FEWEST_ROWS);
+            let chunk = stretch(end - first).max(1);
             let states = self.discs.len();
             let context = || (Block::new(shape, states), RowEvaluator::new(sys, states));
             let fill = |context: &mut Context, (i, out): (usize, &mut [MaybeUninit<f64>])| {
@@ -156,113 +156,6 @@ impl SimResult {
 
 /// What a thread keeps from one stretch of rows to the next: its frames and its evaluator.
 type Context<'a> = (Block<'a>, RowEvaluator);
-
-/// The frames of up to `BLOCK` evaluated rows.
-struct Block<'a> {
-    shape: &'a Shape,
-    frames: Vec<f64>,
-    /// The discrete state whose variables each frame holds (`u32::MAX`: none yet).
-    held: Vec<u32>,
-    /// The discrete variables of each discrete state of the run, once computed.
-    discrete: Vec<Option<Box<[f64]>>>,
-    /// The result rows held (consecutive), and whether each could be evaluated (a mode that
-    /// cannot be factored leaves every variable but time NaN, as the row recorder does).
-    rows: Vec<(usize, bool)>,
-    flanges: BlockFlanges,
-}
-
-impl<'a> Block<'a> {
-    /// An empty block of frames of `shape`, for a run with `states` discrete states.
-    fn new(shape: &'a Shape, states: usize) -> Self {
-        let mut frames = vec![0.0; BLOCK * shape.stride];
-        // constants once: nothing else writes their slots
-        for frame in frames.chunks_exact_mut(shape.stride) {
-            for &(slot, c) in &shape.layout.constants {
-                frame[slot as usize] = c;
-            }
-        }
-        Self {
-            shape,
-            frames,
-            held: vec![u32::MAX; BLOCK],
-            discrete: vec![None; states],
-            rows: Vec::with_capacity(BLOCK),
-            flanges: BlockFlanges::default(),
-        }
-    }
-
-    /// Fills the next frame from row `r`'s evaluation (at `t`, in discrete state `id`), if it has
-    /// one.
-    fn push(
-        &mut self,
-        sys: &System,
-        r: usize,
-        (id, t): (u32, f64),
-        row: Option<(&Workspace, &DiscreteState)>,
-    ) {
-        let i = self.rows.len();
-        self.rows.push((r, row.is_some()));
-        let Some((ws, disc)) = row else {
-            return;
-        };
-        let (layout, stride) = (&self.shape.layout, self.shape.stride);
-        let frame = &mut self.frames[i * stride..i * stride + self.shape.span];
-        if self.held[i] != id {
-            let values = self.discrete[id as usize].get_or_insert_with(|| {
-                // a mode or flag is a function of the discrete state alone
-                let none = ElementValues::default();
-                let vars = layout.discrete.iter();
-                let value = |&(k, var, _): &(usize, _, u32)| {
-                    sys.switching[k].variable(&disc.switching[k], &none, var)
-                };
-                vars.map(value).collect()
-            });
-            for (&(.., slot), v) in layout.discrete.iter().zip(values.iter()) {
-                frame[slot as usize] = *v;
-            }
-            self.held[i] = id;
-        }
-        layout.fill(frame, (sys, ws, disc), t);
-    }
-
-    /// Writes the held rows into their stretch of the table and empties the block.
-    fn flush(&mut self, sys: &System, result: &SimResult, out: &mut Stretch) {
-        let Some(&(first, _)) = self.rows.first() else {
-            return;
-        };
-        let Shape {
-            layout,
-            stride,
-            span,
-            reader,
-        } = self.shape;
-        let (n, stride, span) = (self.rows.len(), *stride, *span);
-        let frames = &mut self.frames[..n * stride];
-        if let Some(plan) = &layout.flanges {
-            self.flanges.solve(plan, sys, frames, (stride, n));
-        }
-        let post = &layout.post;
-        let (width, at, stream) = (out.width, first - out.first, out.stream);
-        let rows = out.data[at * width..(at + n) * width].chunks_exact_mut(width);
-        for ((out, frame), &(r, ok)) in rows.zip(frames.chunks_exact_mut(stride)).zip(&self.rows) {
-            if !ok {
-                out[0].write(result.trajectory.t[r]);
-                out[1..].iter_mut().for_each(|y| _ = y.write(f64::NAN));
-                continue;
-            }
-            let frame = &mut frame[..span];
-            // what reads a flange torque never needs the workspace
-            post.run_frame(frame, |_| f64::NAN);
-            if stream {
-                reader.write::<true>(frame, out);
-            } else {
-                reader.write::<false>(frame, out);
-            }
-        }
-        out.written += n * width;
-        self.rows.clear();
-    }
-}
 
 #[cfg(test)]
 mod tests {
@@ -404,6 +297,33 @@ mod tests {
         }
     }
 
+    /// One thread computing a table in seven stretches, one after the other with the same
+    /// workspace, modes and frames (`share`'s context), gives the row recorder's values bit for
+    /// bit: nothing of one stretch leaks into the next.
+    #[test]
+    fn stretches_after_one_another_equal_rows() {
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/msl");
+        for name in ["CoupledClutches", "HeatLosses"] {
+            let text = std::fs::read_to_string(format!("{dir}/{name}.toml")).expect("example");
+            let spec = ModelSpec::from_toml(&text, dir).expect("valid model");
+            let r = crate::simulate(&spec).expect("runs");
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build();
+            let columns = pool
+                .expect("a thread pool")
+                .install(|| r.columns_in(None, |rows| rows.div_ceil(7)));
+            let rows = by_rows(&r);
+            assert_eq!(columns.len(), rows.len(), "{name}");
+            let same = columns
+                .iter()
+                .zip(&rows)
+                .all(|(a, b)| a.to_bits() == b.to_bits());
+            assert!(
+                same,
+                "{name}: seven stretches on one thread differ from the rows"
+            );
+        }
+    }
+
     /// The table computed on `threads` threads (as many stretches of rows, and more, as the
     /// pool asks for).
     fn table_on(r: &super::SimResult, threads: usize) -> Vec<f64> {
@@ -413,9 +333,8 @@ mod tests {
 
     /// Column by column gives the row recorder's values bit for bit (more rows than a block,
     /// events, every kind of column: heat, a lossy gear, flange torques), however many
-    /// stretches the rows are computed in (one thread taking four stretches one after the other
-    /// with the same frames and modes, or five threads taking twelve: stretches that start
-    /// inside a mode, each thread factoring the modes it meets).
+    /// stretches the rows are computed in (one thread, or five: stretches that start inside a
+    /// mode, each thread factoring the modes it meets).
     #[test]
     fn columns_equal_rows_bit_for_bit() {
         let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/msl");

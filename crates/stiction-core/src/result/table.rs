@@ -297,33 +297,6 @@ mod tests {
         }
     }
 
-    /// One thread computing a table in seven stretches, one after the other with the same
-    /// workspace, modes and frames (`share`'s context), gives the row recorder's values bit for
-    /// bit: nothing of one stretch leaks into the next.
-    #[test]
-    fn stretches_after_one_another_equal_rows() {
-        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/msl");
-        for name in ["CoupledClutches", "HeatLosses"] {
-            let text = std::fs::read_to_string(format!("{dir}/{name}.toml")).expect("example");
-            let spec = ModelSpec::from_toml(&text, dir).expect("valid model");
-            let r = crate::simulate(&spec).expect("runs");
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build();
-            let columns = pool
-                .expect("a thread pool")
-                .install(|| r.columns_in(None, |rows| rows.div_ceil(7)));
-            let rows = by_rows(&r);
-            assert_eq!(columns.len(), rows.len(), "{name}");
-            let same = columns
-                .iter()
-                .zip(&rows)
-                .all(|(a, b)| a.to_bits() == b.to_bits());
-            assert!(
-                same,
-                "{name}: seven stretches on one thread differ from the rows"
-            );
-        }
-    }
-
     /// The table computed on `threads` threads (as many stretches of rows, and more, as the
     /// pool asks for).
     fn table_on(r: &super::SimResult, threads: usize) -> Vec<f64> {
@@ -333,8 +306,10 @@ mod tests {
 
     /// Column by column gives the row recorder's values bit for bit (more rows than a block,
     /// events, every kind of column: heat, a lossy gear, flange torques), however many
-    /// stretches the rows are computed in (one thread, or five: stretches that start inside a
-    /// mode, each thread factoring the modes it meets).
+    /// stretches the rows are computed in: one thread, or five (stretches that start inside a
+    /// mode, each thread factoring the modes it meets), or seven stretches one after the other
+    /// on one thread with the same workspace, modes and frames (nothing of one stretch leaks
+    /// into the next).
     #[test]
     fn columns_equal_rows_bit_for_bit() {
         let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/msl");
@@ -348,20 +323,26 @@ mod tests {
             let spec = ModelSpec::from_toml(&text, dir).expect("valid model");
             let r = crate::simulate(&spec).expect("runs");
             let rows = by_rows(&r);
-            for threads in [1, 5] {
-                let columns = table_on(&r, threads);
+            let one = rayon::ThreadPoolBuilder::new().num_threads(1).build();
+            let seven = one
+                .expect("a thread pool")
+                .install(|| r.columns_in(None, |rows| rows.div_ceil(7)));
+            let tables = [
+                ("one thread", table_on(&r, 1)),
+                ("five threads", table_on(&r, 5)),
+                ("seven stretches on one thread", seven),
+            ];
+            for (how, columns) in tables {
                 assert_eq!(columns.len(), rows.len(), "{name}");
                 let same = columns
                     .iter()
                     .zip(&rows)
                     .all(|(a, b)| a.to_bits() == b.to_bits());
-                assert!(
-                    same,
-                    "{name}, {threads} threads: the columns differ from the rows"
-                );
+                assert!(same, "{name}, {how}: the columns differ from the rows");
             }
         }
     }
+
     /// The table's shape is kept with its system: the second run of a compiled model reuses
     /// the first's and gives its table bit for bit; a variant (another system, other values)
     /// builds its own and gives the row recorder's values.

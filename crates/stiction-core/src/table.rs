@@ -66,9 +66,12 @@ impl Table1D {
         self.interpolate(u)
     }
 
+    /// `eval(u)` of a table of two rows or more.
     #[inline(never)]
     fn interpolate(&self, u: f64) -> f64 {
-        self.eval_in(self.interval(u), u)
+        let i = self.interval(u);
+        let (x, y) = (&self.x[i..i + 2], &self.y[i..i + 2]);
+        y[0] + (y[1] - y[0]) * (u - x[0]) / (x[1] - x[0])
     }
 
     /// The interval `eval(u)` interpolates in: i with x[i] <= u < x[i+1], the first/last
@@ -84,16 +87,6 @@ impl Table1D {
             k if k >= n => n - 2,
             k => k - 1,
         }
-    }
-
-    /// The value at `u` in interval `i` (`interval(u)`).
-    #[inline]
-    fn eval_in(&self, i: usize, u: f64) -> f64 {
-        if self.x.len() == 1 {
-            return self.y[0];
-        }
-        let (x, y) = (&self.x[i..i + 2], &self.y[i..i + 2]);
-        y[0] + (y[1] - y[0]) * (u - x[0]) / (x[1] - x[0])
     }
 
     /// `eval(u)` of each of tables with one abscissa (a LossyGear's loss columns): the

@@ -37,9 +37,10 @@ pub(super) fn share<T: Send, C>(
 ) {
     let count = stretches.len();
     let left = Mutex::new(stretches);
-    // stretches computed, and threads inside `take` (a pool thread is done once it has
-    // dropped its context: the caller waits awake for that too, not only for its stretches)
-    let (done, busy) = (AtomicUsize::new(0), AtomicUsize::new(0));
+    // Threads inside `take`. Once the caller's own `take` returns, every stretch is done or
+    // being computed by a thread counted here; a thread leaves once it has dropped its context
+    // too, so the caller waits awake for that as well, not only for the stretches.
+    let busy = AtomicUsize::new(0);
     let take = || {
         busy.fetch_add(1, Ordering::AcqRel);
         let mut own = None;
@@ -47,7 +48,6 @@ pub(super) fn share<T: Send, C>(
             let next = left.lock().unwrap_or_else(PoisonError::into_inner).pop();
             let Some(stretch) = next else { break };
             fill(own.get_or_insert_with(&context), stretch);
-            done.fetch_add(1, Ordering::Release);
         }
         drop(own);
         busy.fetch_sub(1, Ordering::Release);
@@ -58,8 +58,7 @@ pub(super) fn share<T: Send, C>(
         }
         take();
         let start = Instant::now();
-        let working = || done.load(Ordering::Acquire) < count || busy.load(Ordering::Acquire) > 0;
-        while working() && start.elapsed() < WAIT_AWAKE {
+        while busy.load(Ordering::Acquire) > 0 && start.elapsed() < WAIT_AWAKE {
             std::hint::spin_loop();
         }
         // leaving the scope waits (asleep) for the rest

@@ -91,12 +91,11 @@ impl SimResult {
         // torques' terms, the shapes are the same throughout.
         for (first, end, sys) in self.segments() {
             // every variable's shape is kept with its system, for the next run's table
+            let kept = only
+                .is_none()
+                .then(|| sys.derived.get_or_init(|| Shape::new(sys, None)));
             let own;
-            let shape = match only {
-                None => sys.derived.get_or_init(|| Shape::new(sys, None)),
-                Some(_) => None,
-            };
-            let shape = match shape {
+            let shape = match kept.flatten() {
                 Some(shape) => shape,
                 None => {
                     own = Shape::new(sys, only);

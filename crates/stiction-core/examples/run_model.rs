@@ -1,7 +1,8 @@
 //! Runs a model file N times and prints the median wall time: `cargo run --release --example
 //! run_model -- MODEL.toml [N] [--no-table]`. For profiling the core without Python in the way
-//! (`--no-table` leaves out computing every variable, to profile the run alone). The model is
-//! compiled once and run N times, as `Model.simulate` does from Python.
+//! (`--no-table` leaves out computing every variable, to profile the run alone; `--all` runs
+//! recording every variable as it goes, `run_recording_all`). The model is compiled once and
+//! run N times, as `Model.simulate` does from Python.
 
 use std::time::Instant;
 
@@ -13,7 +14,9 @@ fn main() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(50)
         .max(1);
-    let with_table = args.next().as_deref() != Some("--no-table");
+    let mode = args.next();
+    let with_table = mode.as_deref() != Some("--no-table");
+    let recording_all = mode.as_deref() == Some("--all");
     let text = std::fs::read_to_string(&path).expect("readable model file");
     let dir = std::path::Path::new(&path)
         .parent()
@@ -24,7 +27,12 @@ fn main() {
     let mut last = None;
     for _ in 0..n {
         let t0 = Instant::now();
-        let r = stiction_core::simulation::run(model.system()).expect("simulation");
+        let r = if recording_all {
+            stiction_core::simulation::run_recording_all(model.system(), || true)
+        } else {
+            stiction_core::simulation::run(model.system())
+        };
+        let r = r.expect("simulation");
         run.push(t0.elapsed().as_secs_f64() * 1e3);
         wall.push(r.stats.wall_ms);
         let t1 = Instant::now();

@@ -5,7 +5,6 @@
 use super::flanges::BlockFlanges;
 use super::shape::Shape;
 use super::stretch::Stretch;
-use super::SimResult;
 use crate::engine::eval::{DiscreteState, Workspace};
 use crate::switching::element::ElementValues;
 use crate::system::System;
@@ -20,7 +19,8 @@ pub(super) struct Block<'a> {
     frames: Vec<f64>,
     /// The discrete state whose variables each frame holds (`u32::MAX`: none yet).
     held: Vec<u32>,
-    /// The discrete variables of each discrete state of the run, once computed.
+    /// The discrete variables of each discrete state of the run, once computed (as long as
+    /// the highest state met).
     discrete: Vec<Option<Box<[f64]>>>,
     /// The result rows held (consecutive), and whether each could be evaluated (a mode that
     /// cannot be factored leaves every variable but time NaN, as the row recorder does).
@@ -29,8 +29,8 @@ pub(super) struct Block<'a> {
 }
 
 impl<'a> Block<'a> {
-    /// An empty block of frames of `shape`, for a run with `states` discrete states.
-    pub(super) fn new(shape: &'a Shape, states: usize) -> Self {
+    /// An empty block of frames of `shape`.
+    pub(super) fn new(shape: &'a Shape) -> Self {
         let mut frames = vec![0.0; BLOCK * shape.stride];
         // constants once: nothing else writes their slots
         for frame in frames.chunks_exact_mut(shape.stride) {
@@ -42,7 +42,7 @@ impl<'a> Block<'a> {
             shape,
             frames,
             held: vec![u32::MAX; BLOCK],
-            discrete: vec![None; states],
+            discrete: Vec::new(),
             rows: Vec::with_capacity(BLOCK),
             flanges: BlockFlanges::default(),
         }
@@ -65,6 +65,9 @@ impl<'a> Block<'a> {
         let (layout, stride) = (&self.shape.layout, self.shape.stride);
         let frame = &mut self.frames[i * stride..i * stride + self.shape.span];
         if self.held[i] != id {
+            if id as usize >= self.discrete.len() {
+                self.discrete.resize(id as usize + 1, None);
+            }
             let values = self.discrete[id as usize].get_or_insert_with(|| {
                 // a mode or flag is a function of the discrete state alone
                 let none = ElementValues::default();
@@ -82,8 +85,9 @@ impl<'a> Block<'a> {
         layout.fill(frame, (sys, ws, disc), t);
     }
 
-    /// Writes the held rows into their stretch of the table and empties the block.
-    pub(super) fn flush(&mut self, sys: &System, result: &SimResult, out: &mut Stretch) {
+    /// Writes the held rows (times `t`, by row) into their stretch of the table and empties
+    /// the block.
+    pub(super) fn flush(&mut self, sys: &System, t: &[f64], out: &mut Stretch) {
         let Some(&(first, _)) = self.rows.first() else {
             return;
         };
@@ -103,7 +107,7 @@ impl<'a> Block<'a> {
         let rows = out.data[at * width..(at + n) * width].chunks_exact_mut(width);
         for ((out, frame), &(r, ok)) in rows.zip(frames.chunks_exact_mut(stride)).zip(&self.rows) {
             if !ok {
-                out[0].write(result.trajectory.t[r]);
+                out[0].write(t[r]);
                 out[1..].iter_mut().for_each(|y| _ = y.write(f64::NAN));
                 continue;
             }

@@ -6,6 +6,7 @@ mod block;
 pub mod csv;
 mod flanges;
 mod frame;
+mod live;
 pub mod mat;
 pub mod metric;
 mod ops;
@@ -15,11 +16,12 @@ mod shape;
 mod stretch;
 mod table;
 
+pub use live::{recorded_while, Feed};
 use rows::RowEvaluator;
 pub use stretch::recycle_table;
 pub use table::MAX_TABLE_VALUES;
 
-use std::sync::{Arc, OnceLock};
+use std::sync::{Arc, Mutex, OnceLock};
 
 pub use audit::ElementAudit;
 pub use metric::{Accumulator, Metric};
@@ -113,6 +115,21 @@ impl Trajectory {
         self.x.reserve(rows * self.width);
     }
 
+    /// Rows `rows` into `out`, in place of its own (its row 0 is row `rows.start`).
+    fn copy_rows_into(&self, rows: std::ops::Range<usize>, out: &mut Trajectory) {
+        let w = self.width;
+        out.width = w;
+        out.t.clear();
+        out.t.extend_from_slice(&self.t[rows.clone()]);
+        out.horizon.clear();
+        out.horizon.extend_from_slice(&self.horizon[rows.clone()]);
+        out.disc.clear();
+        out.disc.extend_from_slice(&self.disc[rows.clone()]);
+        out.x.clear();
+        out.x
+            .extend_from_slice(&self.x[rows.start * w..rows.end * w]);
+    }
+
     fn x(&self, row: usize) -> &[f64] {
         &self.x[row * self.width..(row + 1) * self.width]
     }
@@ -129,6 +146,9 @@ pub struct SimResult {
     trajectory: Trajectory,
     discs: Vec<DiscreteState>,
     table: OnceLock<Vec<f64>>,
+    /// Every variable, computed while the run went on (`recorded_while`) and not yet handed
+    /// out: `table` keeps it, `table_vec` takes it.
+    ready: Mutex<Option<Vec<f64>>>,
     /// The most values `table` may hold (`MAX_TABLE_VALUES` unless a test lowers it).
     table_limit: f64,
 }
@@ -152,6 +172,7 @@ impl SimResult {
             trajectory,
             discs,
             table: OnceLock::new(),
+            ready: Mutex::new(None),
             table_limit: MAX_TABLE_VALUES,
         }
     }
@@ -248,7 +269,8 @@ impl SimResult {
         sys: &System,
         visit: &mut impl FnMut(usize, &System, Option<(&Workspace, &DiscreteState)>),
     ) {
-        RowEvaluator::new(sys, self.discs.len()).visit(self, rows, sys, visit);
+        let rows_of = (&self.trajectory, &self.discs[..]);
+        RowEvaluator::new(sys).visit(rows_of, rows, sys, visit);
     }
 }
 

@@ -5,7 +5,7 @@
 use std::ops::Range;
 use std::rc::Rc;
 
-use super::SimResult;
+use super::Trajectory;
 use crate::engine::eval::{evaluate, DiscreteState, Workspace};
 use crate::engine::kkt::ModeMatrix;
 use crate::engine::ModeCache;
@@ -15,34 +15,37 @@ use crate::system::System;
 pub(super) struct RowEvaluator {
     ws: Workspace,
     cache: ModeCache,
-    /// Each discrete state's factored mode, once met (None: not yet, or not factorable).
+    /// Each discrete state's factored mode, once met (None: not yet, or not factorable); as
+    /// long as the highest state met (a run still going on meets more).
     modes: Vec<Option<Rc<ModeMatrix>>>,
 }
 
 impl RowEvaluator {
-    /// An evaluator of rows of `sys` in a run with `states` discrete states.
-    pub(super) fn new(sys: &System, states: usize) -> Self {
+    /// An evaluator of rows of `sys`.
+    pub(super) fn new(sys: &System) -> Self {
         Self {
             ws: Workspace::new(sys),
             cache: ModeCache::default(),
-            modes: vec![None; states],
+            modes: Vec::new(),
         }
     }
 
-    /// Evaluates rows `rows` of `result` (all of them computed with `sys`) and hands `visit`
-    /// each row, the system and the row's workspace and discrete state, or None where the mode
-    /// cannot be factored.
+    /// Evaluates rows `rows` of `tr` (all of them computed with `sys`, their discrete states
+    /// in `discs`) and hands `visit` each row, the system and the row's workspace and discrete
+    /// state, or None where the mode cannot be factored.
     pub(super) fn visit(
         &mut self,
-        result: &SimResult,
+        (tr, discs): (&Trajectory, &[DiscreteState]),
         rows: Range<usize>,
         sys: &System,
         visit: &mut impl FnMut(usize, &System, Option<(&Workspace, &DiscreteState)>),
     ) {
-        let tr = &result.trajectory;
         for r in rows {
             let id = tr.disc[r] as usize;
-            let disc = &result.discs[id];
+            let disc = &discs[id];
+            if id >= self.modes.len() {
+                self.modes.resize(id + 1, None);
+            }
             if self.modes[id].is_none() {
                 // The run factored this mode already; it cannot be singular here.
                 self.modes[id] = self.cache.get(sys, disc, tr.t[r]).ok();

@@ -21,7 +21,7 @@ pub(super) fn stretch_rows(rows: usize, fewest: usize) -> usize {
 
 /// How long the calling thread waits awake for the stretches the pool's threads still compute
 /// before it sleeps: a sleeping thread took 50–60 µs to wake on this 2-core VM.
-const WAIT_AWAKE: Duration = Duration::from_micros(200);
+pub(super) const WAIT_AWAKE: Duration = Duration::from_micros(200);
 
 /// Runs `fill` on every stretch, on this thread and on the pool's threads, each taking the
 /// next stretch not yet taken, with a context of its own (`context`, made once per thread and
@@ -74,6 +74,24 @@ pub(super) struct Stretch<'a> {
     pub width: usize,
     pub written: usize,
     pub stream: bool,
+}
+
+impl<'a> Stretch<'a> {
+    /// Rows `first..` of a table `width` values wide, none written yet, in `data`.
+    pub(super) fn new(
+        data: &'a mut [MaybeUninit<f64>],
+        first: usize,
+        width: usize,
+        stream: bool,
+    ) -> Self {
+        Self {
+            data,
+            first,
+            width,
+            written: 0,
+            stream,
+        }
+    }
 }
 
 /// Tables from this size (bytes) on are written past the caches: far larger than them, they
@@ -156,6 +174,10 @@ pub fn recycle_table(data: Vec<f64>) {
 impl Drop for SimResult {
     fn drop(&mut self) {
         if let Some(table) = self.table.take() {
+            recycle_table(table);
+        }
+        let ready = self.ready.get_mut().unwrap_or_else(PoisonError::into_inner);
+        if let Some(table) = ready.take() {
             recycle_table(table);
         }
     }

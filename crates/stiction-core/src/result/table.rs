@@ -7,12 +7,14 @@
 //! and no `u8` falls outside it. The values are the row recorder's, bit for bit.
 
 use std::mem::MaybeUninit;
+use std::sync::PoisonError;
 
 use super::block::{Block, BLOCK};
 use super::rows::RowEvaluator;
 use super::shape::Shape;
 use super::stretch::{settle, share, streams, stretch_rows, table_memory, Stretch};
-use super::SimResult;
+use super::{SimResult, Trajectory};
+use crate::engine::eval::DiscreteState;
 use crate::error::SimError;
 use crate::system::System;
 
@@ -21,7 +23,7 @@ use crate::system::System;
 /// `share`). 1 024 was the floor when the calling thread slept through the table and was woken
 /// at its end; now SimpleGearShift's 1 012 rows take 0.145 ms in stretches of 256, 0.18 on one
 /// thread, and Modelica's `First` (2 001 rows) 0.21 ms, 0.31 on one.
-const FEWEST_ROWS: usize = 4 * BLOCK;
+pub(super) const FEWEST_ROWS: usize = 4 * BLOCK;
 
 /// The most values the table of every variable may hold (2.4 GB), as for a run's states.
 pub const MAX_TABLE_VALUES: f64 = 3.0e8;
@@ -31,7 +33,9 @@ impl SimResult {
     /// when they would not fit in memory (a run records only its states, see `check_table`).
     pub fn table(&self) -> Result<&[f64], SimError> {
         self.check_table()?;
-        Ok(self.table.get_or_init(|| self.compute_table()))
+        Ok(self
+            .table
+            .get_or_init(|| (self.take_ready()).unwrap_or_else(|| self.compute_table())))
     }
 
     /// All variables as a vector of its own: the one `table()` keeps, or computed without
@@ -40,8 +44,22 @@ impl SimResult {
         self.check_table()?;
         Ok(match self.table.get() {
             Some(table) => table.clone(),
-            None => self.compute_table(),
+            None => (self.take_ready()).unwrap_or_else(|| self.compute_table()),
         })
+    }
+
+    /// The table computed while the run went on, if it was and nobody took it yet.
+    fn take_ready(&self) -> Option<Vec<f64>> {
+        self.ready
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .take()
+    }
+
+    /// This result with every variable computed already (`recorded_while`).
+    pub(super) fn with_table(self, table: Vec<f64>) -> Self {
+        *self.ready.lock().unwrap_or_else(PoisonError::into_inner) = Some(table);
+        self
     }
 
     /// Whether every variable of every row fits in memory. A run keeps only its states, so
@@ -79,23 +97,42 @@ impl SimResult {
 
     /// `compute_columns` in stretches of `stretch(rows)` rows for a segment of `rows` rows.
     fn columns_in(&self, only: Option<usize>, stretch: impl Fn(usize) -> usize) -> Vec<f64> {
-        let tr = &self.trajectory;
         let width = only.map_or(self.system.outputs.len(), |_| 1) + 1;
-        let cells = tr.rows() * width;
+        let cells = self.rows() * width;
         // Not zeroed first: every cell is written below, and zeroing a table of megabytes cost
         // a tenth of CoupledClutches' table, on one thread before the others start.
         let mut data = table_memory(cells);
         let spare = &mut data.spare_capacity_mut()[..cells];
+        self.fill_from(0, only, spare, stretch);
+        // SAFETY: `fill_from` wrote every one of the `cells` values.
+        unsafe { data.set_len(cells) };
+        data
+    }
+
+    /// Writes rows `from..` of the table (all outputs, or only output `only`) into `rows`, in
+    /// stretches of `stretch(rows)` rows for a segment of `rows` rows; every cell is written.
+    pub(super) fn fill_from(
+        &self,
+        from: usize,
+        only: Option<usize>,
+        rows: &mut [MaybeUninit<f64>],
+        stretch: impl Fn(usize) -> usize,
+    ) {
+        let width = only.map_or(self.system.outputs.len(), |_| 1) + 1;
+        assert_eq!(rows.len(), (self.rows() - from) * width, "a cell per value");
+        let stream = streams(self.rows() * width);
+        let trajectory = (&self.trajectory, &self.discs[..]);
         // Each segment of rows between parameter changes is filled from its own system: the
         // values (an inertia's J, a law's constants) enter the compiled columns and the flange
         // torques' terms, the shapes are the same throughout.
         for (first, end, sys) in self.segments() {
-            // every variable's shape is kept with its system, for the next run's table
-            let kept = only
-                .is_none()
-                .then(|| sys.derived.get_or_init(|| Shape::new(sys, None)));
+            let first = first.max(from);
+            if first >= end {
+                continue;
+            }
             let own;
-            let shape = match kept.flatten() {
+            // every variable's shape is kept with its system, for the next run's table
+            let shape = match only.is_none().then(|| kept_shape(sys)).flatten() {
                 Some(shape) => shape,
                 None => {
                     own = Shape::new(sys, only);
@@ -103,25 +140,12 @@ impl SimResult {
                 }
             };
             let chunk = stretch(end - first).max(1);
-            let states = self.discs.len();
-            let context = || (Block::new(shape, states), RowEvaluator::new(sys, states));
+            let context = || (Block::new(shape), RowEvaluator::new(sys));
             let fill = |context: &mut Context, (i, out): (usize, &mut [MaybeUninit<f64>])| {
-                let start = first + i * chunk;
-                let mut out = Stretch {
-                    data: out,
-                    first: start,
-                    width,
-                    written: 0,
-                    stream: streams(cells),
-                };
-                self.fill_stretch(sys, context, &mut out);
-                assert_eq!(
-                    out.written,
-                    out.data.len(),
-                    "every cell of the stretch written"
-                );
+                let mut out = Stretch::new(out, first + i * chunk, width, stream);
+                fill_stretch(trajectory, sys, context, &mut out);
             };
-            let rows = &mut spare[first * width..end * width];
+            let rows = &mut rows[(first - from) * width..(end - from) * width];
             if chunk >= end - first {
                 // one stretch: on this thread, without handing it to the pool and waiting
                 fill(&mut context(), (0, rows));
@@ -130,31 +154,41 @@ impl SimResult {
                 share(stretches, context, fill);
             }
         }
-        // SAFETY: the segments cover rows 0..rows(), each stretch of a segment wrote every one
-        // of its cells (asserted above), so all `cells` values are initialized.
-        unsafe { data.set_len(cells) };
-        data
     }
 }
 
-impl SimResult {
-    /// Evaluates the rows of one stretch and writes them.
-    fn fill_stretch(&self, sys: &System, (block, rows_of): &mut Context, out: &mut Stretch) {
-        let tr = &self.trajectory;
-        let rows = out.first..out.first + out.data.len() / out.width;
-        rows_of.visit(self, rows, sys, &mut |r, sys, row| {
-            block.push(sys, r, (tr.disc[r], tr.t[r]), row);
-            if block.rows.len() == BLOCK {
-                block.flush(sys, self, out);
-            }
-        });
-        block.flush(sys, self, out);
-        settle(out);
-    }
+/// The shape of the table of every variable of `sys`, built at its first table and kept with
+/// it (None if the system keeps something else).
+pub(super) fn kept_shape(sys: &System) -> Option<&Shape> {
+    sys.derived.get_or_init(|| Shape::new(sys, None))
+}
+
+/// Evaluates the rows of one stretch of `trajectory` and writes every one of its cells.
+pub(super) fn fill_stretch(
+    trajectory: (&Trajectory, &[DiscreteState]),
+    sys: &System,
+    (block, rows_of): &mut Context,
+    out: &mut Stretch,
+) {
+    let tr = trajectory.0;
+    let rows = out.first..out.first + out.data.len() / out.width;
+    rows_of.visit(trajectory, rows, sys, &mut |r, sys, row| {
+        block.push(sys, r, (tr.disc[r], tr.t[r]), row);
+        if block.rows.len() == BLOCK {
+            block.flush(sys, &tr.t, out);
+        }
+    });
+    block.flush(sys, &tr.t, out);
+    settle(out);
+    assert_eq!(
+        out.written,
+        out.data.len(),
+        "every cell of the stretch written"
+    );
 }
 
 /// What a thread keeps from one stretch of rows to the next: its frames and its evaluator.
-type Context<'a> = (Block<'a>, RowEvaluator);
+pub(super) type Context<'a> = (Block<'a>, RowEvaluator);
 
 #[cfg(test)]
 mod tests {

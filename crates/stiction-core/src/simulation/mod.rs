@@ -15,6 +15,7 @@ mod grid;
 mod init;
 mod integrator;
 mod locate;
+mod record_all;
 mod samples;
 mod saved;
 mod scan;
@@ -31,6 +32,7 @@ use diffsol::OdeSolverMethod;
 
 use init::initialization_log;
 pub use init::{check_model, initial_state, initial_state_and_guesses, InitialState};
+pub use record_all::run_recording_all;
 pub use saved::{InputChange, SimState};
 pub use stepper::Cursor;
 pub use tune::ParameterChange;

@@ -264,9 +264,7 @@ impl Stepper {
             self.disc_recorded = true;
         }
         if self.trajectory.rows() == 0 {
-            // the grid, both rows of each time event, and room for a hundred state events
-            let rows = self.sys.experiment.grid_len() + 201 + 2 * self.sys.time_events.len();
-            self.trajectory.reserve(rows);
+            self.trajectory.reserve(expected_rows(&self.sys));
         }
         let id = (self.discs.len() - 1) as u32;
         self.trajectory.push(t, guard.horizon, id, &self.x);
@@ -469,4 +467,10 @@ impl Stepper {
         };
         Ok(false)
     }
+}
+
+/// The rows a run of `sys` is expected to record: the grid, both rows of each time event, and
+/// room for a hundred state events.
+pub(super) fn expected_rows(sys: &System) -> usize {
+    sys.experiment.grid_len() + 201 + 2 * sys.time_events.len()
 }

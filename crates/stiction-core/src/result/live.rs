@@ -1,0 +1,279 @@
+//! The table of every variable computed while the run goes on. A run is sequential: on a
+//! machine of two cores or more the others wait. Here the run hands the rows it recorded,
+//! slice by slice (`Feed::send`), to the pool's threads, which evaluate them into the table
+//! while the run integrates on; once the run ends, the calling thread takes its share of the
+//! rows left. The values are those of the table computed after the run, bit for bit: each row
+//! is evaluated by itself, from its own states and discrete state.
+
+use std::collections::VecDeque;
+use std::mem::MaybeUninit;
+use std::ops::Range;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Condvar, Mutex, MutexGuard, PoisonError};
+use std::time::Instant;
+
+use super::block::{Block, BLOCK};
+use super::rows::RowEvaluator;
+use super::shape::Shape;
+use super::stretch::{streams, stretch_rows, table_memory, Stretch, WAIT_AWAKE};
+use super::table::{fill_stretch, kept_shape, Context, FEWEST_ROWS};
+use super::{SimResult, Trajectory};
+use crate::engine::eval::DiscreteState;
+use crate::system::System;
+
+/// Rows a thread takes at a time: once the run ends, the threads share what is left in chunks
+/// of this size.
+const CHUNK: usize = 2 * BLOCK;
+
+/// Rows recorded by the run, copied (the run's trajectory grows, and moves, as it goes on):
+/// rows `first..` of the run, which refer to its discrete states by their index in the run.
+struct Chunk {
+    first: usize,
+    rows: Trajectory,
+}
+
+/// The chunks not taken yet, and every discrete state the run sent.
+#[derive(Default)]
+struct Queue {
+    chunks: VecDeque<Chunk>,
+    discs: Vec<DiscreteState>,
+    /// The run has ended and sent its last chunk: once the queue is empty, nothing more comes.
+    finished: bool,
+    /// The run failed: nothing more is computed.
+    failed: bool,
+}
+
+#[derive(Default)]
+struct Shared {
+    queue: Mutex<Queue>,
+    more: Condvar,
+    /// Chunks' rows already computed, whose memory the next chunks reuse (no allocation per
+    /// chunk, and still in cache).
+    spare: Mutex<Vec<Trajectory>>,
+    /// Pool threads still computing chunks (the calling thread waits for them awake).
+    busy: AtomicUsize,
+}
+
+impl Shared {
+    fn lock(&self) -> MutexGuard<'_, Queue> {
+        self.queue.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// A pool thread's next chunk, the oldest, waiting for one while the run goes on; None
+    /// once none is left. `discs` is brought up to every discrete state sent so far.
+    fn next(&self, discs: &mut Vec<DiscreteState>) -> Option<Chunk> {
+        let mut queue = self.lock();
+        loop {
+            if queue.failed {
+                return None;
+            }
+            if let Some(chunk) = queue.chunks.pop_front() {
+                discs.extend_from_slice(&queue.discs[discs.len()..]);
+                return Some(chunk);
+            }
+            if queue.finished {
+                return None;
+            }
+            queue = self
+                .more
+                .wait(queue)
+                .unwrap_or_else(PoisonError::into_inner);
+        }
+    }
+
+    /// The newest chunk not taken, for the calling thread once the run has ended.
+    fn last(&self) -> Option<Chunk> {
+        self.lock().chunks.pop_back()
+    }
+
+    /// No more chunks will come (`failed`: and none is to be computed).
+    fn end(&self, failed: bool) {
+        let mut queue = self.lock();
+        (queue.finished, queue.failed) = (true, failed);
+        self.more.notify_all();
+    }
+
+    /// Memory for a chunk's rows: a computed chunk's, or new.
+    fn rows_memory(&self) -> Trajectory {
+        let mut spare = self.spare.lock().unwrap_or_else(PoisonError::into_inner);
+        spare.pop().unwrap_or_default()
+    }
+
+    /// A computed chunk's rows, for the next chunk.
+    fn give_back(&self, rows: Trajectory) {
+        (self.spare.lock().unwrap_or_else(PoisonError::into_inner)).push(rows);
+    }
+}
+
+/// The table's cells, `width` per row, written by several threads at once, each its own rows.
+struct Cells {
+    first: *mut MaybeUninit<f64>,
+    rows: usize,
+    width: usize,
+    stream: bool,
+}
+
+// SAFETY: `Cells` hands out the rows of a chunk (`rows`) to the one thread that took the chunk
+// from the queue, and a chunk's rows are in no other chunk.
+unsafe impl Send for Cells {}
+unsafe impl Sync for Cells {}
+
+impl Cells {
+    /// The cells of rows `rows`.
+    ///
+    /// SAFETY: no other slice of these rows may be in use while this one is.
+    #[allow(clippy::mut_from_ref)] // each row is handed to one thread alone (see `Send`)
+    unsafe fn rows(&self, rows: Range<usize>) -> &mut [MaybeUninit<f64>] {
+        assert!(
+            rows.start <= rows.end && rows.end <= self.rows,
+            "rows of the table"
+        );
+        let len = (rows.end - rows.start) * self.width;
+        // SAFETY: in bounds (asserted), and not aliased (the caller's promise).
+        unsafe { std::slice::from_raw_parts_mut(self.first.add(rows.start * self.width), len) }
+    }
+}
+
+/// What the run hands its recorded rows to (`send`).
+pub struct Feed<'a> {
+    shared: &'a Shared,
+    /// Rows the table has room for; rows beyond are computed once the run has ended.
+    room: usize,
+    sent: usize,
+    /// Whether pool threads take the rows (not with a pool of one thread).
+    live: bool,
+}
+
+impl Feed<'_> {
+    /// Hands the rows of `tr` (discrete states in `discs`) recorded since the last call to
+    /// the pool's threads.
+    pub fn send(&mut self, tr: &Trajectory, discs: &[DiscreteState]) {
+        let end = tr.rows().min(self.room);
+        if !self.live || end <= self.sent {
+            return;
+        }
+        let chunks: Vec<Chunk> = (self.sent..end)
+            .step_by(CHUNK)
+            .map(|first| {
+                let mut rows = self.shared.rows_memory();
+                tr.copy_rows_into(first..(first + CHUNK).min(end), &mut rows);
+                Chunk { first, rows }
+            })
+            .collect();
+        let mut queue = self.shared.lock();
+        let known = queue.discs.len();
+        queue.discs.extend_from_slice(&discs[known..]);
+        queue.chunks.extend(chunks);
+        self.shared.more.notify_all();
+        self.sent = end;
+    }
+}
+
+/// Runs `run`, which hands its recorded rows to the `Feed` as it goes, while the pool's other
+/// threads compute every variable of them; returns the run's result with its table computed
+/// (about `rows` rows expected: more are computed once the run has ended).
+pub fn recorded_while<E>(
+    sys: &System,
+    rows: usize,
+    run: impl FnOnce(&mut Feed) -> Result<SimResult, E>,
+) -> Result<SimResult, E> {
+    let own;
+    let shape = match kept_shape(sys) {
+        Some(shape) => shape,
+        None => {
+            own = Shape::new(sys, None);
+            &own
+        }
+    };
+    let width = sys.outputs.len() + 1;
+    let room = rows + rows / 8 + CHUNK;
+    let mut data = table_memory(room * width);
+    let cells = Cells {
+        first: data.spare_capacity_mut().as_mut_ptr(),
+        rows: room,
+        width,
+        stream: streams(room * width),
+    };
+    let shared = Shared::default();
+    // the calling thread runs; the pool's other threads compute (one of them the caller's
+    // own, when it is one of the pool)
+    let helpers = rayon::current_num_threads().saturating_sub(1);
+    let mut feed = Feed {
+        shared: &shared,
+        room,
+        sent: 0,
+        live: helpers > 0,
+    };
+    let (result, sent) = rayon::in_place_scope(|scope| {
+        for _ in 0..helpers {
+            shared.busy.fetch_add(1, Ordering::AcqRel);
+            scope.spawn(|_| {
+                compute_chunks(&shared, &cells, sys, shape);
+                shared.busy.fetch_sub(1, Ordering::Release);
+            });
+        }
+        let result = match run(&mut feed) {
+            Ok(result) => result,
+            Err(e) => {
+                shared.end(true);
+                return Err(e);
+            }
+        };
+        // the rows not sent yet go to the queue too; the pool's threads take the oldest
+        // chunks, this thread the newest
+        feed.send(&result.trajectory, &result.discs);
+        shared.end(false);
+        let mut own = None;
+        while let Some(chunk) = shared.last() {
+            let context = own.get_or_insert_with(|| (Block::new(shape), RowEvaluator::new(sys)));
+            compute_chunk(&chunk, &result.discs, &cells, sys, context);
+        }
+        drop(own);
+        let start = Instant::now();
+        while shared.busy.load(Ordering::Acquire) > 0 && start.elapsed() < WAIT_AWAKE {
+            std::hint::spin_loop();
+        }
+        Ok((result, feed.sent))
+        // leaving the scope waits (asleep) for pool threads still computing
+    })?;
+    // SAFETY: every chunk sent was computed in full (`fill_stretch` asserts it), and the
+    // chunks sent are the rows from 0 to `sent`.
+    unsafe { data.set_len(sent * width) };
+    let total = result.rows() * width;
+    if sent < result.rows() {
+        // more rows than room, or a pool of one thread: the rest now
+        data.reserve_exact(total - data.len());
+        let rest = &mut data.spare_capacity_mut()[..total - sent * width];
+        result.fill_from(sent, None, rest, |n| stretch_rows(n, FEWEST_ROWS));
+        // SAFETY: `fill_from` wrote every cell of the rows after `sent`.
+        unsafe { data.set_len(total) };
+    }
+    Ok(result.with_table(data))
+}
+
+/// A pool thread's share: the oldest chunks the run sends, one after the other, until none is
+/// left.
+fn compute_chunks(shared: &Shared, cells: &Cells, sys: &System, shape: &Shape) {
+    let mut discs = Vec::new();
+    let mut context = None;
+    while let Some(chunk) = shared.next(&mut discs) {
+        let context = context.get_or_insert_with(|| (Block::new(shape), RowEvaluator::new(sys)));
+        compute_chunk(&chunk, &discs, cells, sys, context);
+        shared.give_back(chunk.rows);
+    }
+}
+
+/// Computes and writes the rows of `chunk` (every discrete state they refer to in `discs`).
+fn compute_chunk(
+    chunk: &Chunk,
+    discs: &[DiscreteState],
+    cells: &Cells,
+    sys: &System,
+    context: &mut Context,
+) {
+    let rows = chunk.first..chunk.first + chunk.rows.rows();
+    // SAFETY: a chunk is taken from the queue by one thread alone, and its rows are in no other.
+    let data = unsafe { cells.rows(rows) };
+    let mut out = Stretch::new(data, 0, cells.width, cells.stream);
+    fill_stretch((&chunk.rows, discs), sys, context, &mut out);
+}

@@ -1,0 +1,142 @@
+//! A run that records every variable as it goes (`run_recording_all`): the run advances in
+//! short slices, and after each one hands the rows it recorded to the pool's threads, which
+//! compute their variables (`result::recorded_while`), so that most of the table is done when
+//! the run ends. The run itself is that of one `advance_to`, bit for bit (the slices pause
+//! between integrator steps).
+
+use std::sync::Arc;
+use std::time::Duration;
+
+use super::stepper::expected_rows;
+use super::Simulation;
+use crate::error::SimError;
+use crate::result::{recorded_while, SimResult};
+use crate::system::System;
+
+/// The run's time between two hand-overs of rows: the pool's threads start this long after the
+/// run, and each hand-over costs a copy of the rows, a lock and a wake-up.
+const SLICE: Duration = Duration::from_micros(100);
+
+/// Simulates `sys` from start to stop with every variable of every row computed by the time
+/// it returns (`SimResult::table` is then at hand), on the pool's other threads while the run
+/// goes on. `between` is called between slices of the run; returning false cancels it
+/// (`SimError::Cancelled`).
+pub fn run_recording_all(
+    sys: Arc<System>,
+    between: impl FnMut() -> bool,
+) -> Result<SimResult, SimError> {
+    let rows = expected_rows(&sys);
+    run_with_room(sys, rows, between)
+}
+
+/// `run_recording_all` with a table of room for about `rows` rows while the run goes on.
+fn run_with_room(
+    sys: Arc<System>,
+    rows: usize,
+    mut between: impl FnMut() -> bool,
+) -> Result<SimResult, SimError> {
+    let mut sim = Simulation::new(sys.clone())?;
+    let stop = sys.experiment.stop_time;
+    recorded_while(&sys, rows, |feed| {
+        while !sim.advance_for(stop, SLICE)? {
+            feed.send(&sim.stepper.trajectory, &sim.stepper.discs);
+            if !between() {
+                return Err(SimError::Cancelled {
+                    time: sim.stepper.now,
+                });
+            }
+        }
+        Ok(sim.into_result())
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::Arc;
+
+    use super::{run_recording_all, run_with_room};
+    use crate::assembly::CompiledModel;
+    use crate::error::SimError;
+    use crate::simulation::run;
+    use crate::system::System;
+    use crate::ModelSpec;
+
+    fn example(name: &str) -> Arc<System> {
+        let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/msl");
+        let text = std::fs::read_to_string(format!("{dir}/{name}.toml")).expect("example");
+        let spec = ModelSpec::from_toml(&text, dir).expect("valid model");
+        CompiledModel::new(spec).expect("builds").system()
+    }
+
+    fn pool(threads: usize) -> rayon::ThreadPool {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build();
+        pool.expect("a thread pool")
+    }
+
+    fn same_bits(a: &[f64], b: &[f64]) -> bool {
+        a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+    }
+
+    /// Every variable recorded while the run goes on is the table computed after the run, bit
+    /// for bit, and the run is the same run (events, statistics): with no pool thread to help,
+    /// with one, and with three (chunks taken out of order, each thread bringing its discrete
+    /// states up to date); HeatLosses' 20 323 rows exceed the rows a run expects (its 161 state
+    /// events), so its last rows are computed after the run.
+    #[test]
+    fn recorded_while_running_equals_computed_after() {
+        for name in [
+            "CoupledClutches",
+            "HeatLosses",
+            "SimpleGearShift",
+            "OneWayClutch",
+        ] {
+            let sys = example(name);
+            let after = run(sys.clone()).expect("runs");
+            let expected = after.table().expect("fits");
+            for threads in [1, 2, 4] {
+                let live = pool(threads).install(|| run_recording_all(sys.clone(), || true));
+                let live = live.expect("runs");
+                assert_eq!(live.events, after.events, "{name}, {threads} threads");
+                assert_eq!(live.stats.steps, after.stats.steps, "{name}");
+                let table = live.table().expect("fits");
+                assert!(
+                    same_bits(table, expected),
+                    "{name}, {threads} threads: tables differ"
+                );
+            }
+        }
+    }
+
+    /// A table with room for only its first chunk while the run goes on computes the rest
+    /// after it, into the same table.
+    #[test]
+    fn rows_beyond_the_room_computed_after_the_run() {
+        let sys = example("CoupledClutches");
+        let expected = run(sys.clone()).expect("runs").table_vec().expect("fits");
+        let live = pool(2)
+            .install(|| run_with_room(sys, 0, || true))
+            .expect("runs");
+        assert!(live.rows() > 1000, "more rows than the room");
+        assert!(same_bits(&live.table_vec().expect("fits"), &expected));
+    }
+
+    /// Cancelling between slices stops the run with `Cancelled`, and the pool's threads waiting
+    /// for rows return (the next run on the pool completes).
+    #[test]
+    fn cancelled_between_slices() {
+        let sys = example("HeatLosses");
+        let pool = pool(2);
+        let mut slices = 0;
+        let cancelled = pool.install(|| {
+            run_recording_all(sys.clone(), || {
+                slices += 1;
+                slices < 3
+            })
+        });
+        assert!(matches!(cancelled, Err(SimError::Cancelled { time }) if time > 0.0));
+        let again = pool
+            .install(|| run_recording_all(sys, || true))
+            .expect("runs");
+        assert!(again.table().is_ok());
+    }
+}

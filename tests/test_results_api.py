@@ -163,3 +163,27 @@ def test_a_large_table_outlives_its_result_and_its_memory_goes_to_a_later_one() 
     fresh = model.simulate(**other).data
     assert fresh.__array_interface__["data"][0] != address
     assert again.shape == fresh.shape and again.tobytes() == fresh.tobytes()
+
+
+@pytest.mark.parametrize("name", ["HeatLosses", "CoupledClutches", "OneWayClutch"])
+def test_a_run_recording_every_variable_gives_the_table_computed_after_it(name: str) -> None:
+    """`simulate(record="all")` computes every variable while the run goes on: the same run
+    (events, steps) and the same table, bit for bit, as every variable computed after the run;
+    a parameter override and a compiled model's variants take the same path."""
+    model = st.Model.load(Path(__file__).resolve().parents[1] / "examples" / "msl" / f"{name}.toml")
+    after, live = model.simulate(), model.simulate(record="all")
+    assert live.events == after.events and live.stats["steps"] == after.stats["steps"]
+    assert live.data.shape == after.data.shape and live.data.tobytes() == after.data.tobytes()
+    compiled = model.compile()
+    variant = {"StopTime": 0.5 * model.experiment["StopTime"]}
+    expected = compiled.simulate(**variant).data
+    assert compiled.simulate(record="all", **variant).data.tobytes() == expected.tobytes()
+
+
+def test_record_must_be_states_or_all() -> None:
+    """Any other `record` is a ValueError naming the choices, before anything runs."""
+    model = braked_model()
+    with pytest.raises(ValueError, match="record must be one of 'states', 'all', got 'every'"):
+        model.simulate(record="every")
+    with pytest.raises(ValueError, match="record must be one of"):
+        model.compile().simulate(record="All")

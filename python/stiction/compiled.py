@@ -67,12 +67,27 @@ class CompiledModel:
         """Every name an override may use: ``component.parameter``, then experiment settings."""
         return list(self._core.parameter_names())
 
-    def simulate(self, params: Mapping[str, Any] | None = None, **experiment: Any) -> Result:
-        """Run with ``params`` overridden (and ``StopTime=…`` etc. as keywords)."""
+    def simulate(
+        self, params: Mapping[str, Any] | None = None, *, record: str = "states", **experiment: Any
+    ) -> Result:
+        """Run with ``params`` overridden (and ``StopTime=…`` etc. as keywords); ``record``
+        as for ``Model.simulate``."""
+        all_variables = records_all(record)
         overrides = merge_overrides(params, experiment)
         core = self._core.variant(overrides) if overrides else self._core
-        return Result.from_core(core.simulate(), name=self.name)
+        return Result.from_core(core.simulate(record_all=all_variables), name=self.name)
 
     def check_overrides(self, params: Mapping[str, Any]) -> None:
         """Raise ``ModelError`` if a name or value of ``params`` is not valid."""
         self._core.variant(dict(params))
+
+
+RECORD_CHOICES = ("states", "all")
+
+
+def records_all(record: str) -> bool:
+    """Whether ``record`` (``"states"`` or ``"all"``) asks for every variable during the run;
+    a ``ValueError`` naming the choices for anything else."""
+    if record not in RECORD_CHOICES:
+        raise ValueError(f"record must be one of {', '.join(map(repr, RECORD_CHOICES))}, got {record!r}")
+    return record == "all"

@@ -409,8 +409,15 @@ class Model:
         Tolerance: float | None = None,
         Solver: str | None = None,
         params: Mapping[str, Any] | None = None,
+        record: str = "states",
     ) -> Result:
         """Run the model; arguments override its experiment settings for this run.
+
+        ``record="states"`` (the default) records the states; every other variable is computed
+        from them when first read (``r.data`` computes all of them at once, on every core).
+        ``record="all"`` computes every variable while the run goes on, on the other cores, so
+        that ``r.data`` is at hand when the run returns: less time from start to every
+        variable on a machine of two cores or more. The values are the same, bit for bit.
 
         ``Solver`` is "auto" (the default: tsit45, changing to esdirk34 once the run is stiff),
         "tsit45", "bdf" or "esdirk34". ``params`` overrides parameters and start values by name for this run (``{"clutch1.fn_max": 30,
@@ -418,10 +425,11 @@ class Model:
         (``r.experiment``, with the settings left at defaults) and the initialization
         (``r.initialization``, of the model without ``params``).
         """
-        from .compiled import merge_overrides
+        from .compiled import merge_overrides, records_all
         from .parameters import evaluate_parameters, expand_parameters
         from .result import Result
 
+        all_variables = records_all(record)
         given: dict[str, Any] = {"StartTime": StartTime, "StopTime": StopTime, "Interval": Interval}
         given |= {"Tolerance": Tolerance, "Solver": Solver}
         overrides = merge_overrides(params, given)
@@ -431,7 +439,7 @@ class Model:
         )
         overrides = expand_parameters(self.parameters, self.components, overrides)
         core = self._compile(text)._core
-        raw = (core.variant(overrides) if overrides else core).simulate()
+        raw = (core.variant(overrides) if overrides else core).simulate(record_all=all_variables)
         experiment = {k: float(v) for k, v in given.items() if v is not None and k != "Solver"}
         info = RunInfo(text, str(self.base_dir), experiment, Solver, self.types())
         result = Result.from_core(raw, name=self.name, variables=self.variables, parameters=top, info=info)

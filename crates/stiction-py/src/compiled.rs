@@ -1,18 +1,42 @@
 //! `_core.CompiledModel`: a model compiled once, its variants (parameters, start values,
 //! experiment settings by MSL name) and sweeps over them, run in the core with the GIL released.
 
-use std::sync::{Condvar, Mutex, PoisonError};
-use std::time::Duration;
+use std::sync::{Arc, Condvar, Mutex, PoisonError};
+use std::time::{Duration, Instant};
 
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use stiction_core::assembly::CompiledModel;
-use stiction_core::simulation::CancelHandle;
+use stiction_core::simulation::{run_recording_all, CancelHandle};
 use stiction_core::sweep::{run_variants, Outcome, Override, Plan};
+use stiction_core::system::System;
 use stiction_core::{ModelSpec, Simulation};
 
 use crate::{advance_interruptibly, guarded, model_err, py_error, RawResult};
+
+/// `run_recording_all` with the GIL released, checking for signals about every 50 ms between
+/// its slices: Ctrl-C raises `KeyboardInterrupt`, as `advance_interruptibly` does.
+fn run_recording_all_interruptibly(py: Python<'_>, sys: Arc<System>) -> PyResult<RawResult> {
+    let mut interrupted = None;
+    let mut last = Instant::now();
+    let outcome = py.detach(|| {
+        let between = || {
+            if last.elapsed() < Duration::from_millis(50) {
+                return true;
+            }
+            last = Instant::now();
+            let signals = Python::attach(|py| py.check_signals());
+            interrupted = signals.err();
+            interrupted.is_none()
+        };
+        guarded(|| run_recording_all(sys, between))
+    });
+    if let Some(e) = interrupted {
+        return Err(e);
+    }
+    Ok(RawResult::new(outcome?))
+}
 
 /// A Python value as the model file would hold it: a number, a Boolean, a string, a (nested)
 /// list, or a table such as `{"start": 1.0, "fixed": True}`.
@@ -146,9 +170,14 @@ impl PyCompiled {
         Ok(Self(variant))
     }
 
-    /// Runs this model to its StopTime (Ctrl-C raises `KeyboardInterrupt` promptly).
-    fn simulate(&self, py: Python<'_>) -> PyResult<RawResult> {
+    /// Runs this model to its StopTime (Ctrl-C raises `KeyboardInterrupt` promptly). With
+    /// `record_all`, every variable is computed while the run goes on, on the other cores.
+    #[pyo3(signature = (record_all = false))]
+    fn simulate(&self, py: Python<'_>, record_all: bool) -> PyResult<RawResult> {
         let sys = self.0.system();
+        if record_all {
+            return run_recording_all_interruptibly(py, sys);
+        }
         let mut sim = guarded(|| Simulation::new(sys))?;
         let stop = sim.system().experiment.stop_time;
         advance_interruptibly(py, &mut sim, stop)?;

@@ -16,6 +16,8 @@ mod shape;
 mod stretch;
 mod table;
 
+#[cfg(test)]
+pub use live::ROWS_BY_POOL;
 pub use live::{recorded_while, Feed};
 use rows::RowEvaluator;
 pub use stretch::recycle_table;

@@ -7,6 +7,7 @@
 //! and no `u8` falls outside it. The values are the row recorder's, bit for bit.
 
 use std::mem::MaybeUninit;
+use std::ops::Range;
 use std::sync::PoisonError;
 
 use super::block::{Block, BLOCK};
@@ -103,30 +104,31 @@ impl SimResult {
         // a tenth of CoupledClutches' table, on one thread before the others start.
         let mut data = table_memory(cells);
         let spare = &mut data.spare_capacity_mut()[..cells];
-        self.fill_from(0, only, spare, stretch);
-        // SAFETY: `fill_from` wrote every one of the `cells` values.
+        self.fill_rows(0..self.rows(), only, spare, stretch);
+        // SAFETY: `fill_rows` wrote every one of the `cells` values.
         unsafe { data.set_len(cells) };
         data
     }
 
-    /// Writes rows `from..` of the table (all outputs, or only output `only`) into `rows`, in
+    /// Writes rows `range` of the table (all outputs, or only output `only`) into `rows`, in
     /// stretches of `stretch(rows)` rows for a segment of `rows` rows; every cell is written.
-    pub(super) fn fill_from(
+    pub(super) fn fill_rows(
         &self,
-        from: usize,
+        range: Range<usize>,
         only: Option<usize>,
         rows: &mut [MaybeUninit<f64>],
         stretch: impl Fn(usize) -> usize,
     ) {
         let width = only.map_or(self.system.outputs.len(), |_| 1) + 1;
-        assert_eq!(rows.len(), (self.rows() - from) * width, "a cell per value");
+        assert_eq!(rows.len(), range.len() * width, "a cell per value");
+        let from = range.start;
         let stream = streams(self.rows() * width);
         let trajectory = (&self.trajectory, &self.discs[..]);
         // Each segment of rows between parameter changes is filled from its own system: the
         // values (an inertia's J, a law's constants) enter the compiled columns and the flange
         // torques' terms, the shapes are the same throughout.
         for (first, end, sys) in self.segments() {
-            let first = first.max(from);
+            let (first, end) = (first.max(from), end.min(range.end));
             if first >= end {
                 continue;
             }

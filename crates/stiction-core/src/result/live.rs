@@ -1,14 +1,15 @@
 //! The table of every variable computed while the run goes on. A run is sequential: on a
 //! machine of two cores or more the others wait. Here the run hands the rows it recorded,
 //! slice by slice (`Feed::send`), to the pool's threads, which evaluate them into the table
-//! while the run integrates on; once the run ends, every thread computes the rows left. The values are those of the table computed after the run, bit for bit: each row
-//! is evaluated by itself, from its own states and discrete state.
+//! while the run integrates on; once the run ends, every thread takes rows left from its result
+//! until none is. The values are those of the table computed after the run, bit for bit: each
+//! row is evaluated by itself, from its own states and discrete state.
 
 use std::collections::VecDeque;
 use std::mem::MaybeUninit;
 use std::ops::Range;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::{Condvar, Mutex, MutexGuard, PoisonError};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
 use std::time::Instant;
 
 use super::block::{Block, BLOCK};
@@ -20,7 +21,7 @@ use super::{SimResult, Trajectory};
 use crate::engine::eval::DiscreteState;
 use crate::system::System;
 
-/// Rows a thread takes at a time: once the run ends, the threads share what is left in chunks
+/// Rows a thread takes at a time: once the run ends, the threads share what is left in pieces
 /// of this size.
 const CHUNK: usize = 2 * BLOCK;
 
@@ -41,15 +42,43 @@ struct Chunk {
     rows: Trajectory,
 }
 
-/// The chunks not taken yet, and every discrete state the run sent.
+/// What a thread computes next: a chunk the run sent, or rows of the ended run's result.
+enum Work {
+    Chunk(Chunk),
+    Rows(Arc<SimResult>, Range<usize>),
+}
+
+/// The chunks not taken yet, every discrete state the run sent, and once it has ended, the
+/// rows of its result not taken yet.
 #[derive(Default)]
 struct Queue {
     chunks: VecDeque<Chunk>,
     discs: Vec<DiscreteState>,
-    /// The run has ended and sent its last chunk: once the queue is empty, nothing more comes.
-    finished: bool,
+    /// The ended run's result and its rows not taken yet (those not sent, up to the room).
+    ended: Option<(Arc<SimResult>, Range<usize>)>,
     /// The run failed: nothing more is computed.
     failed: bool,
+}
+
+impl Queue {
+    /// The next work: a chunk (the oldest, or the newest), else rows of the ended run.
+    fn take(&mut self, newest: bool) -> Option<Work> {
+        let chunk = match newest {
+            true => self.chunks.pop_back(),
+            false => self.chunks.pop_front(),
+        };
+        if let Some(chunk) = chunk {
+            return Some(Work::Chunk(chunk));
+        }
+        let (result, rows) = self.ended.as_mut()?;
+        if rows.start >= rows.end {
+            return None;
+        }
+        let end = rows.end.min(rows.start + CHUNK);
+        let taken = rows.start..end;
+        rows.start = end;
+        Some(Work::Rows(result.clone(), taken))
+    }
 }
 
 #[derive(Default)]
@@ -59,7 +88,7 @@ struct Shared {
     /// Chunks' rows already computed, whose memory the next chunks reuse (no allocation per
     /// chunk, and still in cache).
     spare: Mutex<Vec<Trajectory>>,
-    /// Pool threads still computing chunks (the calling thread waits for them awake).
+    /// Pool threads still computing (the calling thread waits for them awake).
     busy: AtomicUsize,
 }
 
@@ -68,37 +97,36 @@ impl Shared {
         self.queue.lock().unwrap_or_else(PoisonError::into_inner)
     }
 
-    /// A pool thread's next chunk, the oldest, waiting for one while the run goes on; None
-    /// once none is left. `discs` is brought up to every discrete state sent so far.
-    fn next(&self, discs: &mut Vec<DiscreteState>) -> Option<Chunk> {
+    /// A pool thread's next work, the oldest chunk first, waiting for some while the run goes
+    /// on; None once none is left. `discs` is brought up to every discrete state sent so far.
+    /// (The calling thread takes the newest chunks once the run has ended, so a pool thread's
+    /// chunks come before all of the caller's, and the discrete states sent before them.)
+    fn next(&self, discs: &mut Vec<DiscreteState>) -> Option<Work> {
         let mut queue = self.lock();
         loop {
             if queue.failed {
                 return None;
             }
-            if let Some(chunk) = queue.chunks.pop_front() {
+            if let Some(work) = queue.take(false) {
                 discs.extend_from_slice(&queue.discs[discs.len()..]);
-                return Some(chunk);
+                return Some(work);
             }
-            if queue.finished {
+            if queue.ended.is_some() {
                 return None;
             }
-            queue = self
-                .more
-                .wait(queue)
-                .unwrap_or_else(PoisonError::into_inner);
+            queue = (self.more.wait(queue)).unwrap_or_else(PoisonError::into_inner);
         }
     }
 
-    /// The newest chunk not taken, for the calling thread once the run has ended.
-    fn last(&self) -> Option<Chunk> {
-        self.lock().chunks.pop_back()
+    /// The run has ended: its rows `rows` (not sent) are to be computed too.
+    fn end(&self, result: Arc<SimResult>, rows: Range<usize>) {
+        self.lock().ended = Some((result, rows));
+        self.more.notify_all();
     }
 
-    /// No more chunks will come (`failed`: and none is to be computed).
-    fn end(&self, failed: bool) {
-        let mut queue = self.lock();
-        (queue.finished, queue.failed) = (true, failed);
+    /// The run failed: nothing more is computed.
+    fn fail(&self) {
+        self.lock().failed = true;
         self.more.notify_all();
     }
 
@@ -114,13 +142,14 @@ impl Shared {
     }
 }
 
-/// Ends the queue as failed when dropped while the thread panics.
-struct EndIfPanicking<'a>(&'a Shared);
+/// Fails the queue when dropped while the thread panics: the pool's threads must not wait
+/// for rows forever (the scope waits for them before it lets the panic go on).
+struct FailIfPanicking<'a>(&'a Shared);
 
-impl Drop for EndIfPanicking<'_> {
+impl Drop for FailIfPanicking<'_> {
     fn drop(&mut self) {
         if std::thread::panicking() {
-            self.0.end(true);
+            self.0.fail();
         }
     }
 }
@@ -133,8 +162,8 @@ struct Cells {
     stream: bool,
 }
 
-// SAFETY: `Cells` hands out the rows of a chunk (`rows`) to the one thread that took the chunk
-// from the queue, and a chunk's rows are in no other chunk.
+// SAFETY: `Cells` hands out the rows of a piece of work (`rows`) to the one thread that took it
+// from the queue, and no two pieces share a row.
 unsafe impl Send for Cells {}
 unsafe impl Sync for Cells {}
 
@@ -234,48 +263,47 @@ pub fn recorded_while<E>(
         sent: 0,
         live: helpers > 0,
     };
-    let (result, done) = rayon::in_place_scope(|scope| {
+    let outcome = rayon::in_place_scope(|scope| {
         for _ in 0..helpers {
             shared.busy.fetch_add(1, Ordering::AcqRel);
             scope.spawn(|_| {
-                compute_chunks(&shared, &cells, sys, shape);
+                compute_queued(&shared, &cells, sys, shape);
                 shared.busy.fetch_sub(1, Ordering::Release);
             });
         }
-        // a panic below must not leave the pool's threads waiting for rows (the scope waits
-        // for them before it lets the panic go on)
-        let _unwinding = EndIfPanicking(&shared);
+        let _unwinding = FailIfPanicking(&shared);
         let result = match run(&mut feed) {
-            Ok(result) => result,
+            Ok(result) => Arc::new(result),
             Err(e) => {
-                shared.end(true);
+                shared.fail();
                 return Err(e);
             }
         };
-        shared.end(false);
-        // the chunks still waiting: this thread takes the newest, the pool's threads the oldest
+        let done = result.rows().min(room).max(feed.sent);
+        shared.end(result.clone(), feed.sent..done);
+        // this thread takes the newest chunks, then rows of the result like the others
         let mut own = None;
-        while let Some(chunk) = shared.last() {
+        loop {
+            let Some(work) = shared.lock().take(true) else {
+                break;
+            };
             let context = own.get_or_insert_with(|| (Block::new(shape), RowEvaluator::new(sys)));
-            compute_chunk(&chunk, &result.discs, &cells, sys, context);
+            compute(&work, &result.discs, &cells, sys, context);
         }
         drop(own);
-        // then the rows not sent, as far as the table has room, on every thread
-        let end = result.rows().min(room);
-        if end > feed.sent {
-            // SAFETY: rows from `sent` on are in no chunk.
-            let rest = unsafe { cells.rows(feed.sent..end) };
-            result.fill_rows(feed.sent..end, None, rest, |n| stretch_rows(n, FEWEST_ROWS));
-        }
         let start = Instant::now();
         while shared.busy.load(Ordering::Acquire) > 0 && start.elapsed() < WAIT_AWAKE {
             std::hint::spin_loop();
         }
-        Ok((result, end.max(feed.sent)))
+        Ok((result, done))
         // leaving the scope waits (asleep) for pool threads still computing
-    })?;
-    // SAFETY: rows 0..done were written: every chunk sent in full (`fill_stretch` asserts
-    // it), the rows after them by `fill_rows`.
+    });
+    let (result, done) = outcome?;
+    shared.lock().ended = None;
+    // every other holder was a pool thread's work, done by the end of the scope
+    let result = Arc::into_inner(result).expect("the result held by this thread alone");
+    // SAFETY: rows 0..done were written: every chunk sent and every piece of the result's
+    // rows in full (`fill_stretch` asserts it).
     unsafe { data.set_len(done * width) };
     let total = result.rows() * width;
     if done < result.rows() {
@@ -295,31 +323,45 @@ pub fn recorded_while<E>(
 #[cfg(test)]
 pub static ROWS_BY_POOL: AtomicUsize = AtomicUsize::new(0);
 
-/// A pool thread's share: the oldest chunks the run sends, one after the other, until none is
-/// left.
-fn compute_chunks(shared: &Shared, cells: &Cells, sys: &System, shape: &Shape) {
+/// A pool thread's share: the oldest chunks the run sends, one after the other, then rows of
+/// its result, until none is left.
+fn compute_queued(shared: &Shared, cells: &Cells, sys: &System, shape: &Shape) {
     let mut discs = Vec::new();
     let mut context = None;
-    while let Some(chunk) = shared.next(&mut discs) {
+    while let Some(work) = shared.next(&mut discs) {
         let context = context.get_or_insert_with(|| (Block::new(shape), RowEvaluator::new(sys)));
-        compute_chunk(&chunk, &discs, cells, sys, context);
+        compute(&work, &discs, cells, sys, context);
         #[cfg(test)]
-        ROWS_BY_POOL.fetch_add(chunk.rows.rows(), Ordering::Relaxed);
-        shared.give_back(chunk.rows);
+        if let Work::Chunk(chunk) = &work {
+            ROWS_BY_POOL.fetch_add(chunk.rows.rows(), Ordering::Relaxed);
+        }
+        if let Work::Chunk(chunk) = work {
+            shared.give_back(chunk.rows);
+        }
     }
 }
 
-/// Computes and writes the rows of `chunk` (every discrete state they refer to in `discs`).
-fn compute_chunk(
-    chunk: &Chunk,
+/// Computes and writes the rows of `work` (a chunk's discrete states in `discs`).
+fn compute(
+    work: &Work,
     discs: &[DiscreteState],
     cells: &Cells,
     sys: &System,
     context: &mut Context,
 ) {
-    let rows = chunk.first..chunk.first + chunk.rows.rows();
-    // SAFETY: a chunk is taken from the queue by one thread alone, and its rows are in no other.
+    let (trajectory, rows, first) = match work {
+        Work::Chunk(chunk) => {
+            let rows = chunk.first..chunk.first + chunk.rows.rows();
+            ((&chunk.rows, discs), rows, 0)
+        }
+        Work::Rows(result, rows) => {
+            let trajectory = (&result.trajectory, &result.discs[..]);
+            (trajectory, rows.clone(), rows.start)
+        }
+    };
+    // SAFETY: a piece of work is taken from the queue by one thread alone, and its rows are in
+    // no other.
     let data = unsafe { cells.rows(rows) };
-    let mut out = Stretch::new(data, 0, cells.width, cells.stream);
-    fill_stretch((&chunk.rows, discs), sys, context, &mut out);
+    let mut out = Stretch::new(data, first, cells.width, cells.stream);
+    fill_stretch(trajectory, sys, context, &mut out);
 }

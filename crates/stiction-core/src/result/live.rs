@@ -53,6 +53,8 @@ enum Work {
 #[derive(Default)]
 struct Queue {
     chunks: VecDeque<Chunk>,
+    /// The run's rows sent so far: `0..sent`.
+    sent: usize,
     discs: Vec<DiscreteState>,
     /// The ended run's result and its rows not taken yet (those not sent, up to the room).
     ended: Option<(Arc<SimResult>, Range<usize>)>,
@@ -188,8 +190,7 @@ pub struct Feed<'a> {
     shared: &'a Shared,
     /// Rows the table has room for; rows beyond are computed once the run has ended.
     room: usize,
-    sent: usize,
-    /// Whether pool threads take the rows (not with a pool of one thread).
+    /// Whether pool threads take the rows (not with a pool of one thread, nor for few rows).
     live: bool,
 }
 
@@ -202,13 +203,16 @@ impl Feed<'_> {
         }
         // no more than `AHEAD` chunks waiting: the rows not sent are computed after the run
         // from the run's own trajectory, without a copy
-        let queued = self.shared.lock().chunks.len();
-        let most = self.sent + AHEAD.saturating_sub(queued) * CHUNK;
+        let (queued, sent) = {
+            let queue = self.shared.lock();
+            (queue.chunks.len(), queue.sent)
+        };
+        let most = sent + AHEAD.saturating_sub(queued) * CHUNK;
         let end = tr.rows().min(self.room).min(most);
-        if end <= self.sent {
+        if end <= sent {
             return;
         }
-        let chunks: Vec<Chunk> = (self.sent..end)
+        let chunks: Vec<Chunk> = (sent..end)
             .step_by(CHUNK)
             .map(|first| {
                 let mut rows = self.shared.rows_memory();
@@ -220,8 +224,8 @@ impl Feed<'_> {
         let known = queue.discs.len();
         queue.discs.extend_from_slice(&discs[known..]);
         queue.chunks.extend(chunks);
+        queue.sent = end;
         self.shared.more.notify_all();
-        self.sent = end;
     }
 }
 
@@ -260,27 +264,61 @@ pub fn recorded_while<E>(
     let mut feed = Feed {
         shared: &shared,
         room,
-        sent: 0,
         live: helpers > 0,
     };
+    let (result, done) = match helpers {
+        // the table after the run, on every thread (`fill_rows` below)
+        0 => (run(&mut feed)?, 0),
+        _ => live(&shared, helpers, (&cells, sys, shape), room, || {
+            run(&mut feed)
+        })?,
+    };
+    // SAFETY: rows 0..done were written: every chunk sent and every piece of the result's
+    // rows in full (`fill_stretch` asserts it).
+    unsafe { data.set_len(done * width) };
+    let total = result.rows() * width;
+    if done < result.rows() {
+        // the rows beyond the room, or all of them when no pool thread helps (on every thread)
+        data.reserve_exact(total - data.len());
+        let rest = &mut data.spare_capacity_mut()[..total - done * width];
+        result.fill_rows(done..result.rows(), None, rest, |n| {
+            stretch_rows(n, FEWEST_ROWS)
+        });
+        // SAFETY: `fill_rows` wrote every cell of the rows after `done`.
+        unsafe { data.set_len(total) };
+    }
+    Ok(result.with_table(data))
+}
+
+/// The run (`run`) on this thread while `helpers` pool threads compute the chunks it sends;
+/// once it has ended, every thread computes rows of its result (up to the table's `room`)
+/// until none is left. The result, and the rows computed from 0.
+fn live<E>(
+    shared: &Shared,
+    helpers: usize,
+    (cells, sys, shape): (&Cells, &System, &Shape),
+    room: usize,
+    run: impl FnOnce() -> Result<SimResult, E>,
+) -> Result<(SimResult, usize), E> {
     let outcome = rayon::in_place_scope(|scope| {
         for _ in 0..helpers {
             shared.busy.fetch_add(1, Ordering::AcqRel);
             scope.spawn(|_| {
-                compute_queued(&shared, &cells, sys, shape);
+                compute_queued(shared, cells, sys, shape);
                 shared.busy.fetch_sub(1, Ordering::Release);
             });
         }
-        let _unwinding = FailIfPanicking(&shared);
-        let result = match run(&mut feed) {
+        let _unwinding = FailIfPanicking(shared);
+        let result = match run() {
             Ok(result) => Arc::new(result),
             Err(e) => {
                 shared.fail();
                 return Err(e);
             }
         };
-        let done = result.rows().min(room).max(feed.sent);
-        shared.end(result.clone(), feed.sent..done);
+        let sent = shared.lock().sent;
+        let done = result.rows().min(room).max(sent);
+        shared.end(result.clone(), sent..done);
         // this thread takes the newest chunks, then rows of the result like the others
         let mut own = None;
         loop {
@@ -288,7 +326,7 @@ pub fn recorded_while<E>(
                 break;
             };
             let context = own.get_or_insert_with(|| (Block::new(shape), RowEvaluator::new(sys)));
-            compute(&work, &result.discs, &cells, sys, context);
+            compute(&work, &result.discs, cells, sys, context);
         }
         drop(own);
         let start = Instant::now();
@@ -302,21 +340,7 @@ pub fn recorded_while<E>(
     shared.lock().ended = None;
     // every other holder was a pool thread's work, done by the end of the scope
     let result = Arc::into_inner(result).expect("the result held by this thread alone");
-    // SAFETY: rows 0..done were written: every chunk sent and every piece of the result's
-    // rows in full (`fill_stretch` asserts it).
-    unsafe { data.set_len(done * width) };
-    let total = result.rows() * width;
-    if done < result.rows() {
-        // more rows than room: the rest now
-        data.reserve_exact(total - data.len());
-        let rest = &mut data.spare_capacity_mut()[..total - done * width];
-        result.fill_rows(done..result.rows(), None, rest, |n| {
-            stretch_rows(n, FEWEST_ROWS)
-        });
-        // SAFETY: `fill_rows` wrote every cell of the rows after `done`.
-        unsafe { data.set_len(total) };
-    }
-    Ok(result.with_table(data))
+    Ok((result, done))
 }
 
 /// Rows the pool's threads computed while runs went on (for tests: that they did).

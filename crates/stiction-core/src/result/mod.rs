@@ -18,7 +18,7 @@ mod table;
 
 #[cfg(test)]
 pub use live::ROWS_BY_POOL;
-pub use live::{recorded_while, Feed};
+pub(crate) use live::recorded_while;
 use rows::RowEvaluator;
 pub use stretch::recycle_table;
 pub use table::MAX_TABLE_VALUES;

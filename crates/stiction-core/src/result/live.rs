@@ -15,7 +15,7 @@ use std::time::Instant;
 use super::block::{Block, BLOCK};
 use super::rows::RowEvaluator;
 use super::shape::Shape;
-use super::stretch::{streams, stretch_rows, table_memory, Stretch, WAIT_AWAKE};
+use super::stretch::{recycle_table, streams, stretch_rows, table_memory, Stretch, WAIT_AWAKE};
 use super::table::{fill_stretch, kept_shape, Context, FEWEST_ROWS};
 use super::{SimResult, Trajectory};
 use crate::engine::eval::DiscreteState;
@@ -231,10 +231,12 @@ impl Feed<'_> {
 
 /// Runs `run`, which hands its recorded rows to the `Feed` as it goes, while the pool's other
 /// threads compute every variable of them; returns the run's result with its table computed
-/// (about `rows` rows expected: more are computed once the run has ended).
+/// (about `rows` rows expected: more are computed once the run has ended). A table of more
+/// than `limit` values is not computed: the result then refuses it when asked, as any result
+/// that large does (`SimResult::check_table`).
 pub fn recorded_while<E>(
     sys: &System,
-    rows: usize,
+    (rows, limit): (usize, f64),
     run: impl FnOnce(&mut Feed) -> Result<SimResult, E>,
 ) -> Result<SimResult, E> {
     let own;
@@ -247,6 +249,15 @@ pub fn recorded_while<E>(
     };
     let width = sys.outputs.len() + 1;
     let room = rows + rows / 8 + CHUNK;
+    let shared = Shared::default();
+    if (room * width) as f64 > limit {
+        let mut feed = Feed {
+            shared: &shared,
+            room: 0,
+            live: false,
+        };
+        return run(&mut feed);
+    }
     let mut data = table_memory(room * width);
     let cells = Cells {
         first: data.spare_capacity_mut().as_mut_ptr(),
@@ -254,7 +265,6 @@ pub fn recorded_while<E>(
         width,
         stream: streams(room * width),
     };
-    let shared = Shared::default();
     // the calling thread runs; the pool's other threads compute (one of them the caller's
     // own, when it is one of the pool)
     let helpers = match rows >= LIVE_FROM {
@@ -277,6 +287,11 @@ pub fn recorded_while<E>(
     // rows in full (`fill_stretch` asserts it).
     unsafe { data.set_len(done * width) };
     let total = result.rows() * width;
+    if total as f64 > limit {
+        // more rows than the room, and more than fit in memory at once
+        recycle_table(data);
+        return Ok(result);
+    }
     if done < result.rows() {
         // the rows beyond the room, or all of them when no pool thread helps (on every thread)
         data.reserve_exact(total - data.len());

@@ -16,9 +16,9 @@ mod shape;
 mod stretch;
 mod table;
 
+pub(crate) use live::recorded_while;
 #[cfg(test)]
 pub use live::ROWS_BY_POOL;
-pub(crate) use live::recorded_while;
 use rows::RowEvaluator;
 pub use stretch::recycle_table;
 pub use table::MAX_TABLE_VALUES;

@@ -57,6 +57,12 @@ impl SimResult {
             .take()
     }
 
+    /// Whether every variable was computed while the run went on and is not taken yet.
+    #[cfg(test)]
+    pub(crate) fn has_ready_table(&self) -> bool {
+        (self.ready.lock().unwrap_or_else(PoisonError::into_inner)).is_some()
+    }
+
     /// This result with every variable computed already (`recorded_while`).
     pub(super) fn with_table(self, table: Vec<f64>) -> Self {
         *self.ready.lock().unwrap_or_else(PoisonError::into_inner) = Some(table);

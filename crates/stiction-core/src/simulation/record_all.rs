@@ -10,7 +10,7 @@ use std::time::Duration;
 use super::stepper::expected_rows;
 use super::Simulation;
 use crate::error::SimError;
-use crate::result::{recorded_while, SimResult};
+use crate::result::{recorded_while, SimResult, MAX_TABLE_VALUES};
 use crate::system::System;
 
 /// The run's time between two hand-overs of rows: the pool's threads start this long after the
@@ -30,18 +30,19 @@ pub fn run_recording_all(
     between: impl FnMut() -> bool,
 ) -> Result<SimResult, SimError> {
     let rows = expected_rows(&sys);
-    run_with_room(sys, rows, between)
+    run_with_room(sys, (rows, MAX_TABLE_VALUES), between)
 }
 
-/// `run_recording_all` with a table of room for about `rows` rows while the run goes on.
+/// `run_recording_all` with a table of room for about `rows` rows while the run goes on, and
+/// of at most `limit` values.
 fn run_with_room(
     sys: Arc<System>,
-    rows: usize,
+    room: (usize, f64),
     mut between: impl FnMut() -> bool,
 ) -> Result<SimResult, SimError> {
     let mut sim = Simulation::new(sys.clone())?;
     let stop = sys.experiment.stop_time;
-    recorded_while(&sys, rows, |feed| {
+    recorded_while(&sys, room, |feed| {
         let mut slice = FIRST_SLICE;
         while !sim.advance_for(stop, slice)? {
             slice = SLICE;
@@ -64,6 +65,7 @@ mod tests {
     use super::{run_recording_all, run_with_room};
     use crate::assembly::CompiledModel;
     use crate::error::SimError;
+    use crate::result::MAX_TABLE_VALUES;
     use crate::result::ROWS_BY_POOL;
     use crate::simulation::run;
     use crate::system::System;
@@ -114,6 +116,7 @@ mod tests {
                         "the pool's threads computed rows during the run"
                     );
                 }
+                assert!(live.has_ready_table(), "{name}: computed with the run");
                 assert_eq!(live.events, after.events, "{name}, {threads} threads");
                 assert_eq!(live.stats.steps, after.stats.steps, "{name}");
                 let table = live.table().expect("fits");
@@ -132,7 +135,7 @@ mod tests {
     fn rows_beyond_the_room_computed_after_the_run() {
         let sys = example("HeatLosses");
         let expected = run(sys.clone()).expect("runs").table_vec().expect("fits");
-        let live = pool(2).install(|| run_with_room(sys, 2048, || true));
+        let live = pool(2).install(|| run_with_room(sys, (2048, MAX_TABLE_VALUES), || true));
         let live = live.expect("runs");
         assert!(live.rows() > 20_000, "more rows than the room");
         assert!(same_bits(&live.table_vec().expect("fits"), &expected));
@@ -176,5 +179,27 @@ mod tests {
         }));
         assert!(outcome.is_err(), "the panic reaches the caller");
         assert!(pool.install(|| run_recording_all(sys, || true)).is_ok());
+    }
+
+    /// A table of more values than the limit is not computed while the run goes on, whether
+    /// the room expected already exceeds it or only the rows recorded do; the run's result
+    /// is whole, and its table computed when asked (under the engine's own limit) is the same.
+    #[test]
+    fn a_table_beyond_the_limit_is_left_to_the_result() {
+        let sys = example("HeatLosses");
+        let expected = run(sys.clone()).expect("runs").table_vec().expect("fits");
+        let width = sys.outputs.len() + 1;
+        // the room (2 432 rows) fits in the first limit, the 20 323 rows do not; nothing fits
+        // in the second
+        for limit in [1.0e6, 1.0e3] {
+            let result = pool(2).install(|| run_with_room(sys.clone(), (2048, limit), || true));
+            let result = result.expect("runs");
+            assert!((result.rows() * width) as f64 > limit);
+            assert!(
+                !result.has_ready_table(),
+                "limit {limit}: no table computed"
+            );
+            assert!(same_bits(&result.table_vec().expect("fits"), &expected));
+        }
     }
 }

@@ -9,7 +9,7 @@ use std::collections::VecDeque;
 use std::mem::MaybeUninit;
 use std::ops::Range;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use std::time::Instant;
 
 use super::block::{Block, BLOCK};
@@ -58,6 +58,9 @@ struct Queue {
     discs: Vec<DiscreteState>,
     /// The ended run's result and its rows not taken yet (those not sent, up to the room).
     ended: Option<(Arc<SimResult>, Range<usize>)>,
+    /// Pool jobs spawned to take work that have not left yet, and the most there may be.
+    helpers: usize,
+    most_helpers: usize,
     /// The run failed: nothing more is computed.
     failed: bool,
 }
@@ -83,14 +86,16 @@ impl Queue {
     }
 }
 
+/// The queue and what the threads share besides. A pool job never waits for work: it takes
+/// what there is and leaves, and the run spawns another when it sends more (a job waiting for
+/// rows would hold a pool thread for the whole run, and with it every other user of the pool).
 #[derive(Default)]
 struct Shared {
     queue: Mutex<Queue>,
-    more: Condvar,
     /// Chunks' rows already computed, whose memory the next chunks reuse (no allocation per
     /// chunk, and still in cache).
     spare: Mutex<Vec<Trajectory>>,
-    /// Pool threads still computing (the calling thread waits for them awake).
+    /// Pool jobs computing right now (the calling thread waits for them awake at the end).
     busy: AtomicUsize,
 }
 
@@ -99,37 +104,40 @@ impl Shared {
         self.queue.lock().unwrap_or_else(PoisonError::into_inner)
     }
 
-    /// A pool thread's next work, the oldest chunk first, waiting for some while the run goes
-    /// on; None once none is left. `discs` is brought up to every discrete state sent so far.
-    /// (The calling thread takes the newest chunks once the run has ended, so a pool thread's
-    /// chunks come before all of the caller's, and the discrete states sent before them.)
+    /// A pool job's next work, the oldest chunk first; None when there is none now (the job
+    /// then leaves). `discs` is brought up to every discrete state sent so far, under the lock
+    /// the work is taken with.
     fn next(&self, discs: &mut Vec<DiscreteState>) -> Option<Work> {
         let mut queue = self.lock();
-        loop {
-            if queue.failed {
-                return None;
-            }
-            if let Some(work) = queue.take(false) {
-                discs.extend_from_slice(&queue.discs[discs.len()..]);
-                return Some(work);
-            }
-            if queue.ended.is_some() {
-                return None;
-            }
-            queue = (self.more.wait(queue)).unwrap_or_else(PoisonError::into_inner);
+        let work = match queue.failed {
+            true => None,
+            false => queue.take(false),
+        };
+        match &work {
+            Some(_) => discs.extend_from_slice(&queue.discs[discs.len()..]),
+            None => queue.helpers -= 1,
         }
+        work
     }
 
-    /// The run has ended: its rows `rows` (not sent) are to be computed too.
-    fn end(&self, result: Arc<SimResult>, rows: Range<usize>) {
-        self.lock().ended = Some((result, rows));
-        self.more.notify_all();
+    /// How many pool jobs to spawn for the work now queued (each counted as a helper here).
+    fn helpers_wanted(queue: &mut Queue) -> usize {
+        let wanted = queue.most_helpers.saturating_sub(queue.helpers);
+        queue.helpers += wanted;
+        wanted
+    }
+
+    /// The run has ended: its rows `rows` (not sent) are to be computed too. Returns how many
+    /// pool jobs to spawn for them.
+    fn end(&self, result: Arc<SimResult>, rows: Range<usize>) -> usize {
+        let mut queue = self.lock();
+        queue.ended = Some((result, rows));
+        Self::helpers_wanted(&mut queue)
     }
 
     /// The run failed: nothing more is computed.
     fn fail(&self) {
         self.lock().failed = true;
-        self.more.notify_all();
     }
 
     /// Memory for a chunk's rows: a computed chunk's, or new.
@@ -144,8 +152,27 @@ impl Shared {
     }
 }
 
-/// Fails the queue when dropped while the thread panics: the pool's threads must not wait
-/// for rows forever (the scope waits for them before it lets the panic go on).
+/// A pool job at work: counted in `busy` while it lives; it fails the queue if it panics (the
+/// run then sends nothing more: the scope lets the panic go on once the run returns).
+struct AtWork<'a>(&'a Shared);
+
+impl<'a> AtWork<'a> {
+    fn start(shared: &'a Shared) -> Self {
+        shared.busy.fetch_add(1, Ordering::AcqRel);
+        Self(shared)
+    }
+}
+
+impl Drop for AtWork<'_> {
+    fn drop(&mut self) {
+        if std::thread::panicking() {
+            self.0.fail();
+        }
+        self.0.busy.fetch_sub(1, Ordering::Release);
+    }
+}
+
+/// Fails the queue when dropped while the calling thread panics: nothing more is computed.
 struct FailIfPanicking<'a>(&'a Shared);
 
 impl Drop for FailIfPanicking<'_> {
@@ -190,17 +217,18 @@ pub struct Feed<'a> {
     shared: &'a Shared,
     /// Rows the table has room for; rows beyond are computed once the run has ended.
     room: usize,
-    /// Whether pool threads take the rows (not with a pool of one thread, nor for few rows).
-    live: bool,
+    /// Spawns a pool job that takes queued work; None: the rows are not sent (a pool of one
+    /// thread, few rows, or a table beyond the memory guard).
+    spawn: Option<&'a dyn Fn()>,
 }
 
 impl Feed<'_> {
     /// Hands the rows of `tr` (discrete states in `discs`) recorded since the last call to
     /// the pool's threads.
     pub fn send(&mut self, tr: &Trajectory, discs: &[DiscreteState]) {
-        if !self.live {
+        let Some(spawn) = self.spawn else {
             return;
-        }
+        };
         // no more than `AHEAD` chunks waiting: the rows not sent are computed after the run
         // from the run's own trajectory, without a copy
         let (queued, sent) = {
@@ -225,7 +253,9 @@ impl Feed<'_> {
         queue.discs.extend_from_slice(&discs[known..]);
         queue.chunks.extend(chunks);
         queue.sent = end;
-        self.shared.more.notify_all();
+        let wanted = Shared::helpers_wanted(&mut queue);
+        drop(queue);
+        (0..wanted).for_each(|_| spawn());
     }
 }
 
@@ -239,6 +269,17 @@ pub fn recorded_while<E>(
     (rows, limit): (usize, f64),
     run: impl FnOnce(&mut Feed) -> Result<SimResult, E>,
 ) -> Result<SimResult, E> {
+    let width = sys.outputs.len() + 1;
+    let room = rows + rows / 8 + CHUNK;
+    let shared = Shared::default();
+    let mut feed = Feed {
+        shared: &shared,
+        room,
+        spawn: None,
+    };
+    if (room * width) as f64 > limit {
+        return run(&mut feed);
+    }
     let own;
     let shape = match kept_shape(sys) {
         Some(shape) => shape,
@@ -247,17 +288,6 @@ pub fn recorded_while<E>(
             &own
         }
     };
-    let width = sys.outputs.len() + 1;
-    let room = rows + rows / 8 + CHUNK;
-    let shared = Shared::default();
-    if (room * width) as f64 > limit {
-        let mut feed = Feed {
-            shared: &shared,
-            room: 0,
-            live: false,
-        };
-        return run(&mut feed);
-    }
     let mut data = table_memory(room * width);
     let cells = Cells {
         first: data.spare_capacity_mut().as_mut_ptr(),
@@ -271,27 +301,28 @@ pub fn recorded_while<E>(
         true => rayon::current_num_threads().saturating_sub(1),
         false => 0,
     };
-    let mut feed = Feed {
-        shared: &shared,
-        room,
-        live: helpers > 0,
-    };
-    let (result, done) = match helpers {
+    let outcome = match helpers {
         // the table after the run, on every thread (`fill_rows` below)
-        0 => (run(&mut feed)?, 0),
-        _ => live(&shared, helpers, (&cells, sys, shape), room, || {
-            run(&mut feed)
-        })?,
+        0 => run(&mut feed).map(|result| (result, 0)),
+        _ => live(&shared, helpers, (&cells, sys, shape), room, run),
     };
-    // SAFETY: rows 0..done were written: every chunk sent and every piece of the result's
-    // rows in full (`fill_stretch` asserts it).
-    unsafe { data.set_len(done * width) };
+    let (result, done) = match outcome {
+        Ok(outcome) => outcome,
+        Err(e) => {
+            recycle_table(data);
+            return Err(e);
+        }
+    };
     let total = result.rows() * width;
-    if total as f64 > limit {
-        // more rows than the room, and more than fit in memory at once
+    // a run whose parameters changed has its table computed per system when asked; a table
+    // of more values than fit in memory at once (the room did) is refused when asked
+    if !result.earlier.is_empty() || total as f64 > limit {
         recycle_table(data);
         return Ok(result);
     }
+    // SAFETY: rows 0..done were written: every chunk sent and every piece of the result's
+    // rows in full (`fill_stretch` asserts it).
+    unsafe { data.set_len(done * width) };
     if done < result.rows() {
         // the rows beyond the room, or all of them when no pool thread helps (on every thread)
         data.reserve_exact(total - data.len());
@@ -305,26 +336,31 @@ pub fn recorded_while<E>(
     Ok(result.with_table(data))
 }
 
-/// The run (`run`) on this thread while `helpers` pool threads compute the chunks it sends;
-/// once it has ended, every thread computes rows of its result (up to the table's `room`)
-/// until none is left. The result, and the rows computed from 0.
+/// The run (`run`) on this thread while up to `helpers` pool jobs at a time compute the chunks
+/// it sends; once it has ended, every thread computes rows of its result (up to the table's
+/// `room`) until none is left. The result, and the rows computed from 0.
 fn live<E>(
     shared: &Shared,
     helpers: usize,
     (cells, sys, shape): (&Cells, &System, &Shape),
     room: usize,
-    run: impl FnOnce() -> Result<SimResult, E>,
+    run: impl FnOnce(&mut Feed) -> Result<SimResult, E>,
 ) -> Result<(SimResult, usize), E> {
+    shared.lock().most_helpers = helpers;
     let outcome = rayon::in_place_scope(|scope| {
-        for _ in 0..helpers {
-            shared.busy.fetch_add(1, Ordering::AcqRel);
+        let spawn = || {
             scope.spawn(|_| {
+                let _at_work = AtWork::start(shared);
                 compute_queued(shared, cells, sys, shape);
-                shared.busy.fetch_sub(1, Ordering::Release);
-            });
-        }
+            })
+        };
+        let mut feed = Feed {
+            shared,
+            room,
+            spawn: Some(&spawn),
+        };
         let _unwinding = FailIfPanicking(shared);
-        let result = match run() {
+        let result = match run(&mut feed) {
             Ok(result) => Arc::new(result),
             Err(e) => {
                 shared.fail();
@@ -332,11 +368,17 @@ fn live<E>(
             }
         };
         let sent = shared.lock().sent;
-        let done = result.rows().min(room).max(sent);
-        shared.end(result.clone(), sent..done);
+        // rows are only ever added to a run: every row sent is the result's
+        let done = result.rows().min(room);
+        if sent > done {
+            shared.fail();
+            return Ok((result, 0));
+        }
+        (0..shared.end(result.clone(), sent..done)).for_each(|_| spawn());
         // this thread takes the newest chunks, then rows of the result like the others
         let mut own = None;
         loop {
+            // the lock only while taking (a `while let` would hold it through the body)
             let Some(work) = shared.lock().take(true) else {
                 break;
             };
@@ -349,11 +391,11 @@ fn live<E>(
             std::hint::spin_loop();
         }
         Ok((result, done))
-        // leaving the scope waits (asleep) for pool threads still computing
+        // leaving the scope waits (asleep) for pool jobs still computing, or not started
     });
     let (result, done) = outcome?;
     shared.lock().ended = None;
-    // every other holder was a pool thread's work, done by the end of the scope
+    // every other holder was a pool job's work, done by the end of the scope
     let result = Arc::into_inner(result).expect("the result held by this thread alone");
     Ok((result, done))
 }
@@ -362,8 +404,8 @@ fn live<E>(
 #[cfg(test)]
 pub static ROWS_BY_POOL: AtomicUsize = AtomicUsize::new(0);
 
-/// A pool thread's share: the oldest chunks the run sends, one after the other, then rows of
-/// its result, until none is left.
+/// A pool job: the oldest chunks the run has sent, one after the other, then rows of its
+/// result once it has ended, until there is none.
 fn compute_queued(shared: &Shared, cells: &Cells, sys: &System, shape: &Shape) {
     let mut discs = Vec::new();
     let mut context = None;
@@ -377,6 +419,9 @@ fn compute_queued(shared: &Shared, cells: &Cells, sys: &System, shape: &Shape) {
         if let Work::Chunk(chunk) = work {
             shared.give_back(chunk.rows);
         }
+        // a job that waits in the pool (another run's, another table's) runs in between: this
+        // job may go on for the whole run
+        rayon::yield_now();
     }
 }
 

@@ -96,8 +96,8 @@ fn rows_beyond_the_room_computed_after_the_run() {
     assert!(same_bits(&live.table_vec().expect("fits"), &expected));
 }
 
-/// Cancelling between slices stops the run with `Cancelled`, and the pool's threads waiting
-/// for rows return (the next run on the pool completes).
+/// Cancelling between slices stops the run with `Cancelled`; the pool's jobs take nothing more
+/// and the next run on the pool completes.
 #[test]
 fn cancelled_between_slices() {
     let _serial = serial();
@@ -117,8 +117,8 @@ fn cancelled_between_slices() {
     assert!(again.table().is_ok());
 }
 
-/// A run that panics while the pool's threads wait for its rows lets the panic go on (to
-/// the boundary that catches it) instead of waiting for them forever.
+/// A run that panics while the pool's jobs compute its rows lets the panic go on (to the
+/// boundary that catches it), and the pool runs the next run.
 #[test]
 fn a_panic_in_the_run_does_not_leave_the_pool_waiting() {
     let _serial = serial();

@@ -154,25 +154,27 @@ impl Shared {
 
 /// A pool job at work: counted in `busy` while it lives; it fails the queue if it panics (the
 /// run then sends nothing more: the scope lets the panic go on once the run returns).
-struct AtWork<'a>(&'a Shared);
+struct AtWork<'a> {
+    shared: &'a Shared,
+    /// Dropped after `drop` below: the queue fails (if the job panics) once it has left `busy`.
+    _failing: FailIfPanicking<'a>,
+}
 
 impl<'a> AtWork<'a> {
     fn start(shared: &'a Shared) -> Self {
         shared.busy.fetch_add(1, Ordering::AcqRel);
-        Self(shared)
+        let _failing = FailIfPanicking(shared);
+        Self { shared, _failing }
     }
 }
 
 impl Drop for AtWork<'_> {
     fn drop(&mut self) {
-        if std::thread::panicking() {
-            self.0.fail();
-        }
-        self.0.busy.fetch_sub(1, Ordering::Release);
+        self.shared.busy.fetch_sub(1, Ordering::Release);
     }
 }
 
-/// Fails the queue when dropped while the calling thread panics: nothing more is computed.
+/// Fails the queue when dropped while the thread panics: nothing more is computed.
 struct FailIfPanicking<'a>(&'a Shared);
 
 impl Drop for FailIfPanicking<'_> {
@@ -412,11 +414,9 @@ fn compute_queued(shared: &Shared, cells: &Cells, sys: &System, shape: &Shape) {
     while let Some(work) = shared.next(&mut discs) {
         let context = context.get_or_insert_with(|| (Block::new(shape), RowEvaluator::new(sys)));
         compute(&work, &discs, cells, sys, context);
-        #[cfg(test)]
-        if let Work::Chunk(chunk) = &work {
-            ROWS_BY_POOL.fetch_add(chunk.rows.rows(), Ordering::Relaxed);
-        }
         if let Work::Chunk(chunk) = work {
+            #[cfg(test)]
+            ROWS_BY_POOL.fetch_add(chunk.rows.rows(), Ordering::Relaxed);
             shared.give_back(chunk.rows);
         }
         // a job that waits in the pool (another run's, another table's) runs in between: this

@@ -22,15 +22,15 @@ fn main() {
         .parent()
         .unwrap_or(std::path::Path::new("."));
     let spec = stiction_core::ModelSpec::from_toml(&text, dir).expect("valid model");
-    let model = stiction_core::assembly::CompiledModel::new(spec).expect("a model that compiles");
+    let model = stiction_core::CompiledModel::new(spec).expect("a model that compiles");
     let (mut run, mut table, mut wall) = (Vec::new(), Vec::new(), Vec::new());
     let mut last = None;
     for _ in 0..n {
         let t0 = Instant::now();
         let r = if recording_all {
-            stiction_core::simulation::run_recording_all(model.system(), || true)
+            stiction_core::run_recording_all(model.system(), || true)
         } else {
-            stiction_core::simulation::run(model.system())
+            stiction_core::run(model.system())
         };
         let r = r.expect("simulation");
         run.push(t0.elapsed().as_secs_f64() * 1e3);

@@ -46,14 +46,6 @@ pub fn catalogue() -> Vec<TypeInfo> {
     components::registry().iter().map(describe_entry).collect()
 }
 
-/// The catalogue entry of one type, if it is registered.
-pub fn describe(type_name: &str) -> Option<TypeInfo> {
-    components::registry()
-        .iter()
-        .find(|e| e.name == type_name)
-        .map(describe_entry)
-}
-
 fn describe_entry(entry: &Entry) -> TypeInfo {
     let (params, plain) = components::declared(entry, false);
     let (_, full) = components::declared(entry, true);
@@ -201,7 +193,8 @@ pub fn variable_unit(name: &str) -> &'static str {
 }
 
 /// Variables that are Integers or Booleans and rightly have no unit.
-pub const UNITLESS: &[&str] = &[
+#[cfg(test)]
+const UNITLESS: &[&str] = &[
     "mode",
     "locked",
     "free",

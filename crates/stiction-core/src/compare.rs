@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 
 use thiserror::Error;
 
-use crate::SimResult;
+use crate::result::SimResult;
 
 /// Why a comparison could not be made at all (as opposed to a signal failing it).
 #[derive(Debug, Error)]

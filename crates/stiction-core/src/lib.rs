@@ -1,26 +1,86 @@
 //! stiction-core: rotational drivetrains with exact Coulomb friction, as the Modelica Standard
 //! Library defines it (state events, no smoothing). Pure Rust; the Python bindings are elsewhere.
+//!
+//! This file is the crate's one API surface: the modules are private, and everything the
+//! bindings (stiction-py, stiction-fmi), the examples and the integration tests may use is
+//! re-exported here, so outside code writes `stiction_core::Name` and never a module path. A
+//! name added here is a promise to those crates; anything else may move freely inside.
+//!
+//! The modules in their layer order, from the bottom (each imports only modules before it;
+//! `scripts/check_structure.py` checks the order, docs/architecture.md explains it).
 
-pub mod assembly;
-pub mod catalogue;
-pub mod compare;
-pub mod components;
-pub mod engine;
-pub mod error;
-pub mod initialization;
-pub mod linalg;
-pub mod model;
-pub mod rel;
-pub mod result;
-pub mod signals;
-pub mod simulation;
-pub mod sweep;
-pub mod switching;
-pub mod system;
-pub mod table;
-pub mod thermal;
+// the error types
+mod error;
+// linear solvers (dense, banded, refactoring) and the rank test
+mod linalg;
+// the model description: ModelSpec, Params, declarations
+mod model;
+// interpolation tables (CombiTable1D)
+mod table;
+// node coordinates: rows over node angles
+mod rel;
+// stick/slip and quadrant logic: the SwitchingElement trait and its implementations
+mod switching;
+// the run-time signal network
+mod signals;
+// the run-time thermal network
+mod thermal;
+// the assembled System and the Builder components contribute through
+mod system;
+// the component constructors
+mod components;
+// creating components, resolving the topology, building; CompiledModel
+mod assembly;
+// every component type's parameters, ports and variables
+mod catalogue;
+// evaluation, per-mode solve, crossings, event iteration
+mod engine;
+// the recorded run, its variables, metrics and files
+mod result;
+// the MSL tube comparison of a result against a reference
+mod compare;
+// the resumable run
+mod simulation;
+// the start-value report
+mod initialization;
+// variants of a compiled model on threads
+mod sweep;
 
-pub use error::{ModelError, SimError};
-pub use model::ModelSpec;
-pub use result::SimResult;
-pub use simulation::{simulate, Simulation};
+// ---- the model and its errors
+pub use error::{ModelError, ModelResult, SimError};
+pub use model::{Experiment, ModelSpec, ParamKind};
+
+// ---- building: components, the assembled system, compiled models, the catalogue
+pub use assembly::{assemble, CompiledModel, Recompiled};
+pub use catalogue::{catalogue, TypeInfo};
+pub use components::create as create_component;
+pub use system::System;
+
+// ---- running
+pub use initialization::{report as initialization_report, StartValue, Status as StartStatus};
+pub use signals::same_instant;
+pub use simulation::{
+    check_model, initial_state, run, run_recording_all, simulate, CancelHandle, Cursor,
+    InputChange, ParameterChange, SimState, Simulation,
+};
+pub use sweep::{run_variants, Outcome, Override, Plan};
+
+// ---- results and their files
+pub use result::csv::write_csv;
+pub use result::mat::{write_mat, Parameter as MatParameter};
+pub use result::{recycle_table, ElementAudit, EventRecord, SimResult};
+
+// ---- the MSL tube comparison (the regression oracle of the tests and of `stiction compare`)
+pub use compare::{
+    compare, read_signal_list, Columns, CompareError, Reference, Side, SignalReport,
+};
+
+// ---- the engine's parts the integration tests check on their own (the banded refactorization
+// against dense LU); the saved-state bytes use the discrete state
+pub use engine::eval::DiscreteState;
+pub use engine::kkt::ModeMatrix;
+pub use engine::ModeSolver;
+pub use linalg::DenseLu;
+pub use switching::element::{ModeKey, SwitchState};
+pub use switching::logic::Discrete;
+pub use switching::relation::{RelationSet, MAX_RELATIONS};

@@ -104,10 +104,6 @@ impl Table1D {
             y[0] + (y[1] - y[0]) * du / dx
         })
     }
-
-    pub fn abscissa(&self) -> &[f64] {
-        &self.x
-    }
 }
 
 #[cfg(test)]

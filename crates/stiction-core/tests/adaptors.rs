@@ -2,8 +2,8 @@
 //! inertia that only the adaptor holds runs (and passes the model check) with the torque the
 //! closed form gives; the TorqueToAngleAdaptor is a torque on its flange (MSL `flange.tau = tau`).
 
-use stiction_core::simulation::check_model;
-use stiction_core::{assembly::assemble, simulate, ModelSpec};
+use stiction_core::check_model;
+use stiction_core::{assemble, simulate, ModelSpec};
 
 /// phi = sin t, w = cos t, a = −sin t on a spring-damper (c = 50, d = 2) to ground.
 const PRESCRIBED: &str = r#"

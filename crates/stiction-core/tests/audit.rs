@@ -22,7 +22,7 @@ fn every_element_of_every_msl_example_balances_its_power() {
         assert!(audits.len() >= 3, "{path:?}: {} elements", audits.len());
         // the event band (|w_rel| ≤ 1e-10 while stuck) lets a held torque do about 1e-10·tau of work
         let scale = audits.iter().map(|a| a.scale).fold(1.0, f64::max);
-        let allowed = |a: &stiction_core::result::ElementAudit| 1e-9 * scale + 2e-10 * a.torque;
+        let allowed = |a: &stiction_core::ElementAudit| 1e-9 * scale + 2e-10 * a.torque;
         for a in &audits {
             eprintln!(
                 "{:?} {}: residual {:.2e} of {:.3} W, min dissipation {:.2e}, in {:.4} J, dissipated {:.4} J",

@@ -3,8 +3,8 @@
 //! changes the structure is compiled anew (or refused where the connections no longer fit),
 //! never ignored; a bad name or value is refused before any run, naming component and parameter.
 
-use stiction_core::assembly::{CompiledModel, Recompiled};
 use stiction_core::{simulate, ModelError, ModelSpec, SimResult, Simulation};
+use stiction_core::{CompiledModel, Recompiled};
 
 const COUPLED: &str = include_str!("../../../examples/msl/CoupledClutches.toml");
 

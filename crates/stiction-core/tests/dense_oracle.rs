@@ -6,11 +6,11 @@
 
 use std::sync::Arc;
 
-use stiction_core::assembly::assemble;
-use stiction_core::linalg::DenseLu;
-use stiction_core::result::SimResult;
-use stiction_core::simulation::Simulation;
+use stiction_core::assemble;
+use stiction_core::DenseLu;
 use stiction_core::ModelSpec;
+use stiction_core::SimResult;
+use stiction_core::Simulation;
 
 fn runs(file: &str) -> (SimResult, SimResult) {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/data");

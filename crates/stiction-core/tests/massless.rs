@@ -2,8 +2,8 @@
 //! algebraic speed) runs and matches the closed form; two springs in series with nothing
 //! between them are reported by the model check, naming the shafts.
 
-use stiction_core::simulation::check_model;
-use stiction_core::{assembly::assemble, simulate, ModelSpec};
+use stiction_core::check_model;
+use stiction_core::{assemble, simulate, ModelSpec};
 
 const SERIES: &str = r#"
 format = 1

@@ -5,9 +5,9 @@
 
 use std::path::{Path, PathBuf};
 
-use stiction_core::compare::{compare, read_signal_list, CompareError, Reference, SignalReport};
-use stiction_core::compare::{Columns, Side};
+use stiction_core::{compare, read_signal_list, CompareError, Reference, SignalReport};
 use stiction_core::{simulate, ModelSpec, SimResult};
+use stiction_core::{Columns, Side};
 
 /// The CSV Compare tube size the Modelica Association uses for MSL.
 const MSL_TOLERANCE: f64 = 2e-3;

@@ -4,13 +4,13 @@
 //! incremental factors solve bit for bit as a factorization from scratch in the same order, and
 //! to round-off as the dense LU (a LossyGear's non-symmetric column included); a change of one element redoes a few elimination steps only.
 
-use stiction_core::assembly::CompiledModel;
-use stiction_core::engine::kkt::ModeMatrix;
-use stiction_core::engine::ModeSolver;
-use stiction_core::linalg::DenseLu;
-use stiction_core::switching::element::ModeKey;
-use stiction_core::system::System;
+use stiction_core::CompiledModel;
+use stiction_core::DenseLu;
+use stiction_core::ModeKey;
+use stiction_core::ModeMatrix;
+use stiction_core::ModeSolver;
 use stiction_core::ModelSpec;
+use stiction_core::System;
 
 /// N inertias joined alternately by clutches and spring-dampers, a brake on every fourth, a
 /// second brake on the last inertia's shaft (its lock is dependent when both hold) and a

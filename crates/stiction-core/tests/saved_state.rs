@@ -6,8 +6,8 @@
 mod common;
 
 use common::flywheel_with_input;
-use stiction_core::simulation::{SimState, Simulation};
 use stiction_core::{ModelSpec, SimError};
+use stiction_core::{SimState, Simulation};
 
 const COUPLED: &str = include_str!("../../../examples/msl/CoupledClutches.toml");
 const FLYWHEEL: &str = common::FLYWHEEL;

@@ -6,7 +6,7 @@
 mod common;
 
 use common::flywheel_with_input;
-use stiction_core::simulation::Simulation;
+use stiction_core::Simulation;
 use stiction_core::{ModelSpec, SimError, SimResult};
 
 const COUPLED: &str = include_str!("../../../examples/msl/CoupledClutches.toml");
@@ -119,7 +119,7 @@ fn an_input_set_between_pieces_acts_from_that_instant() {
         }
     }
     assert!(compared >= 5000, "{compared} rows compared");
-    let stop = |events: &[stiction_core::result::EventRecord]| {
+    let stop = |events: &[stiction_core::EventRecord]| {
         events
             .iter()
             .find(|e| e.component == "brake" && e.new_mode == 0 && e.time > 0.5)
@@ -273,11 +273,7 @@ fn advancing_in_wall_clock_slices_is_bit_identical_to_one_call() {
 const STIFF_SHAFT: &str = include_str!("../../../examples/stiff/StiffShaft.toml");
 
 /// Restores `saved` in `sim` and advances it to `t`: every variable there.
-fn continued(
-    sim: &mut Simulation,
-    saved: &stiction_core::simulation::SimState,
-    t: f64,
-) -> Vec<f64> {
+fn continued(sim: &mut Simulation, saved: &stiction_core::SimState, t: f64) -> Vec<f64> {
     sim.set_state(saved).unwrap();
     sim.advance_to(t).unwrap();
     sim.values().unwrap()

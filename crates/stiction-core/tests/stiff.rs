@@ -3,7 +3,7 @@
 //! closed-form lock instant, and "auto" leaves every MSL example on the explicit method with
 //! its arithmetic unchanged, bit for bit.
 
-use stiction_core::simulation::simulate;
+use stiction_core::simulate;
 use stiction_core::{ModelSpec, SimResult};
 
 const STIFF_SHAFT: &str = include_str!("../../../examples/stiff/StiffShaft.toml");
@@ -171,7 +171,7 @@ fn a_run_that_switches_is_the_same_advanced_in_pieces() {
     let mut spec = ModelSpec::from_toml(STIFF_SHAFT, ".").unwrap();
     spec.experiment.stop_time = 0.7;
     let whole = simulate(&spec).unwrap();
-    let mut sim = stiction_core::simulation::Simulation::from_spec(&spec).unwrap();
+    let mut sim = stiction_core::Simulation::from_spec(&spec).unwrap();
     // the first piece ends before the switch (at 0.32 ms), the others around the events
     for t in [1e-4, 0.3, 0.5, 0.61, 0.7] {
         sim.advance_to(t).unwrap();

@@ -3,9 +3,9 @@
 //! does not depend on the number of threads; a failing variant reports its error and the
 //! others run.
 
-use stiction_core::assembly::CompiledModel;
-use stiction_core::simulation::CancelHandle;
-use stiction_core::sweep::{run_variants, Override, Plan};
+use stiction_core::CancelHandle;
+use stiction_core::CompiledModel;
+use stiction_core::{run_variants, Override, Plan};
 use stiction_core::{ModelSpec, SimResult, Simulation};
 
 const COUPLED: &str = include_str!("../../../examples/msl/CoupledClutches.toml");

@@ -3,7 +3,7 @@
 //! after it restores bit for bit, and a fixed parameter or a bad value is a typed error that
 //! leaves the run usable.
 
-use stiction_core::simulation::Simulation;
+use stiction_core::Simulation;
 use stiction_core::{ModelError, ModelSpec, SimError, SimResult};
 
 /// A flywheel (J = 2, w = 100) braked with a constant normal force: fn_max·f_normalized, the

@@ -4,8 +4,8 @@
 
 use std::path::Path;
 
-use stiction_core::assembly::CompiledModel;
-use stiction_core::simulation::SimState;
+use stiction_core::CompiledModel;
+use stiction_core::SimState;
 use stiction_core::{ModelSpec, Simulation};
 
 use crate::layout::{resource_dir, Kind, Layout};

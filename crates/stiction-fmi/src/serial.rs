@@ -13,11 +13,11 @@
 //! Every read is bounds-checked and every length is checked against the bytes left, so
 //! truncated or corrupted bytes give an error (never a panic or a huge allocation).
 
-use stiction_core::engine::eval::DiscreteState;
-use stiction_core::simulation::{Cursor, InputChange, ParameterChange, SimState};
-use stiction_core::switching::element::SwitchState;
-use stiction_core::switching::logic::Discrete;
-use stiction_core::switching::relation::{RelationSet, MAX_RELATIONS};
+use stiction_core::Discrete;
+use stiction_core::DiscreteState;
+use stiction_core::SwitchState;
+use stiction_core::{Cursor, InputChange, ParameterChange, SimState};
+use stiction_core::{RelationSet, MAX_RELATIONS};
 
 use crate::instance::{Experiment, Fallible, Snapshot};
 

@@ -2,7 +2,7 @@
 //! model, with its values (one, or a table's elements row after row), and the model file's
 //! form of the values a host set (what `CompiledModel::with` takes).
 
-use stiction_core::assembly::CompiledModel;
+use stiction_core::CompiledModel;
 
 use crate::instance::Fallible;
 use crate::layout::{parse_element, Kind, Layout, VarSpec};

@@ -7,10 +7,10 @@ use std::time::{Duration, Instant};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
-use stiction_core::assembly::CompiledModel;
-use stiction_core::simulation::{run_recording_all, CancelHandle};
-use stiction_core::sweep::{run_variants, Outcome, Override, Plan};
-use stiction_core::system::System;
+use stiction_core::CompiledModel;
+use stiction_core::System;
+use stiction_core::{run_recording_all, CancelHandle};
+use stiction_core::{run_variants, Outcome, Override, Plan};
 use stiction_core::{ModelSpec, Simulation};
 
 use crate::{advance_interruptibly, guarded, model_err, py_error, RawResult};

@@ -6,9 +6,9 @@ use std::collections::HashMap;
 
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use stiction_core::catalogue::{self as core_catalogue, TypeInfo};
-use stiction_core::model::ParamKind;
-use stiction_core::signals::same_instant;
+use stiction_core::same_instant;
+use stiction_core::ParamKind;
+use stiction_core::{catalogue as core_catalogue, TypeInfo};
 
 use crate::{guarded, model_err, parse};
 
@@ -76,7 +76,7 @@ fn type_info<'py>(py: Python<'py>, t: &TypeInfo) -> PyResult<Bound<'py, PyDict>>
 #[pyfunction]
 fn catalogue(py: Python<'_>) -> PyResult<Py<PyList>> {
     let out = PyList::empty(py);
-    for t in core_catalogue::catalogue() {
+    for t in core_catalogue() {
         out.append(type_info(py, &t)?)?;
     }
     Ok(out.unbind())
@@ -88,7 +88,7 @@ fn catalogue(py: Python<'_>) -> PyResult<Py<PyList>> {
 fn check_parameters(model_toml: &str, base_dir: &str) -> PyResult<()> {
     let spec = parse(model_toml, base_dir, &HashMap::new(), None)?;
     for c in &spec.components {
-        stiction_core::components::create(c, &spec.base_dir).map_err(model_err)?;
+        stiction_core::create_component(c, &spec.base_dir).map_err(model_err)?;
     }
     Ok(())
 }
@@ -107,7 +107,7 @@ fn time_event_sources(
     let (start, stop) = (spec.experiment.start_time, spec.experiment.stop_time);
     let mut own = Vec::new();
     for c in &spec.components {
-        let component = stiction_core::components::create(c, &spec.base_dir).map_err(model_err)?;
+        let component = stiction_core::create_component(c, &spec.base_dir).map_err(model_err)?;
         let label = format!("{} ({})", c.name, c.type_name);
         own.extend(
             component
@@ -155,8 +155,8 @@ fn experiment<'py>(
 fn initialization(model_toml: &str, base_dir: &str) -> PyResult<Vec<(String, f64, String, f64)>> {
     let spec = parse(model_toml, base_dir, &HashMap::new(), None)?;
     let values = guarded(|| {
-        let sys = stiction_core::assembly::assemble(&spec)?;
-        Ok(stiction_core::initialization::report(&sys)?)
+        let sys = stiction_core::assemble(&spec)?;
+        Ok(stiction_core::initialization_report(&sys)?)
     })?;
     Ok(values
         .into_iter()

@@ -14,8 +14,8 @@ use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArray
 use pyo3::exceptions::{PyKeyError, PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use stiction_core::result::mat::Parameter;
-use stiction_core::simulation::{CancelHandle, SimState};
+use stiction_core::MatParameter;
+use stiction_core::{CancelHandle, SimState};
 use stiction_core::{ModelError as CoreModelError, ModelSpec, SimError, SimResult, Simulation};
 
 /// An exception of the class named `kind` in `stiction.errors` (one Python class per error
@@ -173,7 +173,7 @@ impl RawResult {
     /// every component with flanges.
     fn audit<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
         let audits = py.detach(|| guarded(|| Ok(self.result.audit())))?;
-        let row = |a: stiction_core::result::ElementAudit| -> PyResult<Bound<'py, PyDict>> {
+        let row = |a: stiction_core::ElementAudit| -> PyResult<Bound<'py, PyDict>> {
             let d = PyDict::new(py);
             d.set_item("component", a.component)?;
             d.set_item("passive", a.passive)?;
@@ -234,7 +234,7 @@ fn write_csv(
     let values = table_values(&data, names.len())?;
     py.detach(|| {
         let file = std::fs::File::create(path)?;
-        stiction_core::result::csv::write_csv(file, &names, &integer, values)
+        stiction_core::write_csv(file, &names, &integer, values)
     })
     .map_err(|e| {
         PyOSError::new_err((
@@ -257,9 +257,9 @@ fn write_mat(
     parameters: Vec<(String, String, f64)>,
 ) -> PyResult<()> {
     let values = table_values(&data, names.len())?;
-    let params: Vec<Parameter> = parameters
+    let params: Vec<MatParameter> = parameters
         .into_iter()
-        .map(|(name, description, value)| Parameter {
+        .map(|(name, description, value)| MatParameter {
             name,
             description,
             value,
@@ -267,7 +267,7 @@ fn write_mat(
         .collect();
     py.detach(|| {
         let file = std::fs::File::create(path)?;
-        stiction_core::result::mat::write_mat(file, &names, &descriptions, values, &params)
+        stiction_core::write_mat(file, &names, &descriptions, values, &params)
     })
     .map_err(|e| {
         PyOSError::new_err((
@@ -302,11 +302,11 @@ fn simulate(
 fn check(model_toml: &str, base_dir: &str, motion: bool) -> PyResult<()> {
     let spec = parse(model_toml, base_dir, &HashMap::new(), None)?;
     guarded(|| {
-        let sys = stiction_core::assembly::assemble(&spec)?;
+        let sys = stiction_core::assemble(&spec)?;
         if motion {
-            stiction_core::simulation::check_model(&sys)?;
+            stiction_core::check_model(&sys)?;
         } else {
-            stiction_core::simulation::initial_state(&sys)?;
+            stiction_core::initial_state(&sys)?;
         }
         Ok(())
     })

@@ -1,12 +1,12 @@
 //! The table of every variable as a NumPy array over the engine's own memory, handed back to
-//! the engine once NumPy is done with it (`stiction_core::result::recycle_table`): the next
+//! the engine once NumPy is done with it (`stiction_core::recycle_table`): the next
 //! large table then skips the kernel's clearing of fresh pages.
 
 use numpy::ndarray::Array2;
 use numpy::PyArray2;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use stiction_core::result::recycle_table;
+use stiction_core::recycle_table;
 
 /// Owns a table's values while NumPy arrays over them live (it is their base object).
 #[pyclass(frozen, module = "stiction._core")]

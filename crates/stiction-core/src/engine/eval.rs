@@ -138,9 +138,6 @@ impl Layout {
             caps: sys.thermal.capacities.len(),
         }
     }
-    pub fn w(&self) -> usize {
-        self.nodes
-    }
     pub fn temps(&self) -> usize {
         2 * self.nodes
     }

@@ -11,5 +11,5 @@ pub mod massless;
 mod slots;
 
 pub use crossings::{indicator_count, indicator_label, indicators, speed_rates};
-pub use iteration::{iterate, EventPoint, ModeCache, ModeChange};
+pub use iteration::{iterate, EventPoint, ModeCache};
 pub use slots::ModeSolver;

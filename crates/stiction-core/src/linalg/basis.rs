@@ -21,6 +21,7 @@ impl Rows {
         self.ends.push(self.terms.len());
     }
 
+    #[cfg(test)]
     fn len(&self) -> usize {
         self.ends.len()
     }
@@ -78,6 +79,7 @@ impl RowBasis {
         }
     }
 
+    #[cfg(test)]
     pub fn rank(&self) -> usize {
         match &self.graph {
             Some((_, rows)) => rows.len(),
@@ -198,6 +200,7 @@ impl Dense {
         true
     }
 
+    #[cfg(test)]
     pub fn rank(&self) -> usize {
         self.kept.len()
     }

@@ -13,7 +13,7 @@ mod band;
 mod basis;
 mod refactor;
 
-pub use band::{rcm_order, BandLu};
+pub use band::BandLu;
 pub use basis::RowBasis;
 pub use refactor::{Refactor, SlotLayout};
 

@@ -7,4 +7,4 @@ mod spec;
 
 pub use decl::{parse_decl, ParamInfo, ParamKind};
 pub use params::{InitValue, Params};
-pub use spec::{ComponentSpec, Experiment, InputSpec, ModelSpec, PortRef, FORMAT_VERSION};
+pub use spec::{ComponentSpec, Experiment, InputSpec, ModelSpec, PortRef};

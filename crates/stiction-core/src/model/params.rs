@@ -92,15 +92,6 @@ impl<'a> Params<'a> {
         }
     }
 
-    /// The parameter names read so far (all of them, once a constructor has run).
-    pub fn names(&self) -> Vec<String> {
-        self.used.borrow().iter().cloned().collect()
-    }
-
-    pub fn component(&self) -> &str {
-        &self.spec.name
-    }
-
     pub fn error(&self, parameter: &str, message: impl Into<String>) -> ModelError {
         ModelError::Parameter {
             component: self.spec.name.clone(),

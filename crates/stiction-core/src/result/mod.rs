@@ -32,7 +32,6 @@ pub use probe::{Probe, RowView};
 use crate::engine::eval::{DiscreteState, Workspace};
 use crate::switching::element::is_discrete;
 use crate::switching::element::ElementValues;
-use crate::switching::logic::{FORWARD, STUCK};
 use crate::system::outputs::{EnergyVar, SwitchVar};
 use crate::system::{Out, System};
 
@@ -482,16 +481,5 @@ pub fn value(
             EnergyVar::Work => ws.energy[3],
         },
         Out::Const(c) => *c,
-    }
-}
-
-/// Human-readable mode name (−1 Backward, 0 Stuck, 1 Forward, 2 Free, 3 Unknown).
-pub fn mode_name(mode: i8) -> &'static str {
-    match mode {
-        m if m == FORWARD => "Forward",
-        m if m == STUCK => "Stuck",
-        -1 => "Backward",
-        2 => "Free",
-        _ => "Unknown",
     }
 }

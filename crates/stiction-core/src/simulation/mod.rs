@@ -31,7 +31,7 @@ use std::time::Instant;
 use diffsol::OdeSolverMethod;
 
 use init::initialization_log;
-pub use init::{check_model, initial_state, initial_state_and_guesses, InitialState};
+pub use init::{check_model, initial_state, initial_state_and_guesses};
 pub use record_all::run_recording_all;
 pub use saved::{InputChange, SimState};
 pub use stepper::Cursor;

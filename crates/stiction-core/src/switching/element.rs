@@ -302,6 +302,7 @@ pub fn common_variable(st: &SwitchState, v: &ElementValues, var: SwitchVar) -> f
 /// it), None for a discrete one. Every element's continuous variables are the common ones (an
 /// element overrides `variable` only for a mode or flag), so the result table reads them
 /// through this without a virtual call per cell.
+#[cfg(test)]
 pub fn value_field(var: SwitchVar) -> Option<fn(&ElementValues) -> f64> {
     use SwitchVar as V;
     let field: fn(&ElementValues) -> f64 = match var {

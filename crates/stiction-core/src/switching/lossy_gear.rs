@@ -20,8 +20,6 @@ pub struct LossyGearElem {
     /// Columns 2..5 of lossTable against |w_a|: eta_mf1, eta_mf2, tau_bf1, tau_bf2 (one
     /// abscissa, lossTable's first column: `losses` reads them at once).
     pub table: [Table1D; 4],
-    /// Whether the losses depend on the speed (more than one table row).
-    pub speed_dependent: bool,
     pub eta1_0: f64,
     pub eta2_0: f64,
     pub tbf1_0: f64,

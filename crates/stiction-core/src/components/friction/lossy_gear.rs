@@ -59,7 +59,6 @@ impl Component for LossyGear {
             name: b.name().to_string(),
             ratio: r,
             ideal: self.ideal,
-            speed_dependent: self.table.len() > 1,
             table,
             eta1_0,
             eta2_0,

@@ -1,5 +1,5 @@
 """``python -m stiction``: the same command line as ``stiction``."""
 
-from .cli import main
+from stiction.cli.app import main
 
 main(prog_name="stiction")

@@ -105,7 +105,7 @@ del _cls
 def core_available() -> bool:
     """Tell whether the compiled engine is importable (true in any installation)."""
     try:
-        from . import _core  # noqa: F401
+        from stiction import _core  # noqa: F401
     except ModuleNotFoundError as exc:  # only "not built"; a broken build must still fail
         if exc.name != f"{__package__}._core":
             raise

@@ -12,18 +12,18 @@ import os
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from .lexer import ModelicaError
+from stiction.expressions.lexer import ModelicaError
 
 if TYPE_CHECKING:
-    from ..model import Model
+    from stiction.model.model import Model
 
 __all__ = ["ModelicaError", "read_modelica"]
 
 
 def read_modelica(source: str | os.PathLike[str], model: str | None = None) -> Model:
     """A ``Model`` from a ``.mo`` file path or Modelica text; ``model`` picks one class."""
-    from .convert import convert
-    from .parser import parse
+    from stiction.modelica.convert import convert
+    from stiction.modelica.parser import parse
 
     if isinstance(source, os.PathLike) or (
         isinstance(source, str) and "\n" not in source and source.strip().endswith(".mo")

@@ -13,40 +13,31 @@ import math
 import re
 from typing import TYPE_CHECKING, Any
 
-from ..components import Component, component_types
-from ..errors import ModelError
-from ..modelfile import DECLARATION_KEYS
-from ..parameters import is_expr, resolve_params
-from .ast import ClassDef, Declaration, Literal, Modification, Ref, StoredDefinition
-from .expr import CONSTANTS, evaluate, python_value, unparse
-from .lexer import ModelicaError, Pos
-from .names import MSL_CLASSES, PARAMETER_RENAMES, TYPE_OF, Scope, is_enumeration, is_icon, is_unit_type
-from .parser import SUPPORTED
-from .timetable import COMBI_PARAMETERS, combi_time_table
+from stiction.errors import ModelError
+from stiction.expressions.ast import Literal, Ref
+from stiction.expressions.evaluate import CONSTANTS, evaluate, python_value, unparse
+from stiction.expressions.lexer import ModelicaError, Pos
+from stiction.model.components import START_VARIABLES, Component, component_types
+from stiction.model.modelfile import DECLARATION_KEYS
+from stiction.model.parameters import is_expr, resolve_params
+from stiction.modelica.ast import ClassDef, Declaration, Modification, StoredDefinition
+from stiction.modelica.names import (
+    MSL_CLASSES,
+    PARAMETER_RENAMES,
+    TYPE_OF,
+    Scope,
+    is_enumeration,
+    is_icon,
+    is_unit_type,
+)
+from stiction.modelica.parser import SUPPORTED
+from stiction.modelica.timetable import COMBI_PARAMETERS, combi_time_table
 
 if TYPE_CHECKING:
-    from ..model import Model
+    from stiction.model.model import Model
 
-__all__ = ["IGNORED_MODIFIERS", "START_VARIABLES", "convert", "select_class"]
+__all__ = ["IGNORED_MODIFIERS", "convert", "select_class"]
 
-# Variables whose start value and fixedness a modifier sets: phi(start=0, fixed=true).
-START_VARIABLES = frozenset(
-    [
-        "phi",
-        "w",
-        "a",
-        "phi_rel",
-        "w_rel",
-        "a_rel",
-        "startForward",
-        "startBackward",
-        "stuck",
-        "locked",
-        "T",
-        "mode",
-        "free",
-    ]
-)
 # Modifiers that choose states or scale the solver in Modelica and have no effect here.
 IGNORED_MODIFIERS = frozenset(("stateSelect", "phi_nominal"))
 INTEGER_PARAMETERS = frozenset(("nperiod", "columns"))
@@ -103,7 +94,7 @@ class _Converter:
     """One model's conversion; each step raises ModelicaError at the construct it refuses."""
 
     def __init__(self, cls: ClassDef, scope: Scope, base_dir: str) -> None:
-        from ..model import Model
+        from stiction.model.model import Model
 
         self.cls = cls
         self.scope = scope
@@ -344,7 +335,7 @@ class _Converter:
     def variable(self, decl: Declaration) -> None:
         """A derived variable: its binding over result variables and top-level parameters
         (kept by name, so a sweep of a parameter changes it too)."""
-        from ..derived import check_expression
+        from stiction.results.derived import check_expression
 
         assert decl.binding is not None
         check_expression(decl.binding, self.model, self.scope.resolve, set(self.params))
@@ -401,7 +392,7 @@ _CHECKED_TOGETHER = frozenset({("Pulse", "startTime")})
 def _free_reals() -> dict[str, frozenset[str]]:
     """Per component type, the Real parameters any finite value passes (tested against the
     engine in test_modelica_errors.py)."""
-    from ..catalogue import catalogue
+    from stiction.model.catalogue import catalogue
 
     return {
         name: frozenset(
@@ -436,10 +427,10 @@ def _first_problem(items: list[tuple[str, str, dict[str, Any]]], base_dir: str) 
 
 def _batch_problem(items: list[tuple[str, str, dict[str, Any]]], base_dir: str) -> str | None:
     """The engine's complaint about unconnected components ``c0, c1, …``, or None."""
-    from ..model import Model
+    from stiction.model.model import Model
 
     try:
-        from .. import _core
+        from stiction import _core
     except ImportError:
         return None
     model = Model("check", base_dir=base_dir)

@@ -8,15 +8,15 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
-from ..errors import ModelError
-from ..parameters import is_expr
-from .convert import START_VARIABLES
-from .expr import format_literal
-from .names import MSL_CLASSES
-from .timetable import COMBI_CLASS, time_table_modifiers
+from stiction.errors import ModelError
+from stiction.expressions.evaluate import format_literal
+from stiction.model.components import START_VARIABLES
+from stiction.model.parameters import is_expr
+from stiction.modelica.names import MSL_CLASSES
+from stiction.modelica.timetable import COMBI_CLASS, time_table_modifiers
 
 if TYPE_CHECKING:
-    from ..model import Model
+    from stiction.model.model import Model
 
 __all__ = ["write_modelica"]
 
@@ -117,7 +117,7 @@ def _modifier(key: str, value: Any) -> str:
 def _table_rows(model: Model, name: str, params: dict[str, Any]) -> list[list[float]]:
     if "table" in params:
         return params["table"]
-    from ..csvio import read_csv
+    from stiction.results.io.csv import read_csv
 
     path = model.base_dir / str(params["file"])
     try:

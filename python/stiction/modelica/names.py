@@ -9,8 +9,8 @@ used and 4.x renamed are mapped as MSL's conversion script maps them.
 
 from __future__ import annotations
 
-from .ast import Import
-from .lexer import ModelicaError, Pos
+from stiction.expressions.lexer import ModelicaError, Pos
+from stiction.modelica.ast import Import
 
 __all__ = [
     "MSL_CLASSES",

@@ -9,19 +9,11 @@ at its position, saying what it is and what is supported.
 
 from __future__ import annotations
 
-from .ast import (
-    ClassDef,
-    Connect,
-    Declaration,
-    Expr,
-    Import,
-    Modification,
-    StoredDefinition,
-)
-from .exprparse import ExpressionParser
-from .lexer import ModelicaError, Pos, tokenize
+from stiction.expressions.lexer import ModelicaError, Pos, tokenize
+from stiction.expressions.parser import ExpressionParser
+from stiction.modelica.ast import ClassDef, Connect, Declaration, Import, Modification, StoredDefinition
 
-__all__ = ["SUPPORTED", "parse", "parse_expression"]
+__all__ = ["SUPPORTED", "parse"]
 
 SUPPORTED = (
     "supported: model/block/package classes with import and extends Modelica.Icons.* clauses, "
@@ -270,12 +262,3 @@ class _Parser(ExpressionParser):
                 raise ModelicaError(self.pos(opening), "syntax error: the annotation's '(' is never closed")
             i += 1
         self.i = i
-
-
-def parse_expression(text: str, source: str = "<expression>") -> Expr:
-    """Parse one Modelica expression (a derived variable's binding)."""
-    parser = _Parser(tokenize(text, source))
-    expr = parser.guarded(parser.expression)
-    if parser.kinds[parser.i] != "eof":
-        raise parser.fail(f"syntax error: unexpected {parser.found()} after the expression")
-    return expr

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from .ast import Declaration
-from .lexer import ModelicaError
+from stiction.expressions.lexer import ModelicaError
+from stiction.modelica.ast import Declaration
 
 __all__ = ["COMBI_CLASS", "COMBI_PARAMETERS", "combi_time_table", "time_table_modifiers"]
 

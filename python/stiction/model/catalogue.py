@@ -1,0 +1,217 @@
+"""The component catalogue, as the core declares it: every type with its MSL class, parameters
+(default, unit, valid range, description), ports and result variables with units.
+
+It is read from the compiled engine (``stiction._core.catalogue()``), where each component
+declares its parameters on the lines that read them; the component classes, their
+docstrings and signatures, ``components.pyi``, ``docs/components.md``, ``st.describe`` and
+``stiction list`` / ``stiction describe`` are all made from it.
+"""
+
+from __future__ import annotations
+
+import difflib
+import functools
+import importlib
+import inspect
+from dataclasses import dataclass
+from typing import Any
+
+from stiction.errors import ModelError
+
+__all__ = ["ComponentInfo", "Parameter", "Port", "Variable", "catalogue", "describe", "show_value", "unit_of"]
+
+# The Python type each parameter kind accepts, as annotations read.
+_ANNOTATIONS = {
+    "Real": "float",
+    "Boolean": "bool",
+    "start value": "float | StartValue",
+    "Boolean start value": "bool | StartValue",
+    "String": "str | os.PathLike[str]",
+}
+
+
+def show_value(value: Any) -> str:
+    """A default as a model file writes it: ``true``, ``1e+10``, ``0.5``, ``[[0, 0.5]]``."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        short = f"{value:g}"
+        return short if float(short) == value else repr(value)
+    if isinstance(value, list):
+        return "[" + ", ".join(show_value(v) for v in value) + "]"
+    return repr(value) if isinstance(value, str) else str(value)
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One parameter: its MSL name, kind, default, unit, valid range and description."""
+
+    name: str
+    kind: str
+    default: Any
+    required: bool
+    unit: str
+    description: str
+    range: str | None = None
+    choices: tuple[str, ...] = ()
+    #: whether a running ``Simulation`` (``set_parameter``) and an FMU in step mode can take a
+    #: new value; fixed are those that decide the structure, a position or a time event, and
+    #: start values
+    tunable: bool = False
+
+    @property
+    def annotation(self) -> str:
+        """The Python type the parameter takes, as an annotation string."""
+        if self.kind.startswith("table"):
+            return "Sequence[Sequence[float]]"
+        if self.choices:
+            return "Literal[" + ", ".join(repr(c) for c in self.choices) + "]"
+        return _ANNOTATIONS[self.kind]
+
+    def summary(self) -> str:
+        """``Real [N], required, >= 0`` — kind, unit, default and range on one line."""
+        parts = [self.kind + (f" [{self.unit}]" if self.unit else "")]
+        if self.required:
+            parts.append("required")
+        elif self.default is not None:
+            what = {"start value": "start (a guess unless given)", "Boolean start value": "start"}
+            what = what.get(self.kind, "default")
+            parts.append(f"{what} {show_value(self.default)}")
+        if self.range:
+            parts.append(self.range)
+        return ", ".join(parts)
+
+
+@dataclass(frozen=True)
+class Port:
+    """A connector: its name, kind (flange, signal input/output, heat port) and condition."""
+
+    name: str
+    kind: str
+    enabled_by: str | None = None
+
+    def summary(self) -> str:
+        """``support: flange (if useSupport = true)``."""
+        cond = f" (if {self.enabled_by} = true)" if self.enabled_by else ""
+        return f"{self.name}: {self.kind}{cond}"
+
+
+@dataclass(frozen=True)
+class Variable:
+    """A result variable, relative to the instance (``tau``, ``flange_a.tau``), and its unit."""
+
+    name: str
+    unit: str
+
+
+@dataclass(frozen=True)
+class ComponentInfo:
+    """Everything the reference says about one component type."""
+
+    name: str
+    msl_class: str
+    description: str
+    parameters: tuple[Parameter, ...]
+    ports: tuple[Port, ...]
+    variables: tuple[Variable, ...]
+
+    def parameter(self, name: str) -> Parameter:
+        """The parameter of that name; ModelError with suggestions if there is none."""
+        for p in self.parameters:
+            if p.name == name:
+                return p
+        names = [p.name for p in self.parameters]
+        raise ModelError(f"{self.name}: parameter '{name}': unknown parameter{_suggest(name, names)}")
+
+    def docstring(self) -> str:
+        """The class docstring: description, MSL class, parameters, ports, variables."""
+        lines = [f"{self.description}.", "", f"MSL class: ``{self.msl_class}``", ""]
+        if self.parameters:
+            lines += ["Parameters", "----------"]
+            for p in self.parameters:
+                lines += [f"{p.name} : {p.summary()}", f"    {p.description}"]
+            lines.append("")
+        lines += ["Ports", "-----"] + [f"- {p.summary()}" for p in self.ports] + [""]
+        lines += ["Variables", "---------"]
+        lines += [f"- {v.name} [{v.unit}]" if v.unit else f"- {v.name}" for v in self.variables]
+        return "\n".join(lines)
+
+    def signature(self) -> inspect.Signature:
+        """Keyword-only parameters with their types; MSL defaults shown, required ones bare."""
+        params = []
+        for p in self.parameters:
+            default: Any = inspect.Parameter.empty if p.required else p.default
+            annotation = p.annotation
+            if "start" in p.kind or p.kind == "String":
+                default, annotation = None, f"{annotation} | None"  # not given: a guess / no file
+            params.append(
+                inspect.Parameter(
+                    p.name, inspect.Parameter.KEYWORD_ONLY, default=default, annotation=annotation
+                )
+            )
+        return inspect.Signature(params, return_annotation=None)
+
+    def __str__(self) -> str:
+        return f"{self.name}\n{'=' * len(self.name)}\n{self.docstring()}"
+
+
+def _suggest(word: str, choices: list[str]) -> str:
+    close = difflib.get_close_matches(word, choices, n=3)
+    return f" (did you mean {', '.join(repr(c) for c in close)}?)" if close else ""
+
+
+def _info(raw: dict[str, Any]) -> ComponentInfo:
+    params = tuple(
+        Parameter(
+            name=p["name"],
+            kind=p["kind"],
+            default=p["default"],
+            required=p["required"],
+            unit=p["unit"],
+            description=p["description"],
+            range=p["range"],
+            choices=tuple(p.get("choices", ())),
+            tunable=p["tunable"],
+        )
+        for p in raw["parameters"]
+    )
+    return ComponentInfo(
+        name=raw["name"],
+        msl_class=raw["msl_class"],
+        description=raw["description"],
+        parameters=params,
+        ports=tuple(Port(*p) for p in raw["ports"]),
+        variables=tuple(Variable(*v) for v in raw["variables"]),
+    )
+
+
+@functools.cache
+def catalogue() -> dict[str, ComponentInfo]:
+    """Every component type the engine knows, by type name, in the engine's order."""
+    core = importlib.import_module("stiction._core")
+    return {raw["name"]: _info(raw) for raw in core.catalogue()}
+
+
+def describe(type_name: str) -> ComponentInfo:
+    """The reference of one component type; ``print(st.describe("Brake"))`` reads it.
+
+    Raises ModelError (with suggestions) for an unknown type.
+    """
+    known = catalogue()
+    if type_name not in known:
+        raise ModelError(f"unknown component type '{type_name}'{_suggest(type_name, list(known))}")
+    return known[type_name]
+
+
+def unit_of(variable: str, types: dict[str, str]) -> str:
+    """The unit of a result variable (``brake.tau`` → ``N.m``) given component → type names.
+
+    System-wide variables (``system.kineticEnergy``) are in joules; unknown names give "".
+    """
+    if variable.startswith("system."):
+        return "J"
+    component, _, rest = variable.partition(".")
+    info = catalogue().get(types.get(component, ""))
+    if info is None:
+        return ""
+    return next((v.unit for v in info.variables if v.name == rest), "")

@@ -1,0 +1,194 @@
+"""Component descriptions: a type name plus parameter values, nothing more.
+
+A component here is data, not behaviour; the engine owns the physics. Values are
+normalised at construction to what a TOML model file can hold (numbers, booleans,
+strings, arrays, small tables), so a model built in Python and one loaded from a file
+are indistinguishable.
+"""
+
+from __future__ import annotations
+
+import functools
+import numbers
+import os
+from collections.abc import Mapping, Sequence
+from typing import Any, ClassVar, Union
+
+from stiction.errors import ModelError
+from stiction.model.catalogue import ComponentInfo, catalogue
+
+__all__ = [
+    "FACTORIES",
+    "START_VARIABLES",
+    "Component",
+    "ParamValue",
+    "StartValue",
+    "component_types",
+    "factory",
+]
+
+StartValue = Mapping[str, float | bool]
+"""A start value with its flag, ``{"start": 10.0, "fixed": False}``; a bare number is fixed."""
+
+ParamValue = Union[bool, int, float, str, Sequence[Any], Mapping[str, Any], "os.PathLike[str]"]
+
+# Variables with a start value and fixedness rather than a parameter value: in Python
+# ``w={"start": 10.0, "fixed": False}``, in Modelica ``phi(start=0, fixed=true)``.
+START_VARIABLES = frozenset(
+    [
+        "phi",
+        "w",
+        "a",
+        "phi_rel",
+        "w_rel",
+        "a_rel",
+        "startForward",
+        "startBackward",
+        "stuck",
+        "locked",
+        "T",
+        "mode",
+        "free",
+    ]
+)
+
+_PLAIN = frozenset((float, int, bool, str))
+
+
+def normalize_value(value: Any, where: str) -> Any:
+    """Turn a parameter value into TOML-able data, or raise ModelError naming it."""
+    if type(value) in _PLAIN:  # the common cases, before the slower abstract-class checks
+        return value
+    if type(value) is dict:
+        return _normalize_table(value, where)
+    if isinstance(value, bool):
+        return value
+    if type(value).__module__ == "numpy" and type(value).__name__ in ("bool", "bool_"):
+        return bool(value)
+    if isinstance(value, numbers.Integral):
+        return int(value)
+    if isinstance(value, numbers.Real):
+        return float(value)
+    if isinstance(value, str):
+        return value
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
+    if hasattr(value, "tolist") and not isinstance(value, (list, tuple)):  # numpy arrays
+        return normalize_value(value.tolist(), where)
+    if isinstance(value, Mapping):
+        return _normalize_table(value, where)
+    if isinstance(value, (list, tuple)):
+        return [normalize_value(item, where) for item in value]
+    raise ModelError(f"{where}: unsupported value {value!r} ({type(value).__name__})")
+
+
+def _normalize_table(value: Mapping[Any, Any], where: str) -> dict[str, Any]:
+    out = {}
+    for key, item in value.items():
+        if not isinstance(key, str):
+            raise ModelError(f"{where}: table keys must be strings, got {key!r}")
+        out[key] = normalize_value(item, f"{where}.{key}")
+    return out
+
+
+class Component:
+    """One component: an MSL-like type name and its parameter values.
+
+    ``Component("Inertia", {"J": 2.0})`` works for any type the engine knows; the
+    subclasses below (``Inertia(J=2.0)``) are the same with the type filled in.
+    """
+
+    type_name: ClassVar[str | None] = None
+    __hash__ = None  # type: ignore[assignment]  # mutable
+
+    def __init__(self, type: str, params: Mapping[str, Any] | None = None) -> None:
+        if not isinstance(type, str) or not type:
+            raise ModelError(f"component type must be a non-empty string, got {type!r}")
+        self.type: str = type
+        self.params: dict[str, Any] = {}
+        for key, value in (params or {}).items():
+            if not isinstance(key, str) or not key:
+                raise ModelError(f"{type}: parameter names must be non-empty strings, got {key!r}")
+            if key == "type":
+                raise ModelError(f"{type}: 'type' is reserved and cannot be a parameter name")
+            self.params[key] = normalize_value(value, f"{type}: parameter '{key}'")
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        cls.type_name = cls.__name__
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Component):
+            return NotImplemented
+        return self.type == other.type and self.params == other.params
+
+    def __repr__(self) -> str:
+        if type(self).type_name == self.type:
+            args = ", ".join(f"{k}={v!r}" for k, v in self.params.items())
+            return f"{type(self).__name__}({args})"
+        return f"Component({self.type!r}, {self.params!r})"
+
+
+class _Factory(Component):
+    """Base of the typed factories: keyword arguments are the parameters."""
+
+    def __init__(self, **params: Any) -> None:
+        super().__init__(type(self).type_name or "", params)
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        FACTORIES[cls.__name__] = cls
+
+
+FACTORIES: dict[str, type[Component]] = {}
+
+
+def _make_class(info: ComponentInfo) -> type[Component]:
+    """The class of one engine type: its docstring and signature come from the catalogue."""
+    cls = type(info.name, (_Factory,), {"__doc__": info.docstring(), "__module__": __name__})
+    cls.__signature__ = info.signature()  # type: ignore[attr-defined]  # help(), IDEs
+    return cls
+
+
+def _make_classes() -> dict[str, type[Component]]:
+    """One class per engine type whose name is a Python identifier (not Celsius.…)."""
+    try:
+        known = catalogue()
+    except ModuleNotFoundError as exc:  # a source tree without the compiled engine
+        if exc.name != "stiction._core":
+            raise
+        return {}
+    return {name: _make_class(info) for name, info in known.items() if name.isidentifier()}
+
+
+globals().update(_make_classes())  # Inertia, Brake, …: listed in components.pyi
+
+
+@functools.cache
+def component_types() -> dict[str, dict[str, list[str]]] | None:
+    """Give the engine's types with their parameter and port names; None if not built."""
+    try:
+        known = catalogue()
+    except ModuleNotFoundError as exc:
+        if exc.name != "stiction._core":
+            raise
+        return None
+    return {
+        name: {"parameters": [p.name for p in info.parameters], "ports": [p.name for p in info.ports]}
+        for name, info in known.items()
+    }
+
+
+def factory(type_name: str) -> type[Component]:
+    """Give the factory class of a type; engine types without one get one made."""
+    if type_name in FACTORIES:
+        return FACTORIES[type_name]
+    known = component_types()
+    if known is None or type_name not in known or not type_name.isidentifier():
+        raise AttributeError(type_name)
+    cls = type(
+        type_name,
+        (_Factory,),
+        {"__doc__": f"{type_name} (engine type).", "__module__": __name__},
+    )
+    return cls

@@ -1,0 +1,452 @@
+"""``Model``: components and connections, checked as they are added, and run.
+
+The model is plain data (it serialises to the TOML model file and back). Checks that
+need the engine's catalogue of types, parameters and ports run when the compiled module
+is present; everything else (names, connection syntax) is checked here regardless.
+Simulation hands the TOML text to the engine, so a model built in Python and one loaded
+from a file run identically.
+"""
+
+from __future__ import annotations
+
+import difflib
+import os
+import re
+from collections.abc import Mapping
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from stiction.errors import ModelError
+from stiction.model import modelfile
+from stiction.model.components import FACTORIES, Component, component_types
+from stiction.model.runinfo import RunInfo
+
+if TYPE_CHECKING:
+    from stiction.results.result import Result
+    from stiction.run.compiled import CompiledModel
+    from stiction.run.simulation import Simulation
+
+__all__ = ["Model"]
+
+_IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+
+
+def _did_you_mean(word: str, choices: list[str]) -> str:
+    close = difflib.get_close_matches(word, choices, n=3)
+    return f" (did you mean {', '.join(repr(c) for c in close)}?)" if close else ""
+
+
+class Model:
+    """A drivetrain: named components, connections of their ports, an experiment."""
+
+    def __init__(self, name: str, base_dir: str | os.PathLike[str] = ".") -> None:
+        if not isinstance(name, str) or not name:
+            raise ModelError(f"model name must be a non-empty string, got {name!r}")
+        self.name = name
+        self.components: dict[str, Component] = {}
+        self.connections: list[tuple[str, str]] = []
+        self._pairs: set[frozenset[str]] = set()
+        self.experiment: dict[str, Any] = {}
+        # Signal inputs left unconnected on purpose, set while the model runs: port -> start.
+        self.inputs: dict[str, float] = {}
+        # Relative file names in parameters (a TimeTable CSV …) are relative to this.
+        self.base_dir = Path(base_dir)
+        # The compiled form of the model text it was made from (see `compile`).
+        self._compiled: tuple[tuple[str, str], CompiledModel] | None = None
+        # The engine text and the parameter values of the model as it was (see `_text_key`).
+        self._derived: tuple[str, str, dict[str, float] | None] | None = None
+        # Derived variables: result columns computed from the run, name -> Modelica expression
+        # over result variables ("gear.flange_a.tau*der(gear.flange_a.phi)").
+        self.variables: dict[str, str] = {}
+        # Top-level parameters: name -> number, Boolean or expression text over the others;
+        # components refer to them with {"expr": "T2"} (see stiction/parameters.py).
+        self.parameters: dict[str, Any] = {}
+        # What a top-level parameter's Modelica declaration says beyond its value (type,
+        # description, unit, min…): kept through import and export, never read by the engine.
+        self.declarations: dict[str, dict[str, Any]] = {}
+
+    # --- building ---------------------------------------------------------------------
+    def add(self, name: str, component: Component) -> Model:
+        """Add a component under a unique identifier-like name; returns the model."""
+        if not isinstance(name, str) or not _IDENTIFIER.fullmatch(name):
+            raise ModelError(f"component name {name!r} is not a valid identifier (letters, digits, '_')")
+        if not isinstance(component, Component):
+            raise ModelError(
+                f"component '{name}': expected a Component such as st.Inertia(J=1.0), got {component!r}"
+            )
+        if name in self.components:
+            raise ModelError(f"component '{name}': a component of that name already exists")
+        known = component_types()
+        if known is not None:
+            if component.type not in known:
+                raise ModelError(
+                    f"component '{name}' ({component.type}): unknown component type"
+                    f"{_did_you_mean(component.type, list(known))}"
+                )
+            allowed = known[component.type].get("parameters", [])
+            for param in component.params:
+                if param not in allowed:
+                    raise ModelError(
+                        f"component '{name}' ({component.type}): parameter '{param}': "
+                        f"unknown parameter{_did_you_mean(param, allowed)}"
+                    )
+        self.components[name] = component
+        return self
+
+    def _check_end(self, end: str) -> None:
+        if not isinstance(end, str) or end.count(".") < 1:
+            raise ModelError(f'connection end {end!r} must be "component.port"')
+        comp_name, port = end.split(".", 1)
+        if comp_name not in self.components:
+            raise ModelError(
+                f"connection end '{end}': unknown component '{comp_name}'"
+                f"{_did_you_mean(comp_name, list(self.components))}"
+            )
+        if not port:
+            raise ModelError(f"connection end '{end}': missing port name after '.'")
+        known = component_types()
+        comp_type = self.components[comp_name].type
+        if known is not None and comp_type in known:
+            ports = known[comp_type].get("ports", [])
+            if port not in ports:
+                raise ModelError(
+                    f"component '{comp_name}' ({comp_type}): port '{port}': "
+                    f"unknown port{_did_you_mean(port, ports)}; "
+                    f"ports are {', '.join(ports) or 'none'}"
+                )
+
+    def connect(self, a: str, b: str) -> Model:
+        """Connect two ports given as "component.port"; returns the model."""
+        self._check_end(a)
+        self._check_end(b)
+        if a == b:
+            raise ModelError(f"connection '{a}' - '{b}': a port cannot be connected to itself")
+        if self._connected(a, b):
+            raise ModelError(f"connection '{a}' - '{b}': already connected")
+        self.connections.append((a, b))
+        self._pairs.add(frozenset((a, b)))
+        return self
+
+    def _connected(self, a: str, b: str) -> bool:
+        """Whether a-b is in ``connections``, through a set (linear cost to build a model); the
+        set is rebuilt when the public list was changed directly, and a hit is confirmed."""
+        if len(self._pairs) != len(self.connections):
+            self._pairs = {frozenset(pair) for pair in self.connections}
+        if frozenset((a, b)) not in self._pairs:
+            return False
+        return (a, b) in self.connections or (b, a) in self.connections
+
+    def set(self, name: str, value: Any) -> Model:
+        """Change one parameter, ``m.set("brake.fn_max", 1800.0)``; returns the model.
+
+        The name and the value get the checks a component gets when the model is read:
+        unknown names (with suggestions), types, ranges and table shapes — now, not at the
+        next run. On an error the model is left unchanged.
+        """
+        comp_name, _, param = name.partition(".")
+        if comp_name not in self.components or not param:
+            raise ModelError(
+                f"set '{name}': expected 'component.parameter' with a component of this model"
+                f"{_did_you_mean(comp_name, list(self.components))}"
+            )
+        old = self.components[comp_name]
+        params = {**old.params, param: value}
+        new = FACTORIES[old.type](**params) if old.type in FACTORIES else Component(old.type, params)
+        known = component_types()
+        allowed = known[old.type]["parameters"] if known and old.type in known else [param]
+        if param not in allowed:
+            raise ModelError(
+                f"component '{comp_name}' ({old.type}): parameter '{param}': "
+                f"unknown parameter{_did_you_mean(param, allowed)}"
+            )
+        from stiction import _core
+
+        text = modelfile.dumps(self.name, {}, [(comp_name, new.type, new.params)], [], {})
+        _core.check_parameters(text, str(self.base_dir))
+        self.components[comp_name] = new
+        return self
+
+    def input(self, port: str, start: float = 0.0) -> Model:
+        """Declare an unconnected signal input ("brake.f_normalized") an input of the model.
+
+        Its value is ``start`` until a ``Simulation`` (or an FMU host) sets it; a jump is an
+        event at that instant. An unconnected input that is not declared stays an error.
+        """
+        self._check_end(port)
+        if isinstance(start, bool) or not isinstance(start, (int, float)):
+            raise ModelError(f"input '{port}': start must be a number, got {start!r}")
+        if any(port in pair for pair in self.connections):
+            raise ModelError(f"input '{port}': the port is connected; a model input is left unconnected")
+        self.inputs[port] = float(start)
+        return self
+
+    def __getitem__(self, name: str) -> Component:
+        return self.components[name]
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Model):
+            return NotImplemented
+        return (
+            self.name == other.name
+            and self.components == other.components
+            and self.connections == other.connections
+            and self.experiment == other.experiment
+            and self.inputs == other.inputs
+            and self.variables == other.variables
+            and self.parameters == other.parameters
+            and self.declarations == other.declarations
+        )
+
+    __hash__ = None  # type: ignore[assignment]  # mutable
+
+    def __repr__(self) -> str:
+        return (
+            f"<Model {self.name!r}: {len(self.components)} components, {len(self.connections)} connections>"
+        )
+
+    def variable(self, name: str, expression: str) -> Model:
+        """Add a derived variable: a result column computed from the run by a Modelica
+        expression over result variables, e.g. ``"J1.w - J2.w"`` or ``"J.w*der(J.phi)"``."""
+        from stiction.expressions.parser import parse_expression
+
+        if not isinstance(name, str) or not _IDENTIFIER.fullmatch(name):
+            raise ModelError(f"variable name {name!r} is not a valid identifier")
+        if name in self.components or name in self.variables:
+            raise ModelError(f"variable '{name}': the name is already used")
+        parse_expression(expression, f"variable '{name}'")
+        self.variables[name] = expression
+        return self
+
+    # --- files ------------------------------------------------------------------------
+    def to_toml(self) -> str:
+        """The model as model-file text (what ``save`` writes)."""
+        return modelfile.dumps(
+            self.name,
+            self.experiment,
+            ((n, c.type, c.params) for n, c in self.components.items()),
+            self.connections,
+            self.inputs,
+            self.variables,
+            self.parameters,
+            self.declarations,
+        )
+
+    def engine_toml(self) -> str:
+        """The model-file text the engine reads: parameter expressions evaluated, derived
+        variables left out (they are computed from the result)."""
+        return self._derived_of(values=False)[0]
+
+    def _text_key(self) -> str | None:
+        """A fingerprint of everything the engine text and the parameter values depend on:
+        the ``repr`` of plain data, exact for numbers, and far cheaper than writing the text
+        (a run of a small model spent most of its Python time writing it, twice). None when a
+        value's ``repr`` may not show all of it (an object, a summarized array)."""
+        comps = [(n, c.type, c.params) for n, c in self.components.items()]
+        key = repr((self.name, self.experiment, comps, self.connections, self.inputs, self.parameters))
+        return None if "<" in key or "..." in key else key
+
+    def _text_and_values(self) -> tuple[str, dict[str, float]]:
+        text, values = self._derived_of(values=True)
+        assert values is not None
+        return text, values
+
+    def _derived_of(self, values: bool) -> tuple[str, dict[str, float] | None]:
+        """The engine text and, if ``values``, the parameter values, kept while the model's
+        fingerprint is unchanged; the values only when asked for (``check`` needs none, and
+        they import the Modelica converter's table of start variables)."""
+        key = self._text_key()
+        cached = self._derived if key is not None and self._derived and self._derived[0] == key else None
+        text = cached[1] if cached else self._write_engine_toml()
+        known = cached[2] if cached else None
+        if values and known is None:
+            known = self._parameter_values()
+        self._derived = None if key is None else (key, text, known)
+        return text, known
+
+    def _write_engine_toml(self) -> str:
+        from stiction.model.parameters import evaluate_parameters, resolve_params
+
+        values = evaluate_parameters(self.parameters)
+        return modelfile.dumps(
+            self.name,
+            self.experiment,
+            ((n, c.type, resolve_params(n, c.params, values)) for n, c in self.components.items()),
+            self.connections,
+            self.inputs,
+        )
+
+    @classmethod
+    def from_modelica(
+        cls,
+        source: str | os.PathLike[str],
+        model: str | None = None,
+    ) -> Model:
+        """Read a Modelica model (a ``.mo`` path or its text); ``model`` picks one of several.
+
+        The subset MSL-style models use is read (see docs/modelica.md); anything else raises
+        ``ModelError`` starting with ``file:line:column``.
+        """
+        from stiction.modelica import read_modelica
+
+        return read_modelica(source, model)
+
+    def to_modelica(self, path: str | os.PathLike[str] | None = None) -> str:
+        """The model as Modelica text with fully qualified MSL classes; written to ``path``
+        if given. ``Model.from_modelica`` reads it back to the same model."""
+        from stiction.modelica.export import write_modelica
+
+        text = write_modelica(self)
+        if path is not None:
+            Path(path).write_text(text, encoding="utf-8")
+        return text
+
+    def to_fmu(
+        self,
+        path: str | os.PathLike[str],
+        fmi_version: int = 2,
+        outputs: list[str] | None = None,
+    ) -> Path:
+        """Write the model as an FMI Co-Simulation FMU (see ``stiction.fmu``): its declared
+        inputs are the FMU's inputs, ``outputs`` (default: the states) its outputs, the
+        components' Real parameters its parameters by MSL name."""
+        from stiction.fmu.export import export_fmu
+
+        return export_fmu(self, path, fmi_version, outputs)
+
+    def save(self, path: str | os.PathLike[str]) -> None:
+        """Write the model file; relative file parameters stay relative to it."""
+        Path(path).write_text(self.to_toml(), encoding="utf-8")
+
+    @classmethod
+    def loads(
+        cls,
+        text: str,
+        base_dir: str | os.PathLike[str] = ".",
+        *,
+        source: str = "model",
+        default_name: str = "model",
+    ) -> Model:
+        """Build a model from model-file text, checked as if built in Python."""
+        data = modelfile.parse(text, source)
+        model = cls(data.name or default_name, base_dir=base_dir)
+        model.experiment.update(data.experiment)
+        for comp_name, comp_type, params in data.components:
+            make = FACTORIES.get(comp_type)
+            try:
+                comp = make(**params) if make else Component(comp_type, params)
+            except ModelError as exc:
+                detail = str(exc).removeprefix(f"{comp_type}: ")
+                raise ModelError(f"component '{comp_name}' ({comp_type}): {detail}") from None
+            model.add(comp_name, comp)
+        for a, b in data.connections:
+            model.connect(a, b)
+        for port, start in data.inputs.items():
+            model.input(port, start)
+        for var_name, expression in data.variables.items():
+            model.variable(var_name, expression)
+        model.parameters.update(data.parameters)
+        model.declarations.update(data.declarations)
+        return model
+
+    @classmethod
+    def load(cls, path: str | os.PathLike[str]) -> Model:
+        """Read a model file; its folder becomes the base of relative file names."""
+        path = Path(path)
+        text = path.read_text(encoding="utf-8")
+        try:
+            return cls.loads(
+                text,
+                base_dir=path.resolve().parent,
+                source=str(path),
+                default_name=path.stem,
+            )
+        except ModelError as exc:
+            message = str(exc)
+            if not message.startswith(str(path)):
+                message = f"{path}: {message}"
+            raise ModelError(message) from None
+
+    # --- running ----------------------------------------------------------------------
+    def simulation(self, Solver: str | None = None, **experiment: float) -> Simulation:
+        """A resumable run of the model (``advance_to``, ``set_input``, ``get`` …).
+
+        Keyword arguments (``StopTime=2.0``, ``Solver="bdf"`` …) override the experiment.
+        """
+        from stiction.run.simulation import Simulation
+
+        return Simulation(self, Solver, **experiment)
+
+    def run_info(self) -> RunInfo:
+        """The experiment and initialization a run of this model would use, without running."""
+        return RunInfo(self.engine_toml(), str(self.base_dir), {}, None, self.types())
+
+    def check(self) -> None:
+        """Let the engine validate the whole model without running it."""
+        from stiction import _core
+
+        _core.check(self.engine_toml(), str(self.base_dir))
+
+    def compile(self) -> CompiledModel:
+        """The model compiled for repeated runs; reused while the model is unchanged.
+
+        Any change to the model, through any API, changes its text and so compiles anew.
+        """
+        return self._compile(self.engine_toml())
+
+    def _compile(self, text: str) -> CompiledModel:
+        from stiction.run.compiled import CompiledModel
+
+        key = (text, str(self.base_dir))
+        if self._compiled is None or self._compiled[0] != key:
+            self._compiled = (key, CompiledModel(key[0], self.base_dir, self.name))
+        return self._compiled[1]
+
+    def simulate(
+        self,
+        StartTime: float | None = None,  # MSL experiment names, hence capitalised
+        StopTime: float | None = None,
+        Interval: float | None = None,
+        Tolerance: float | None = None,
+        Solver: str | None = None,
+        params: Mapping[str, Any] | None = None,
+        record: str = "states",
+    ) -> Result:
+        """Run the model; arguments override its experiment settings for this run.
+
+        ``record="states"`` (the default) records the states; every other variable is computed
+        from them when first read (``r.data`` computes all of them at once, on every core).
+        ``record="all"`` computes every variable while the run goes on, on the other cores, so
+        that ``r.data`` is at hand when the run returns: less time from start to every
+        variable on a machine of two cores or more. The values are the same, bit for bit.
+
+        ``Solver`` is "auto" (the default: tsit45, changing to esdirk34 once the run is stiff),
+        "tsit45", "bdf" or "esdirk34". ``params`` overrides parameters and start values by name for this run (``{"clutch1.fn_max": 30,
+        "J1.w": 5}``); the model itself is unchanged. The result reports the experiment used
+        (``r.experiment``, with the settings left at defaults) and the initialization
+        (``r.initialization``, of the model without ``params``).
+        """
+        from stiction.run.simulate import simulate
+
+        return simulate(self, StartTime, StopTime, Interval, Tolerance, Solver, params, record)
+
+    def types(self) -> dict[str, str]:
+        """Component name → type name (``{"brake": "Brake"}``)."""
+        return {name: c.type for name, c in self.components.items()}
+
+    def parameter_values(self) -> dict[str, float]:
+        """Scalar parameters as ``component.parameter -> value`` (Booleans as 0/1), top-level
+        ones by their name, as a Modelica result's data_1 holds them; start values are
+        trajectories, not here."""
+        return dict(self._text_and_values()[1])
+
+    def _parameter_values(self) -> dict[str, float]:
+        from stiction.model.components import START_VARIABLES
+        from stiction.model.parameters import evaluate_parameters, resolve_params
+
+        top = evaluate_parameters(self.parameters)
+        values = {k: float(v) for k, v in top.items() if isinstance(v, (bool, int, float))}
+        for comp_name, comp in self.components.items():
+            for key, value in resolve_params(comp_name, comp.params, top).items():
+                if key not in START_VARIABLES and isinstance(value, (bool, int, float)):
+                    values[f"{comp_name}.{key}"] = float(value)
+        return values

@@ -1,0 +1,411 @@
+"""``Result``: the trajectories of one run, by MSL variable name, and the event log.
+
+It knows nothing of the engine: it is built from the plain dict the engine returns (or
+from arrays), so it can be tested, saved and compared without the compiled module.
+"""
+
+from __future__ import annotations
+
+import difflib
+import fnmatch
+import math
+import os
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, NamedTuple
+
+import numpy as np
+
+from stiction import _deps
+from stiction.errors import UsageError
+from stiction.results.io import csv as csvio
+from stiction.results.io import formats as resultio
+from stiction.results.modes import MODE_NAMES, mode_name
+
+if TYPE_CHECKING:
+    import pandas
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from stiction.model.runinfo import Experiment, Initialization, RunInfo
+    from stiction.results.audit import EnergyAudit
+
+__all__ = ["MODE_NAMES", "Event", "Result", "mode_name"]
+
+# Signal kinds worth showing first in a summary, most telling first.
+_MAIN_SUFFIXES = ("w", "w_rel", "mode", "tau", "phi", "phi_rel", "T", "y")
+
+
+class Event(NamedTuple):
+    """One mode change of one component at an event instant, and why it happened."""
+
+    time: float
+    component: str
+    old_mode: int
+    new_mode: int
+    cause: str
+
+    @property
+    def old(self) -> str:
+        """The mode before, by name (``"sliding forward"``)."""
+        return mode_name(self.old_mode)
+
+    @property
+    def new(self) -> str:
+        """The mode after, by name (``"stuck"``)."""
+        return mode_name(self.new_mode)
+
+    def __str__(self) -> str:
+        return f"t = {self.time:.9g} s  {self.component}: {self.old} → {self.new}  ({self.cause})"
+
+
+def _with_source(event: Event, sources: list[str]) -> Event:
+    """``time event`` → ``time event of press (Step)``."""
+    if not sources:
+        return event
+    cause = event.cause.replace("time event", f"time event of {', '.join(sources)}", 1)
+    return event._replace(cause=cause)
+
+
+class Result:
+    """Trajectories on the output grid and both sides of each event, with statistics."""
+
+    def __init__(
+        self,
+        names: Sequence[str],
+        data: Any = None,
+        events: Iterable[Sequence[Any]] = (),
+        stats: Mapping[str, float | int] | None = None,
+        name: str = "",
+        source: Any = None,
+        info: RunInfo | None = None,
+    ) -> None:
+        """``data`` is the full table, or None when a ``source`` (the engine's raw result,
+        with ``column(name)``, ``table()`` and ``rows``) computes variables on demand;
+        ``info`` reports the run's experiment and initialization."""
+        self.names: list[str] = list(map(str, names))
+        if not self.names or self.names[0] != "time":
+            raise ValueError("the first signal must be 'time'")
+        self._source = source
+        self._data: np.ndarray | None = None
+        self._columns: dict[str, np.ndarray] = {}
+        self._engine_table: np.ndarray | None = None  # the engine's table, once computed
+        self._extra: dict[str, np.ndarray] = {}  # derived variables of a lazy result
+        if data is not None or source is None:
+            table = np.asarray(data, dtype=np.float64)
+            if table.ndim != 2 or table.shape[1] != len(self.names):
+                raise ValueError(f"data shape {table.shape} does not match {len(self.names)} names")
+            self._data = table
+        self._events = [Event(float(t), str(c), int(a), int(b), str(why)) for t, c, a, b, why in events]
+        self._events_named = False
+        self.stats: dict[str, float | int] = dict(stats or {})
+        self.name = name
+        self._info = info
+        self._index_of: dict[str, int] | None = None
+        # Parameter values (name -> value) of the run, written to data_1 of a .mat result.
+        self.parameters: dict[str, float] = {}
+
+    @classmethod
+    def from_core(
+        cls,
+        raw: Any,
+        name: str = "",
+        variables: Mapping[str, str] | None = None,
+        parameters: Mapping[str, Any] | None = None,
+        info: RunInfo | None = None,
+    ) -> Result:
+        """Wrap the engine's raw result; variables are computed when first read.
+
+        ``variables`` (name -> Modelica expression over result variables and the top-level
+        ``parameters``) add derived columns after the engine's; ``info`` answers
+        ``experiment`` and ``initialization``.
+        """
+        result = cls(raw.names, None, raw.events, raw.stats, name=name, source=raw, info=info)
+        if variables:
+            from stiction.results.derived import derived_columns
+
+            result._extra = derived_columns(result, variables, parameters)
+            result.names.extend(result._extra)
+            result._index_of = None
+        return result
+
+    @property
+    def _index(self) -> dict[str, int]:
+        """The column of each name, built at the first lookup: a model of thousands of
+        components has tens of thousands of names, and a run nobody reads pays nothing."""
+        if self._index_of is None:
+            self._index_of = {n: i for i, n in enumerate(self.names)}
+        return self._index_of
+
+    def metric(self, text: str) -> float:
+        """A metric of this run, written as what it computes: ``final(J4.w)``, ``max(J1.w)``,
+        ``min(…)``, ``integral(brake.lossPower)``, ``mean(…)``, ``time_of(clutch2.locked)``
+        (or ``time_of(J1.w < 1)``), ``events(clutch1)``, ``events()``. A sweep computes the
+        same value to the last bit."""
+        if self._source is None:
+            raise ValueError("metrics need a result of the engine (not one read from a file)")
+        return float(self._source.metric(text))
+
+    def audit(self) -> EnergyAudit:
+        """The energy audit element by element (see ``stiction.audit``): for every component,
+        the power entering at its flanges against its losses and stored energy, row by row;
+        ``r.audit().worst`` is the element furthest from closing, ``r.audit().ok()`` whether
+        all close and no passive element delivers net energy."""
+        from stiction.results.audit import EnergyAudit
+
+        if self._source is None:
+            raise ValueError("the energy audit needs a result of the engine (not one read from a file)")
+        span = float(self.time[-1] - self.time[0]) if len(self) else 0.0
+        return EnergyAudit.from_core(self._source.audit(), span)
+
+    @property
+    def events(self) -> list[Event]:
+        """Every mode change: time, component, old and new mode (``.old``/``.new`` by name),
+        cause; a time event's cause names the components whose time event it was."""
+        if not self._events_named and self._info is not None:
+            timed = [e for e in self._events if e.cause.startswith("time event")]
+            sources = self._info.time_event_sources([e.time for e in timed]) if timed else []
+            named = {id(e): s for e, s in zip(timed, sources, strict=True)}
+            self._events = [_with_source(e, named.get(id(e), [])) for e in self._events]
+        self._events_named = True
+        return self._events
+
+    @property
+    def experiment(self) -> Experiment | None:
+        """The experiment the run used, saying which settings were defaults (None if unknown)."""
+        return self._info.experiment if self._info else None
+
+    @property
+    def initialization(self) -> Initialization | None:
+        """Every start value: fixed, guessed (kept) or computed, with its initial value."""
+        return self._info.initialization if self._info else None
+
+    @property
+    def data(self) -> np.ndarray:
+        """All variables, one column per name (computed on first use)."""
+        if self._data is None:
+            table = np.asarray(self._source.table(), dtype=np.float64)
+            if self._extra:
+                table = np.column_stack([table, *self._extra.values()])
+            self._data = table
+        return self._data
+
+    @classmethod
+    def load(cls, path: str | os.PathLike[str]) -> Result:
+        """Read a result file by its extension: CSV (ours or an MSL reference), a Dymola or
+        OpenModelica ``.mat`` result, or Parquet. Events and statistics are not in files."""
+        names, data, parameters = resultio.read(path)
+        result = cls(names, data, name=Path(path).stem)
+        result.parameters = parameters
+        return result
+
+    @classmethod
+    def from_csv(cls, path: str | os.PathLike[str]) -> Result:
+        """Read a result or MSL reference CSV (kept for old code; ``load`` reads every format)."""
+        names, data = csvio.read_csv(path)
+        return cls(names, data)
+
+    # --- access -----------------------------------------------------------------------
+    def __getitem__(self, name: str) -> np.ndarray:
+        try:
+            column = self._index[name]
+            if self._data is not None:
+                return self._data[:, column]
+            if name in self._extra:
+                return self._extra[name]
+            if name in self._columns:
+                return self._columns[name]
+            if self._engine_table is None and not self._source.is_direct(name):
+                # the engine computes every variable for the first algebraic one: keep its
+                # table (not `self.data`, which derived columns, still being computed from
+                # these, extend), so that every later column is a view, not a copy each
+                try:
+                    self._engine_table = np.asarray(self._source.table(), dtype=np.float64)
+                except UsageError:
+                    pass  # every variable at once does not fit in memory: this one alone
+            if self._engine_table is not None:
+                return self._engine_table[:, column]
+            # an angle, speed, mode or flag: read from the states, no table needed
+            self._columns[name] = np.asarray(self._source.column(name), dtype=np.float64)
+            return self._columns[name]
+        except KeyError:
+            close = difflib.get_close_matches(name, self.names, n=5, cutoff=0.5)
+            hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
+            raise KeyError(f"no signal {name!r} in the result{hint}") from None
+
+    def __contains__(self, name: object) -> bool:
+        return name in self._index
+
+    def __len__(self) -> int:
+        if self._data is None:
+            return int(self._source.rows)
+        return int(self._data.shape[0])
+
+    def __repr__(self) -> str:
+        label = f" {self.name!r}" if self.name else ""
+        return f"<Result{label}: {len(self.names) - 1} signals, {len(self)} rows, {len(self.events)} events>"
+
+    @property
+    def time(self) -> np.ndarray:
+        """The time column (event instants appear twice: left then right value)."""
+        return self["time"]
+
+    def unit(self, name: str) -> str:
+        """The unit of a variable (``"N.m"`` for ``brake.tau``; "" if unknown or none)."""
+        if name == "time":
+            return "s"
+        return self._info.unit(name) if self._info else ""
+
+    # --- analysis ---------------------------------------------------------------------
+    def energy(self, component: str, cumulative: bool = False) -> Any:
+        """Energy dissipated by one component [J]: the integral of its ``lossPower``.
+
+        The total (a float), or with ``cumulative=True`` its course over ``time``. Exact for
+        a loss power linear between rows; event rows (a repeated time) add nothing.
+        """
+        name = f"{component}.lossPower"
+        if name not in self:
+            lossy = sorted({n.split(".")[0] for n in self.names if n.endswith(".lossPower")})
+            raise KeyError(f"{component!r} has no lossPower; components that dissipate: {', '.join(lossy)}")
+        t, p = self.time, self[name]
+        steps = np.concatenate(([0.0], 0.5 * (p[1:] + p[:-1]) * np.diff(t)))
+        course = np.cumsum(steps)
+        return course if cumulative else float(course[-1])
+
+    def first(self, name: str, condition: Callable[[np.ndarray], np.ndarray] | None = None) -> float | None:
+        """The first time a signal is true (nonzero), or meets ``condition``; None if never.
+
+        ``r.first("clutch2.locked")``; ``r.first("J.w", lambda w: w < 1.0)``.
+        """
+        hit = np.asarray(condition(self[name]) if condition else self[name] != 0.0, dtype=bool)
+        rows = np.flatnonzero(hit)
+        return float(self.time[rows[0]]) if rows.size else None
+
+    def lock_times(self, component: str) -> list[float]:
+        """The instants a friction element becomes locked (its ``locked`` rises; t0 counts)."""
+        locked = self[f"{component}.locked"] != 0.0
+        rises = np.flatnonzero(locked[1:] & ~locked[:-1]) + 1
+        times = [float(self.time[i]) for i in rises]
+        return ([float(self.time[0])] if locked.size and locked[0] else []) + times
+
+    # --- export -----------------------------------------------------------------------
+    def to_pandas(self, events: str = "all") -> pandas.DataFrame:
+        """The trajectories as a DataFrame; ``df.attrs["units"]`` gives each column's unit.
+
+        ``events="all"``: every row, ``time`` an ordinary column (an event instant has two
+        rows, left and right value). ``"last"`` or ``"first"``: one row per instant (the value
+        after, or before, each event), indexed by ``time`` — unique and increasing, so
+        ``resample``, ``interpolate`` and ``np.gradient`` work.
+        """
+        pd = _deps.pandas
+
+        if events not in ("all", "first", "last"):
+            raise ValueError(f'events must be "all", "first" or "last", got {events!r}')
+        df = pd.DataFrame(self.data, columns=self.names)
+        if events != "all":
+            df = df.drop_duplicates(subset="time", keep=events).set_index("time")
+        df.attrs["units"] = {n: self.unit(n) for n in self.names}
+        return df
+
+    def select(self, outputs: Iterable[str] | None = None) -> list[str]:
+        """The names ``outputs`` choose (exact names or globs such as ``J*.w``), ``time``
+        first, in column order; all names for None. An unknown name raises KeyError."""
+        if outputs is None:
+            return list(self.names)
+        chosen: set[str] = {"time"}
+        for pattern in outputs:
+            if any(ch in pattern for ch in "*?["):
+                matched = fnmatch.filter(self.names, pattern)
+                if not matched:
+                    raise KeyError(f"no signal in the result matches {pattern!r}")
+                chosen.update(matched)
+            else:
+                self[pattern]  # the helpful KeyError
+                chosen.add(pattern)
+        return [n for n in self.names if n in chosen]
+
+    def _table(self, outputs: Iterable[str] | None) -> tuple[list[str], np.ndarray]:
+        names = self.select(outputs)
+        if names == self.names:
+            return names, self.data
+        return names, np.column_stack([self[n] for n in names])
+
+    def save(self, path: str | os.PathLike[str], outputs: Iterable[str] | None = None) -> None:
+        """Write the result in the format of the extension: ``.csv``, ``.mat`` or ``.parquet``."""
+        resultio.result_format(path)
+        names, data = self._table(outputs)
+        resultio.write(path, names, data, self.parameters)
+
+    def to_csv(self, path: str | os.PathLike[str], outputs: Iterable[str] | None = None) -> None:
+        """Write an MSL-style CSV (quoted header, full precision, integer modes)."""
+        names, data = self._table(outputs)
+        resultio.write_csv(path, names, data)
+
+    def to_mat(self, path: str | os.PathLike[str], outputs: Iterable[str] | None = None) -> None:
+        """Write a Dymola/OpenModelica result file (MATLAB v4: Aclass, name, description,
+        dataInfo, data_1 with the parameters, data_2 with the trajectories)."""
+        names, data = self._table(outputs)
+        resultio.write_mat(path, names, data, self.parameters)
+
+    def to_parquet(self, path: str | os.PathLike[str], outputs: Iterable[str] | None = None) -> None:
+        """Write the trajectories as a Parquet table (one float64 column per name; pyarrow)."""
+        names, data = self._table(outputs)
+        resultio.write_parquet(path, names, data)
+
+    def plot(
+        self,
+        *names: str | Sequence[str],
+        path: str | os.PathLike[str] | None = None,
+        ax: Axes | None = None,
+    ) -> Figure:
+        """Plot signals against time, one axes per argument (a name or names)."""
+        from stiction.results.plotting import plot_result
+
+        groups = [[n] if isinstance(n, str) else list(n) for n in names] or self._default_groups()
+        for group in groups:
+            for n in group:
+                self[n]  # raises the helpful KeyError before anything is drawn
+        return plot_result(self, groups, path=path, ax=ax)
+
+    # --- text -------------------------------------------------------------------------
+    def main_signals(self, limit: int = 8) -> list[str]:
+        """The most telling signals (speeds, modes, torques …), in column order."""
+
+        def rank(name: str) -> int:
+            suffix = name.rsplit(".", 1)[-1]
+            return _MAIN_SUFFIXES.index(suffix) if suffix in _MAIN_SUFFIXES else len(_MAIN_SUFFIXES)
+
+        candidates = [n for n in self.names[1:] if "." in n]
+        chosen = set(sorted(candidates, key=rank)[:limit])
+        return [n for n in self.names if n in chosen]
+
+    def _default_groups(self) -> list[list[str]]:
+        groups: dict[str, list[str]] = {}
+        for n in self.main_signals():
+            groups.setdefault(n.rsplit(".", 1)[-1], []).append(n)
+        return list(groups.values())
+
+    def summary(self) -> str:
+        """Describe the run in a few lines: span, events, final values, statistics."""
+        t = self.time
+        span = f"t = {t[0]:g} … {t[-1]:g} s" if len(t) else "no rows"
+        title = f"{self.name}: " if self.name else ""
+        lines = [f"{title}{span}, {len(self)} rows, {len(self.events)} events"]
+        if self._info is not None:
+            lines.append(f"experiment: {self._info.experiment}")
+            lines.append(f"start values: {self._info.initialization.counts()} (r.initialization)")
+        main = self.main_signals()
+        if main and len(t):
+            lines.append("final values:")
+            width = max(len(n) for n in main)
+            for n in main:
+                v = float(self[n][-1])
+                text = str(int(v)) if csvio.is_integer_signal(n) and v.is_integer() else f"{v:.6g}"
+                lines.append(f"  {n:<{width}}  {text}")
+        if self.stats:
+            parts = []
+            for key, value in self.stats.items():
+                shown = f"{value:.3g}" if isinstance(value, float) and not math.isnan(value) else value
+                parts.append(f"{key}={shown}")
+            lines.append("stats: " + ", ".join(parts))
+        return "\n".join(lines)

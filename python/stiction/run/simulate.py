@@ -1,0 +1,45 @@
+"""What ``Model.simulate`` hands off to: one run of a model with overrides, as a ``Result``."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import TYPE_CHECKING, Any
+
+from stiction.model.parameters import evaluate_parameters, expand_parameters
+from stiction.model.runinfo import RunInfo
+from stiction.results.result import Result
+from stiction.run.compiled import merge_overrides, records_all
+
+if TYPE_CHECKING:
+    from stiction.model.model import Model
+
+__all__ = ["simulate"]
+
+
+def simulate(
+    model: Model,
+    StartTime: float | None = None,  # MSL experiment names, hence capitalised
+    StopTime: float | None = None,
+    Interval: float | None = None,
+    Tolerance: float | None = None,
+    Solver: str | None = None,
+    params: Mapping[str, Any] | None = None,
+    record: str = "states",
+) -> Result:
+    """Run ``model`` once with these overrides (see ``Model.simulate``); the model is unchanged."""
+    all_variables = records_all(record)
+    given: dict[str, Any] = {"StartTime": StartTime, "StopTime": StopTime, "Interval": Interval}
+    given |= {"Tolerance": Tolerance, "Solver": Solver}
+    overrides = merge_overrides(params, given)
+    text, values = model._text_and_values()
+    top = evaluate_parameters(
+        {**model.parameters, **{k: overrides[k] for k in model.parameters if k in overrides}}
+    )
+    overrides = expand_parameters(model.parameters, model.components, overrides)
+    core = model._compile(text)._core
+    raw = (core.variant(overrides) if overrides else core).simulate(record_all=all_variables)
+    experiment = {k: float(v) for k, v in given.items() if v is not None and k != "Solver"}
+    info = RunInfo(text, str(model.base_dir), experiment, Solver, model.types())
+    result = Result.from_core(raw, name=model.name, variables=model.variables, parameters=top, info=info)
+    result.parameters = dict(values)
+    return result

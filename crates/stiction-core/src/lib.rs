@@ -16,7 +16,7 @@ mod linalg;
 // the model description: ModelSpec, Params, declarations
 mod model;
 // interpolation tables (CombiTable1D)
-mod table;
+mod lookup_table;
 // node coordinates: rows over node angles
 mod rel;
 // stick/slip and quadrant logic: the SwitchingElement trait and its implementations
@@ -42,7 +42,7 @@ mod compare;
 // the resumable run
 mod simulation;
 // the start-value report
-mod initialization;
+mod start_report;
 // variants of a compiled model on threads
 mod sweep;
 
@@ -57,12 +57,12 @@ pub use components::create as create_component;
 pub use system::System;
 
 // ---- running
-pub use initialization::{report as initialization_report, StartValue, Status as StartStatus};
 pub use signals::same_instant;
 pub use simulation::{
     check_model, initial_state, run, run_recording_all, simulate, CancelHandle, Cursor,
     InputChange, ParameterChange, SimState, Simulation,
 };
+pub use start_report::{report as initialization_report, StartValue, Status as StartStatus};
 pub use sweep::{run_variants, Outcome, Override, Plan};
 
 // ---- results and their files

@@ -11,9 +11,7 @@ pub mod friction;
 pub mod gears;
 pub mod heat;
 pub mod inertia;
-pub mod signal_blocks;
 pub mod sources;
-pub mod timetable;
 #[cfg(test)]
 mod toy_relay;
 #[cfg(test)]
@@ -156,7 +154,7 @@ pub fn registry() -> Vec<Entry> {
     r.extend(adaptors::REGISTRY);
     r.extend(friction::REGISTRY);
     r.extend(friction::lossy_gear::REGISTRY);
-    r.extend(signal_blocks::REGISTRY);
+    r.extend(blocks::REGISTRY);
     r.extend(heat::REGISTRY);
     #[cfg(test)]
     r.extend(toy_stop::REGISTRY);

@@ -9,7 +9,7 @@ use std::rc::Rc;
 
 use crate::engine::eval::{evaluate, kinematics, DiscreteState, Workspace};
 use crate::engine::kkt::ModeMatrix;
-use crate::engine::slots::ModeSolver;
+use crate::engine::mode_solver::ModeSolver;
 use crate::error::SimError;
 use crate::linalg::LinearSolver;
 use crate::switching::element::{ModeKey, SwitchState};

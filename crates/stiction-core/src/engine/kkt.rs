@@ -19,7 +19,7 @@ use std::cell::RefCell;
 use nalgebra::{DMatrix, DVector};
 
 use super::massless::Massless;
-use super::slots::{column_entries, ModeSolver};
+use super::mode_solver::{column_entries, ModeSolver};
 use crate::error::SimError;
 use crate::linalg::{Factorization, RowBasis, Triplets};
 use crate::switching::element::{Column, ModeKey};

@@ -8,8 +8,8 @@ pub mod eval;
 mod iteration;
 pub mod kkt;
 pub mod massless;
-mod slots;
+mod mode_solver;
 
 pub use crossings::{indicator_count, indicator_label, indicators, speed_rates};
 pub use iteration::{iterate, EventPoint, ModeCache};
-pub use slots::ModeSolver;
+pub use mode_solver::ModeSolver;

@@ -12,7 +12,7 @@ pub(crate) mod chatter;
 mod dense;
 mod event;
 mod grid;
-mod init;
+mod initial_state;
 mod integrator;
 mod locate;
 mod record_all;
@@ -30,8 +30,8 @@ use std::time::Instant;
 
 use diffsol::OdeSolverMethod;
 
-use init::initialization_log;
-pub use init::{check_model, initial_state, initial_state_and_guesses};
+use initial_state::initialization_log;
+pub use initial_state::{check_model, initial_state, initial_state_and_guesses};
 pub use record_all::run_recording_all;
 pub use saved::{InputChange, SimState};
 pub use stepper::Cursor;

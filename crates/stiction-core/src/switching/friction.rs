@@ -8,8 +8,8 @@ use super::element::{
 };
 use super::logic::{self, relation_index as R, Discrete, Relations};
 use super::relation::flip_indicator;
+use crate::lookup_table::Table1D;
 use crate::rel::Rel;
-use crate::table::Table1D;
 
 /// One friction element as the engine sees it.
 pub struct FrictionElem {

@@ -8,8 +8,8 @@ use super::element::{
 };
 use super::logic::{Discrete, BACKWARD, FORWARD, FREE, STUCK};
 use super::relation::{flip_indicator, RelationSet};
+use crate::lookup_table::Table1D;
 use crate::rel::Rel;
-use crate::table::Table1D;
 
 /// One LossyGear as the engine sees it.
 pub struct LossyGearElem {

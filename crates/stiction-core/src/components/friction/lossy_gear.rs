@@ -10,11 +10,11 @@
 use super::super::{heat_port, with_support, Component, Entry, Ports};
 use crate::components::decl::{USE_HEAT_PORT, USE_SUPPORT};
 use crate::error::ModelResult;
+use crate::lookup_table::Table1D;
 use crate::model::Params;
 use crate::switching::lossy_gear::{tbf_a, LossyGearElem};
 use crate::system::outputs::SwitchVar as GearVar;
 use crate::system::{Builder, Out, Rel};
-use crate::table::Table1D;
 
 struct LossyGear {
     ratio: f64,

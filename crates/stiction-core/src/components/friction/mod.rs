@@ -7,12 +7,12 @@ pub mod lossy_gear;
 use super::{heat_port, with_support, Component, Entry, Ports};
 use crate::components::decl::{PEAK, PHI_REL, USE_HEAT_PORT, USE_SUPPORT, W_REL, W_SMALL};
 use crate::error::ModelResult;
+use crate::lookup_table::Table1D;
 use crate::model::{InitValue, Params};
 use crate::switching::friction::{FrictionElem, OneWay};
 use crate::switching::logic::{self, Discrete};
 use crate::system::outputs::SwitchVar as V;
 use crate::system::{Builder, Out, Rel};
-use crate::table::Table1D;
 
 struct FrictionParams {
     mu_pos: Table1D,

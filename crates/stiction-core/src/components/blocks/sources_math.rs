@@ -1,9 +1,9 @@
 //! Modelica.Blocks.Sources (Constant, Step, Ramp, Sine) and Math (Product, Feedback, Add, Gain).
 
-use super::decl::{OFFSET, START_TIME};
+use crate::components::decl::{OFFSET, START_TIME};
 use std::f64::consts::PI;
 
-use super::{Component, Ports};
+use crate::components::{Component, Ports};
 use crate::error::ModelResult;
 use crate::model::Params;
 use crate::signals::{reached, Block};

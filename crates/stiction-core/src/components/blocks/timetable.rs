@@ -1,8 +1,8 @@
 //! A time table (MSL CombiTimeTable, one output column, linear interpolation): a measured
 //! normal-force or torque profile given inline or as a two-column CSV file.
 
-use super::decl::{OFFSET, START_TIME};
-use super::{Component, Ports};
+use crate::components::decl::{OFFSET, START_TIME};
+use crate::components::{Component, Ports};
 use crate::error::ModelResult;
 use crate::model::Params;
 use crate::signals::Block;

@@ -1,6 +1,10 @@
-//! The registry of signal block components (Modelica.Blocks sources, math, time tables).
+//! The Modelica.Blocks components: sources and math (`sources_math`), the time table
+//! (`timetable`), and their registry here.
 
-use super::{blocks, timetable, Entry};
+use super::Entry;
+
+mod sources_math;
+mod timetable;
 
 /// All signal component types.
 pub const REGISTRY: &[Entry] = &[
@@ -8,55 +12,55 @@ pub const REGISTRY: &[Entry] = &[
         "Constant",
         "Modelica.Blocks.Sources.Constant",
         "Generate a constant signal",
-        blocks::constant,
+        sources_math::constant,
     ),
     Entry::new(
         "Step",
         "Modelica.Blocks.Sources.Step",
         "Generate a step signal",
-        blocks::step,
+        sources_math::step,
     ),
     Entry::new(
         "Ramp",
         "Modelica.Blocks.Sources.Ramp",
         "Generate a ramp signal",
-        blocks::ramp,
+        sources_math::ramp,
     ),
     Entry::new(
         "Sine",
         "Modelica.Blocks.Sources.Sine",
         "Generate a sine signal",
-        blocks::sine,
+        sources_math::sine,
     ),
     Entry::new(
         "Pulse",
         "Modelica.Blocks.Sources.Pulse",
         "Generate a pulse signal; every edge is a time event",
-        blocks::pulse,
+        sources_math::pulse,
     ),
     Entry::new(
         "Product",
         "Modelica.Blocks.Math.Product",
         "Output product of the two inputs",
-        blocks::product,
+        sources_math::product,
     ),
     Entry::new(
         "Feedback",
         "Modelica.Blocks.Math.Feedback",
         "Output difference between the two inputs, u1 - u2",
-        blocks::feedback,
+        sources_math::feedback,
     ),
     Entry::new(
         "Add",
         "Modelica.Blocks.Math.Add",
         "Output the weighted sum k1*u1 + k2*u2",
-        blocks::add,
+        sources_math::add,
     ),
     Entry::new(
         "Gain",
         "Modelica.Blocks.Math.Gain",
         "Output the product of a gain value with the input signal",
-        blocks::gain,
+        sources_math::gain,
     ),
     Entry::new(
         "TimeTable",

@@ -66,8 +66,7 @@ pub use start_report::{report as initialization_report, StartValue, Status as St
 pub use sweep::{run_variants, Outcome, Override, Plan};
 
 // ---- results and their files
-pub use result::csv::write_csv;
-pub use result::mat::{write_mat, Parameter as MatParameter};
+pub use result::io::{write_csv, write_mat, Parameter as MatParameter};
 pub use result::{recycle_table, ElementAudit, EventRecord, SimResult};
 
 // ---- the MSL tube comparison (the regression oracle of the tests and of `stiction compare`)

@@ -70,7 +70,7 @@ impl SimResult {
             let Some((ws, disc)) = row else {
                 return;
             };
-            let value = |out: &Out| super::value(out, sys, ws, disc, &[]);
+            let value = |out: &Out| super::output_expr::value(out, sys, ws, disc, &[]);
             sys.flange_torques
                 .solve(value, &mut flange_tau, &mut scratch);
             for (k, p) in parts.iter().enumerate() {

@@ -1,39 +1,34 @@
 //! Results: every output variable by its MSL name on the output grid plus both sides of every
 //! event (as MSL reference files have them), the event log and solver statistics.
+//!
+//! Here the recorded run (`SimResult`: trajectory, discrete states, events) and what reads it:
+//! the output expressions (`output_expr`), the row recorder (`recorder`), metrics, probes and
+//! the energy audit. `table/` is the parallel engine that computes every variable of every row
+//! (the row recorder's values, bit for bit); `io/` writes result files (CSV, .mat).
 
 mod audit;
-mod block;
-pub mod csv;
-mod flanges;
-mod frame;
-mod live;
-pub mod mat;
+pub mod io;
 pub mod metric;
-mod ops;
+mod output_expr;
 mod probe;
-mod rows;
-mod shape;
-mod stretch;
+mod recorder;
 mod table;
-
-pub(crate) use live::recorded_while;
-#[cfg(test)]
-pub use live::ROWS_BY_POOL;
-use rows::RowEvaluator;
-pub use stretch::recycle_table;
-pub use table::MAX_TABLE_VALUES;
 
 use std::sync::{Arc, Mutex, OnceLock};
 
 pub use audit::ElementAudit;
 pub use metric::{Accumulator, Metric};
 pub use probe::{Probe, RowView};
+pub use recorder::row_values;
+pub(crate) use table::recorded_while;
+#[cfg(test)]
+pub use table::ROWS_BY_POOL;
+pub use table::{recycle_table, MAX_TABLE_VALUES};
 
 use crate::engine::eval::{DiscreteState, Workspace};
-use crate::switching::element::is_discrete;
-use crate::switching::element::ElementValues;
-use crate::system::outputs::{EnergyVar, SwitchVar};
-use crate::system::{Out, System};
+use crate::system::System;
+use output_expr::{compile, Flat};
+use table::RowEvaluator;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct EventRecord {
@@ -272,214 +267,5 @@ impl SimResult {
     ) {
         let rows_of = (&self.trajectory, &self.discs[..]);
         RowEvaluator::new(sys).visit(rows_of, rows, sys, visit);
-    }
-}
-
-/// Every output variable (time first, as in `SimResult::names`) at one evaluated instant.
-pub fn row_values(sys: &System, ws: &Workspace, disc: &DiscreteState) -> Vec<f64> {
-    let mut recorder = Recorder::new(sys, 1);
-    recorder.record(sys, ws, disc);
-    recorder.data
-}
-
-/// An output expression compiled for the hot loop: the common cases (a node's angle, speed or
-/// acceleration, a friction quantity, a signal …) become direct lookups with a scale factor.
-#[derive(Debug, Clone, Copy)]
-enum Flat {
-    Phi(usize, f64, f64),
-    W(usize, f64),
-    A(usize, f64),
-    Switch(usize, SwitchVar, f64),
-    Signal(usize, f64),
-    LawTau(usize, f64),
-    Flange(usize, f64),
-    General(usize, f64),
-}
-
-impl Flat {
-    /// Read from the state alone: an angle, a speed, a mode or flag.
-    fn is_direct(&self) -> bool {
-        match *self {
-            Flat::Phi(..) | Flat::W(..) => true,
-            Flat::Switch(_, var, _) => is_discrete(var),
-            _ => false,
-        }
-    }
-
-    /// Its value from the state alone (for `is_direct` ones).
-    fn direct(&self, sys: &System, x: &[f64], disc: &DiscreteState) -> f64 {
-        match *self {
-            Flat::Phi(node, s, offset) => s * x[node] + offset,
-            Flat::W(node, s) => s * x[sys.nodes + node],
-            Flat::Switch(k, var, s) => {
-                let none = ElementValues::default();
-                s * sys.switching[k].variable(&disc.switching[k], &none, var)
-            }
-            _ => f64::NAN,
-        }
-    }
-}
-
-fn compile(out: &Out, scale: f64, general: &mut Vec<Out>) -> Flat {
-    let single = |rel: &crate::system::Rel| match rel.terms.as_slice() {
-        [(node, c)] => Some((*node, *c)),
-        _ => None,
-    };
-    match out {
-        Out::Scaled(inner, s) => compile(inner, scale * s, general),
-        Out::Angle(rel) if single(rel).is_some() => {
-            let (node, c) = single(rel).expect("checked");
-            Flat::Phi(node, scale * c, scale * rel.offset)
-        }
-        Out::Speed(rel) if single(rel).is_some() => {
-            let (node, c) = single(rel).expect("checked");
-            Flat::W(node, scale * c)
-        }
-        Out::Accel(rel) if single(rel).is_some() => {
-            let (node, c) = single(rel).expect("checked");
-            Flat::A(node, scale * c)
-        }
-        Out::Switch(k, var) => Flat::Switch(*k, *var, scale),
-        Out::Signal(slot) => Flat::Signal(*slot, scale),
-        Out::LawTau(k, s) => Flat::LawTau(*k, scale * s),
-        Out::FlangeTau(p) => Flat::Flange(*p, scale),
-        other => {
-            general.push(other.clone());
-            Flat::General(general.len() - 1, scale)
-        }
-    }
-}
-
-/// Computes result rows from evaluated workspaces.
-struct Recorder {
-    data: Vec<f64>,
-    flat: Vec<Flat>,
-    general: Vec<Out>,
-    flange_tau: Vec<f64>,
-    scratch: Vec<f64>,
-    needs_flanges: bool,
-}
-
-impl Recorder {
-    fn new(sys: &System, rows: usize) -> Self {
-        let all: Vec<usize> = (0..sys.outputs.len()).collect();
-        Self::select(sys, &all, rows)
-    }
-
-    /// A recorder of some outputs only (indices into `sys.outputs`).
-    fn select(sys: &System, outputs: &[usize], rows: usize) -> Self {
-        let mut general = Vec::new();
-        let flat: Vec<Flat> = outputs
-            .iter()
-            .map(|&i| compile(&sys.outputs[i].1, 1.0, &mut general))
-            .collect();
-        let needs_flanges = flat
-            .iter()
-            .any(|f| matches!(f, Flat::Flange(..) | Flat::General(..)));
-        Self {
-            data: Vec::with_capacity(rows * (flat.len() + 1)),
-            flat,
-            general,
-            flange_tau: vec![0.0; sys.flange_torques.ports()],
-            scratch: Vec::new(),
-            needs_flanges,
-        }
-    }
-
-    /// Whether a row needs an evaluation of the system (an output is not a state or a mode).
-    fn needs_evaluation(&self) -> bool {
-        self.flat.iter().any(|f| !f.is_direct())
-    }
-
-    /// Appends one row from an evaluated workspace.
-    fn record(&mut self, sys: &System, ws: &Workspace, disc: &DiscreteState) {
-        if self.needs_flanges && sys.flange_torques.ports() > 0 {
-            sys.flange_torques.solve(
-                |out: &Out| value(out, sys, ws, disc, &[]),
-                &mut self.flange_tau,
-                &mut self.scratch,
-            );
-        }
-        let tau = &self.flange_tau;
-        let general = &self.general;
-        self.data.push(ws.t);
-        self.data.extend(self.flat.iter().map(|f| match *f {
-            Flat::Phi(node, s, offset) => s * ws.phi[node] + offset,
-            Flat::W(node, s) => s * ws.w[node],
-            Flat::A(node, s) => s * ws.a[node],
-            Flat::Switch(k, var, s) => s * switch_value(sys, ws, disc, k, var),
-            Flat::Signal(slot, s) => s * ws.signals[slot],
-            Flat::LawTau(k, s) => s * ws.law_tau[k],
-            Flat::Flange(p, s) => s * tau[p],
-            Flat::General(i, s) => s * value(&general[i], sys, ws, disc, tau),
-        }));
-    }
-}
-
-fn switch_value(
-    sys: &System,
-    ws: &Workspace,
-    disc: &DiscreteState,
-    k: usize,
-    var: SwitchVar,
-) -> f64 {
-    sys.switching[k].variable(&disc.switching[k], &ws.elements[k], var)
-}
-
-/// The value of one output expression at an evaluated instant.
-pub fn value(
-    out: &Out,
-    sys: &System,
-    ws: &Workspace,
-    disc: &DiscreteState,
-    flange_tau: &[f64],
-) -> f64 {
-    match out {
-        Out::Angle(rel) => rel.angle(&ws.phi),
-        Out::Speed(rel) => rel.dot(&ws.w),
-        Out::Accel(rel) => rel.dot(&ws.a),
-        Out::LawTau(k, s) => s * ws.law_tau[*k],
-        Out::LawLoss(k) => sys.laws[*k]
-            .law
-            .loss_power(&ws.law_ctx(sys, disc, *k), ws.law_tau[*k]),
-        Out::ConstraintTau(k, s) => s * ws.constraint_tau[*k],
-        Out::Switch(k, var) => switch_value(sys, ws, disc, *k, *var),
-        Out::Scaled(inner, s) => s * value(inner, sys, ws, disc, flange_tau),
-        Out::Signal(slot) => ws.signals[*slot],
-        Out::FlangeTau(p) => flange_tau.get(*p).copied().unwrap_or(f64::NAN),
-        Out::HeatT(node) => ws.temps[*node],
-        Out::HeatDerT(node) => sys
-            .thermal
-            .capacities
-            .iter()
-            .find(|c| c.node == *node)
-            .map_or(0.0, |c| ws.heat_net[*node] / c.c),
-        Out::HeatDiff(a, b) => ws.temps[*a] - ws.temps[*b],
-        Out::HeatLinkFlow(k, s) => {
-            let l = &sys.thermal.links[*k];
-            s * l.conductance(&ws.signals) * (ws.temps[l.a] - ws.temps[l.b])
-        }
-        Out::HeatNodeInflow(node, s) => s * ws.heat_net[*node],
-        Out::HeatCapacitorFlow(node, c) => {
-            let total: f64 = sys
-                .thermal
-                .capacities
-                .iter()
-                .filter(|cap| cap.node == *node)
-                .map(|cap| cap.c)
-                .sum();
-            if total > 0.0 {
-                ws.heat_net[*node] * c / total
-            } else {
-                0.0
-            }
-        }
-        Out::Energy(var) => match var {
-            EnergyVar::Kinetic => ws.energy[0],
-            EnergyVar::Potential => ws.energy[1],
-            EnergyVar::Dissipated => ws.energy[2],
-            EnergyVar::Work => ws.energy[3],
-        },
-        Out::Const(c) => *c,
     }
 }

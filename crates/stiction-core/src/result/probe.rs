@@ -4,7 +4,7 @@
 use std::rc::Rc;
 use std::sync::Arc;
 
-use super::Recorder;
+use super::recorder::Recorder;
 use crate::engine::eval::{evaluate, DiscreteState, Workspace};
 use crate::engine::kkt::ModeMatrix;
 use crate::engine::ModeCache;

@@ -5,14 +5,14 @@
 use std::ops::Range;
 use std::rc::Rc;
 
-use super::Trajectory;
 use crate::engine::eval::{evaluate, DiscreteState, Workspace};
 use crate::engine::kkt::ModeMatrix;
 use crate::engine::ModeCache;
+use crate::result::Trajectory;
 use crate::system::System;
 
 /// What evaluating rows of one system needs, kept between stretches of rows.
-pub(super) struct RowEvaluator {
+pub(in crate::result) struct RowEvaluator {
     ws: Workspace,
     cache: ModeCache,
     /// Each discrete state's factored mode, once met (None: not yet, or not factorable); as
@@ -22,7 +22,7 @@ pub(super) struct RowEvaluator {
 
 impl RowEvaluator {
     /// An evaluator of rows of `sys`.
-    pub(super) fn new(sys: &System) -> Self {
+    pub(in crate::result) fn new(sys: &System) -> Self {
         Self {
             ws: Workspace::new(sys),
             cache: ModeCache::default(),
@@ -33,7 +33,7 @@ impl RowEvaluator {
     /// Evaluates rows `rows` of `tr` (all of them computed with `sys`, their discrete states
     /// in `discs`) and hands `visit` each row, the system and the row's workspace and discrete
     /// state, or None where the mode cannot be factored.
-    pub(super) fn visit(
+    pub(in crate::result) fn visit(
         &mut self,
         (tr, discs): (&Trajectory, &[DiscreteState]),
         rows: Range<usize>,

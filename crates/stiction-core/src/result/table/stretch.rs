@@ -8,7 +8,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Mutex, PoisonError};
 use std::time::{Duration, Instant};
 
-use super::SimResult;
+use crate::result::SimResult;
 
 /// Rows per stretch: one stretch per thread of the pool (the calling thread counted as one),
 /// and never fewer than `fewest`. Four per thread, so that a pool thread waking late would still

@@ -14,9 +14,9 @@
 use std::collections::HashMap;
 
 use super::ops::{Array, Op, Program, FIELDS};
-use super::{value, Flat};
 use crate::engine::eval::{DiscreteState, Workspace};
 use crate::rel::Rel;
+use crate::result::output_expr::{value, Flat};
 use crate::switching::element::{is_discrete, ElementValues, SwitchVar};
 use crate::system::outputs::EnergyVar;
 use crate::system::{Out, System};

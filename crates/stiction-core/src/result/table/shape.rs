@@ -7,7 +7,7 @@ use std::mem::MaybeUninit;
 use super::frame::Layout;
 use super::ops::PAGE;
 use super::stretch::put;
-use super::{compile, Flat};
+use crate::result::output_expr::{compile, Flat};
 use crate::system::System;
 
 /// Values between the end of one frame's pages and the start of the next: one cache line. At a

@@ -10,21 +10,35 @@ use std::mem::MaybeUninit;
 use std::ops::Range;
 use std::sync::PoisonError;
 
-use super::block::{Block, BLOCK};
-use super::rows::RowEvaluator;
-use super::shape::Shape;
-use super::stretch::{settle, share, streams, stretch_rows, table_memory, Stretch};
+mod block;
+mod flanges;
+mod frame;
+mod live;
+mod ops;
+mod rows;
+mod shape;
+mod stretch;
+
+pub(crate) use live::recorded_while;
+#[cfg(test)]
+pub use live::ROWS_BY_POOL;
+pub(super) use rows::RowEvaluator;
+pub use stretch::recycle_table;
+
 use super::{SimResult, Trajectory};
 use crate::engine::eval::DiscreteState;
 use crate::error::SimError;
 use crate::system::System;
+use block::{Block, BLOCK};
+use shape::Shape;
+use stretch::{settle, share, streams, stretch_rows, table_memory, Stretch};
 
 /// The fewest rows a stretch of the table is computed in: a table of fewer rows is not worth a
 /// pool thread's wake-up (20–40 µs on this 2-core VM; the calling thread starts at once,
 /// `share`). 1 024 was the floor when the calling thread slept through the table and was woken
 /// at its end; now SimpleGearShift's 1 012 rows take 0.145 ms in stretches of 256, 0.18 on one
 /// thread, and Modelica's `First` (2 001 rows) 0.21 ms, 0.31 on one.
-pub(super) const FEWEST_ROWS: usize = 4 * BLOCK;
+const FEWEST_ROWS: usize = 4 * BLOCK;
 
 /// The most values the table of every variable may hold (2.4 GB), as for a run's states.
 pub const MAX_TABLE_VALUES: f64 = 3.0e8;
@@ -167,12 +181,12 @@ impl SimResult {
 
 /// The shape of the table of every variable of `sys`, built at its first table and kept with
 /// it (None if the system keeps something else).
-pub(super) fn kept_shape(sys: &System) -> Option<&Shape> {
+fn kept_shape(sys: &System) -> Option<&Shape> {
     sys.derived.get_or_init(|| Shape::new(sys, None))
 }
 
 /// Evaluates the rows of one stretch of `trajectory` and writes every one of its cells.
-pub(super) fn fill_stretch(
+fn fill_stretch(
     trajectory: (&Trajectory, &[DiscreteState]),
     sys: &System,
     (block, rows_of): &mut Context,
@@ -196,13 +210,14 @@ pub(super) fn fill_stretch(
 }
 
 /// What a thread keeps from one stretch of rows to the next: its frames and its evaluator.
-pub(super) type Context<'a> = (Block<'a>, RowEvaluator);
+type Context<'a> = (Block<'a>, RowEvaluator);
 
 #[cfg(test)]
 mod tests {
-    use super::super::frame::Layout;
-    use super::super::ops::PAGE;
-    use super::super::{compile, Recorder};
+    use super::frame::Layout;
+    use super::ops::PAGE;
+    use crate::result::output_expr::compile;
+    use crate::result::recorder::Recorder;
     use crate::ModelSpec;
 
     /// The row-by-row recorder's table, as it was computed before the columns.
@@ -273,7 +288,7 @@ mod tests {
     /// shortcut past the virtual `variable`), on values that differ in every field.
     #[test]
     fn continuous_variables_are_fields() {
-        use super::super::ops::FIELDS;
+        use super::ops::FIELDS;
         use crate::switching::element::SwitchVar as V;
         use crate::switching::element::{is_discrete, value_field, ElementValues, Losses};
         // the continuous ones, then the modes and flags

@@ -16,9 +16,9 @@ use super::block::{Block, BLOCK};
 use super::rows::RowEvaluator;
 use super::shape::Shape;
 use super::stretch::{recycle_table, streams, stretch_rows, table_memory, Stretch, WAIT_AWAKE};
-use super::table::{fill_stretch, kept_shape, Context, FEWEST_ROWS};
-use super::{SimResult, Trajectory};
+use super::{fill_stretch, kept_shape, Context, FEWEST_ROWS};
 use crate::engine::eval::DiscreteState;
+use crate::result::{SimResult, Trajectory};
 use crate::system::System;
 
 /// Rows a thread takes at a time: once the run ends, the threads share what is left in pieces

@@ -87,3 +87,20 @@ def check(model_toml: str, base_dir: str = ".", motion: bool = True) -> None:
 
 def catalogue() -> list[TypeInfo]:
     """Every component type: MSL class, parameters, ports (name, kind, enabling Boolean), variables."""
+
+class State:
+    """A saved simulation state (opaque; restore it with ``Simulation.set_state``).
+
+    Pickles as its bytes, the core's saved-state format (the FMU's serialized states carry the
+    same bytes).
+    """
+
+    @property
+    def time(self) -> float:
+        """The time the state was saved at."""
+    def to_bytes(self) -> bytes:
+        """The state as bytes: versioned, f64 bit patterns, a checksum."""
+    @staticmethod
+    def from_bytes(data: bytes) -> State:
+        """The state in bytes from ``to_bytes``; UsageError if they are not valid."""
+    def __reduce__(self) -> tuple[Any, tuple[bytes]]: ...

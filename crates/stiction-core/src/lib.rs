@@ -62,6 +62,8 @@ pub use simulation::{
     check_model, initial_state, run, run_recording_all, simulate, CancelHandle, Cursor,
     InputChange, ParameterChange, SimState, Simulation,
 };
+// the bytes of a saved run (the FMU's serialized states and Python's pickles write them)
+pub use simulation::{ByteReader, ByteWriter, ReadResult, STATE_BYTES_VERSION};
 pub use start_report::{report as initialization_report, StartValue, Status as StartStatus};
 pub use sweep::{run_variants, Outcome, Override, Plan};
 
@@ -75,11 +77,8 @@ pub use compare::{
 };
 
 // ---- the engine's parts the integration tests check on their own (the banded refactorization
-// against dense LU); the saved-state bytes use the discrete state
-pub use engine::eval::DiscreteState;
+// against dense LU)
 pub use engine::kkt::ModeMatrix;
 pub use engine::ModeSolver;
 pub use linalg::DenseLu;
-pub use switching::element::{ModeKey, SwitchState};
-pub use switching::logic::Discrete;
-pub use switching::relation::{RelationSet, MAX_RELATIONS};
+pub use switching::element::ModeKey;

@@ -6,8 +6,9 @@
 use std::ffi::{c_void, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-use crate::instance::{Fallible, Instance, Snapshot};
+use crate::instance::Instance;
 use crate::serial;
+use crate::snapshot::{Fallible, Snapshot};
 use crate::types::{CallbackFunctions, FmiString, Status};
 
 /// FMI 3.0's `fmi3LogMessageCallback` (not printf-style, no instance name).

@@ -4,14 +4,11 @@
 
 use std::path::Path;
 
-use stiction_core::CompiledModel;
-use stiction_core::SimState;
-use stiction_core::{ModelSpec, Simulation};
+use stiction_core::{CompiledModel, ModelSpec, Simulation};
 
 use crate::layout::{resource_dir, Kind, Layout};
+use crate::snapshot::{fingerprint, Experiment, Fallible, Snapshot};
 use crate::values::{bind, overrides, setting, settings_of, Var};
-
-pub type Fallible<T> = Result<T, String>;
 
 /// The FMI 2.0 Co-Simulation state machine, as far as a caller can tell states apart.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -22,24 +19,6 @@ pub enum Mode {
     Terminated,
     /// After an error in `doStep`: only reset, terminate or free are allowed.
     Failed,
-}
-
-/// The experiment settings of `setupExperiment` / `enterInitializationMode`.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Experiment {
-    pub start: Option<f64>,
-    pub stop: Option<f64>,
-    pub tolerance: Option<f64>,
-}
-
-/// A saved state: the run's (with its parameter changes), the values of the variables now and
-/// when the run was built, and the experiment settings (a state restored into a fresh
-/// instance builds its run from the values it started with, then replays the changes).
-pub struct Snapshot {
-    pub(crate) sim: SimState,
-    pub(crate) values: Vec<Vec<f64>>,
-    pub(crate) base: Vec<Vec<f64>>,
-    pub(crate) experiment: Experiment,
 }
 
 pub struct Instance {
@@ -53,7 +32,7 @@ pub struct Instance {
     /// The variables' values the run was built with (tunable parameters set in step mode
     /// change `vars`, not these).
     base: Vec<Vec<f64>>,
-    /// What a serialized state must carry to be restored here (`serial::fingerprint`).
+    /// What a serialized state must carry to be restored here (`snapshot::fingerprint`).
     pub fingerprint: String,
     /// FMI 3.0 `earlyReturnAllowed`: `doStep` stops at the first friction event in the step.
     pub early_return: bool,
@@ -99,7 +78,7 @@ impl Instance {
             tolerance: None,
             sim: None,
             base: Vec::new(),
-            fingerprint: crate::serial::fingerprint(guid),
+            fingerprint: fingerprint(guid),
             early_return: false,
             returned_early: false,
         })

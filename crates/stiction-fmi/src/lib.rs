@@ -8,5 +8,6 @@ pub mod host;
 pub mod instance;
 pub mod layout;
 pub mod serial;
+pub mod snapshot;
 pub mod types;
 pub mod values;

@@ -4,8 +4,8 @@
 
 use stiction_core::CompiledModel;
 
-use crate::instance::Fallible;
 use crate::layout::{parse_element, Kind, Layout, VarSpec};
+use crate::snapshot::Fallible;
 
 pub struct Var {
     pub kind: Kind,

@@ -3,6 +3,7 @@
 
 mod compiled;
 mod info;
+mod state;
 mod table_memory;
 mod toml_doc;
 
@@ -14,8 +15,10 @@ use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArray
 use pyo3::exceptions::{PyKeyError, PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use stiction_core::CancelHandle;
 use stiction_core::MatParameter;
-use stiction_core::{CancelHandle, SimState};
+
+use state::PyState;
 use stiction_core::{ModelError as CoreModelError, ModelSpec, SimError, SimResult, Simulation};
 
 /// An exception of the class named `kind` in `stiction.errors` (one Python class per error
@@ -458,18 +461,6 @@ struct PyCancelHandle(CancelHandle);
 impl PyCancelHandle {
     fn cancel(&self) {
         self.0.cancel();
-    }
-}
-
-/// A saved simulation state (opaque; restore it with `Simulation.set_state`).
-#[pyclass(frozen, module = "stiction._core", name = "State")]
-struct PyState(SimState);
-
-#[pymethods]
-impl PyState {
-    #[getter]
-    fn time(&self) -> f64 {
-        self.0.cursor.now
     }
 }
 

@@ -19,6 +19,7 @@ mod record_all;
 mod samples;
 mod saved;
 mod scan;
+mod state_bytes;
 mod stepper;
 mod tune;
 
@@ -34,6 +35,7 @@ use initial_state::initialization_log;
 pub use initial_state::{check_model, initial_state, initial_state_and_guesses};
 pub use record_all::run_recording_all;
 pub use saved::{InputChange, SimState};
+pub use state_bytes::{ByteReader, ByteWriter, ReadResult, STATE_BYTES_VERSION};
 pub use stepper::Cursor;
 pub use tune::ParameterChange;
 

@@ -10,7 +10,7 @@ from typing import Any
 import click
 
 from stiction import _deps
-from stiction.cli.options import fail, friendly_errors, in_file
+from stiction.cli.options import FILE, fail, friendly_errors, in_file
 from stiction.errors import ModelError
 
 __all__ = ["BENCH_MODELS", "bench", "print_scale", "print_stiff", "print_sweeps"]
@@ -24,7 +24,7 @@ STIFF_BENCH = ("StiffShaft", "StiffHeatLosses", "HeatLosses")
 
 
 @click.command()
-@click.argument("model_files", nargs=-1, type=click.Path(dir_okay=False, path_type=Path))
+@click.argument("model_files", nargs=-1, type=FILE)
 @click.option(
     "--repeat",
     type=click.IntRange(min=1),

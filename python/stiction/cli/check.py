@@ -6,12 +6,12 @@ from pathlib import Path
 
 import click
 
-from stiction.cli.options import friendly_errors, in_file, load_model
+from stiction.cli.options import FILE, friendly_errors, in_file, load_model
 from stiction.errors import ModelError
 
 
 @click.command()
-@click.argument("model_file", type=click.Path(dir_okay=False, path_type=Path))
+@click.argument("model_file", type=FILE)
 @click.option("-v", "--verbose", is_flag=True, help="Also show the experiment and every start value.")
 @friendly_errors
 def check(model_file: Path, verbose: bool) -> None:

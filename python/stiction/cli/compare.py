@@ -7,12 +7,12 @@ from pathlib import Path
 
 import click
 
-from stiction.cli.options import friendly_errors
+from stiction.cli.options import FILE, friendly_errors
 
 
 @click.command(name="compare")
-@click.argument("result_csv", type=click.Path(dir_okay=False, path_type=Path))
-@click.argument("reference_csv", type=click.Path(dir_okay=False, path_type=Path))
+@click.argument("result_csv", type=FILE)
+@click.argument("reference_csv", type=FILE)
 @click.option(
     "--tolerance",
     type=float,

@@ -6,18 +6,12 @@ from pathlib import Path
 
 import click
 
-from stiction.cli.options import friendly_errors, load_model, model_option
+from stiction.cli.options import FILE, friendly_errors, load_model, model_option, output_option
 
 
 @click.command(name="import")
-@click.argument("mo_file", type=click.Path(dir_okay=False, path_type=Path))
-@click.option(
-    "-o",
-    "--output",
-    type=click.Path(dir_okay=False, path_type=Path),
-    required=True,
-    help="The TOML model file to write.",
-)
+@click.argument("mo_file", type=FILE)
+@output_option("The TOML model file to write.")
 @model_option
 @friendly_errors
 def import_cmd(mo_file: Path, output: Path, model_name: str | None) -> None:
@@ -30,14 +24,8 @@ def import_cmd(mo_file: Path, output: Path, model_name: str | None) -> None:
 
 
 @click.command(name="export")
-@click.argument("model_file", type=click.Path(dir_okay=False, path_type=Path))
-@click.option(
-    "-o",
-    "--output",
-    type=click.Path(dir_okay=False, path_type=Path),
-    required=True,
-    help="The Modelica file to write (Model.mo).",
-)
+@click.argument("model_file", type=FILE)
+@output_option("The Modelica file to write (Model.mo).")
 @friendly_errors
 def export_cmd(model_file: Path, output: Path) -> None:
     """Write MODEL_FILE as a Modelica model with fully qualified MSL classes."""
@@ -47,14 +35,8 @@ def export_cmd(model_file: Path, output: Path) -> None:
 
 
 @click.command()
-@click.argument("model_file", type=click.Path(dir_okay=False, path_type=Path))
-@click.option(
-    "-o",
-    "--output",
-    type=click.Path(dir_okay=False, path_type=Path),
-    required=True,
-    help="The FMU to write (Name.fmu).",
-)
+@click.argument("model_file", type=FILE)
+@output_option("The FMU to write (Name.fmu).")
 @click.option("--fmi", "fmi_version", type=click.Choice(["2", "3"]), default="2", help="FMI version.")
 @click.option(
     "--outputs",

@@ -17,9 +17,21 @@ from stiction.errors import ModelError
 if TYPE_CHECKING:
     from stiction.model.model import Model
 
-__all__ = ["experiment_options", "fail", "friendly_errors", "in_file", "load_model", "model_option"]
+__all__ = [
+    "FILE",
+    "experiment_options",
+    "fail",
+    "friendly_errors",
+    "in_file",
+    "load_model",
+    "model_option",
+    "output_option",
+]
 
 F = TypeVar("F", bound=Callable[..., Any])
+
+FILE = click.Path(dir_okay=False, path_type=Path)
+"""A file argument or option: a path, never a folder."""
 
 
 def fail(message: str) -> NoReturn:
@@ -103,3 +115,8 @@ def model_option(func: F) -> F:
         default=None,
         help="The model to use when a .mo file holds several (short or qualified name).",
     )(func)
+
+
+def output_option(help: str, required: bool = True) -> Callable[[F], F]:
+    """``-o/--output FILE``: what a command writes."""
+    return click.option("-o", "--output", type=FILE, required=required, help=help)

@@ -7,18 +7,21 @@ from typing import Any
 
 import click
 
-from stiction.cli.options import experiment_options, friendly_errors, in_file, load_model, model_option
+from stiction.cli.options import (
+    FILE,
+    experiment_options,
+    friendly_errors,
+    in_file,
+    load_model,
+    model_option,
+    output_option,
+)
 from stiction.errors import ModelError
 
 
 @click.command()
-@click.argument("model_file", type=click.Path(dir_okay=False, path_type=Path))
-@click.option(
-    "-o",
-    "--output",
-    type=click.Path(dir_okay=False, path_type=Path),
-    help="Write the result: .csv (MSL style), .mat (Dymola/OpenModelica) or .parquet.",
-)
+@click.argument("model_file", type=FILE)
+@output_option("Write the result: .csv (MSL style), .mat (Dymola/OpenModelica) or .parquet.", required=False)
 @click.option(
     "--outputs",
     default=None,
@@ -27,7 +30,7 @@ from stiction.errors import ModelError
 @click.option(
     "--plot",
     "plot_file",
-    type=click.Path(dir_okay=False, path_type=Path),
+    type=FILE,
     help="Save a plot (PNG).",
 )
 @click.option(

@@ -14,7 +14,7 @@ from typing import Any
 
 import click
 
-from stiction.cli.options import fail, friendly_errors, in_file
+from stiction.cli.options import FILE, fail, friendly_errors, in_file
 from stiction.errors import ModelError
 
 
@@ -49,7 +49,7 @@ def _parse_vary(spec: str, sampled: bool) -> tuple[str, Any]:
 
 
 @click.command(name="sweep")
-@click.argument("model_file", type=click.Path(dir_okay=False, path_type=Path))
+@click.argument("model_file", type=FILE)
 @click.option(
     "--vary", "vary", multiple=True, required=True, help="NAME=START:STOP:COUNT or NAME=V1,V2,… (repeat)."
 )
@@ -64,7 +64,7 @@ def _parse_vary(spec: str, sampled: bool) -> tuple[str, Any]:
     "-o",
     "--output",
     "out_file",
-    type=click.Path(dir_okay=False, path_type=Path),
+    type=FILE,
     required=True,
     help="The table: .parquet or .csv.",
 )

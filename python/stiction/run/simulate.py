@@ -16,6 +16,8 @@ if TYPE_CHECKING:
 __all__ = ["simulate"]
 
 
+# The parameters repeat Model.simulate's on purpose: the method is the documented face (help(),
+# IDEs) and stays one line; this is where the work is.
 def simulate(
     model: Model,
     StartTime: float | None = None,  # MSL experiment names, hence capitalised

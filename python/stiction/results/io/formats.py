@@ -32,6 +32,8 @@ def result_format(path: str | os.PathLike[str]) -> str:
     return suffix
 
 
+# Every writer (write_csv, mat.write_mat, parquet.write_parquet) takes the same four arguments:
+# the one signature `write` dispatches on, so their headers look alike.
 def write(
     path: str | os.PathLike[str],
     names: Sequence[str],

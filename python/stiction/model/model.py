@@ -10,6 +10,7 @@ from a file run identically.
 from __future__ import annotations
 
 import difflib
+import functools
 import os
 import re
 from collections.abc import Mapping
@@ -19,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 from stiction.errors import ModelError
 from stiction.model import modelfile
 from stiction.model.components import FACTORIES, Component, component_types
+from stiction.model.parameters import is_expr
 from stiction.model.runinfo import RunInfo
 
 if TYPE_CHECKING:
@@ -34,6 +36,36 @@ _IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 def _did_you_mean(word: str, choices: list[str]) -> str:
     close = difflib.get_close_matches(word, choices, n=3)
     return f" (did you mean {', '.join(repr(c) for c in close)}?)" if close else ""
+
+
+@functools.lru_cache(maxsize=4096)
+def _expression_key(text: str) -> str:
+    """An expression as its syntax tree writes it back (``2 * T`` and ``2*T`` alike); text
+    that is no expression stays as it is."""
+    from stiction.expressions.evaluate import unparse
+    from stiction.expressions.lexer import ModelicaError
+    from stiction.expressions.parser import parse_expression
+
+    try:
+        return unparse(parse_expression(text))
+    except ModelicaError:
+        return text
+
+
+def _meaning(value: Any, expressions: bool = False) -> Any:
+    """``value`` as models compare by meaning: numbers by value (0 == 0.0, as Python has it),
+    parameter expressions (``st.expr``; with ``expressions`` every text) by their syntax."""
+    if isinstance(value, str):
+        return _expression_key(value) if expressions else value
+    if is_expr(value):
+        return {"expr": _expression_key(value["expr"])}
+    if isinstance(value, Component):
+        return (value.type, _meaning(value.params))
+    if isinstance(value, Mapping):
+        return {k: _meaning(v, expressions) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_meaning(v, expressions) for v in value]
+    return value
 
 
 class Model:
@@ -166,6 +198,31 @@ class Model:
         self.components[comp_name] = new
         return self
 
+    def check_name(self, name: str, context: str) -> None:
+        """Raise ``ModelError`` (naming ``context``, e.g. "sweep") unless ``name`` is what a run
+        may override: an experiment setting, a top-level parameter, or a component's parameter
+        or start value (``clutch1.fn_max``, ``J1.w``), with suggestions for a near miss."""
+        if name in modelfile.EXPERIMENT_KEYS or name in self.parameters:
+            return
+        comp_name, _, param = name.partition(".")
+        if comp_name not in self.components or not param:
+            raise ModelError(
+                f"{context} '{name}': not an experiment setting, a top-level parameter or "
+                f"'component.parameter' of this model"
+                + _did_you_mean(
+                    name if not param else comp_name, [*modelfile.EXPERIMENT_KEYS, *self.parameters]
+                )
+                + (_did_you_mean(comp_name, list(self.components)) if param else "")
+            )
+        comp_type = self.components[comp_name].type
+        known = component_types()
+        allowed = known[comp_type]["parameters"] if known and comp_type in known else [param]
+        if param not in allowed:
+            raise ModelError(
+                f"{context} '{name}': component '{comp_name}' ({comp_type}): parameter '{param}': "
+                f"unknown parameter{_did_you_mean(param, allowed)}"
+            )
+
     def input(self, port: str, start: float = 0.0) -> Model:
         """Declare an unconnected signal input ("brake.f_normalized") an input of the model.
 
@@ -188,12 +245,12 @@ class Model:
             return NotImplemented
         return (
             self.name == other.name
-            and self.components == other.components
+            and _meaning(self.components) == _meaning(other.components)
             and self.connections == other.connections
             and self.experiment == other.experiment
             and self.inputs == other.inputs
-            and self.variables == other.variables
-            and self.parameters == other.parameters
+            and _meaning(self.variables, expressions=True) == _meaning(other.variables, expressions=True)
+            and _meaning(self.parameters, expressions=True) == _meaning(other.parameters, expressions=True)
             and self.declarations == other.declarations
         )
 

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING, Any
 
 from stiction.errors import ModelError
 from stiction.expressions.evaluate import format_literal
+from stiction.model.catalogue import catalogue
 from stiction.model.components import START_VARIABLES
 from stiction.model.parameters import is_expr
 from stiction.modelica.names import MSL_CLASSES
@@ -71,7 +72,8 @@ def _declaration(model: Model, name: str, ctype: str, params: dict[str, Any]) ->
     cls = MSL_CLASSES[ctype]
     if _is_combi(model, name):
         cls, params = COMBI_CLASS, time_table_modifiers(params, _table_rows(model, name, params))
-    mods = [_modifier(key, value) for key, value in params.items()]
+    starts = _start_variables(ctype)
+    mods = [_modifier(key, value, key in starts) for key, value in params.items()]
     return f"{cls} {name}({', '.join(mods)})" if mods else f"{cls} {name}"
 
 
@@ -96,17 +98,28 @@ def _parameter(name: str, value: Any, declared: Mapping[str, Any]) -> str:
     return f"{line} {format_literal(description)}" if description else line
 
 
-def _modifier(key: str, value: Any) -> str:
-    if key in START_VARIABLES and is_expr(value):
+def _start_variables(ctype: str) -> frozenset[str]:
+    """The names of ``ctype`` that are start values (``J.w``), not parameters: a
+    ``FixedTemperature``'s ``T`` is a parameter, a ``HeatCapacitor``'s the start of a state."""
+    info = catalogue().get(ctype)
+    if info is None:
+        return START_VARIABLES
+    parameters = {p.name for p in info.parameters if "start value" not in p.kind}
+    return START_VARIABLES - parameters
+
+
+def _modifier(key: str, value: Any, is_start: bool) -> str:
+    """One modification: a start value as ``w(start=…, fixed=…)``, a parameter as ``k=…``."""
+    if is_start and is_expr(value):
         return f"{key}(start={value['expr']}, fixed=true)"
     if is_expr(value):
         return f"{key}={value['expr']}"
     if key in _ENUMS and isinstance(value, str):
         return f"{key}={_ENUMS[key]}.{value}"
-    if key in START_VARIABLES and isinstance(value, dict):
+    if is_start and isinstance(value, dict):
         attrs = ", ".join(f"{k}={v['expr'] if is_expr(v) else format_literal(v)}" for k, v in value.items())
         return f"{key}({attrs})"
-    if key in START_VARIABLES and isinstance(value, (int, float)) and not isinstance(value, bool):
+    if is_start and isinstance(value, (int, float)) and not isinstance(value, bool):
         return f"{key}(start={format_literal(float(value))}, fixed=true)"
     try:
         return f"{key}={format_literal(value)}"

@@ -118,6 +118,9 @@ def sweep(
     compiled = model.compile() if isinstance(model, Model) else model
     metrics, outputs = [str(m) for m in metrics], [str(o) for o in outputs]
     frame = _frame(variants)
+    described = model if isinstance(model, Model) else Model.loads(compiled.text, compiled.base_dir)
+    for name in frame.columns:  # a wrong name is the caller's mistake, not each variant's
+        described.check_name(str(name), "sweep")
     if outputs and any(k in ("StartTime", "StopTime", "Interval") for k in frame.columns):
         raise ModelError(
             "trajectories need one output grid: do not vary StartTime, StopTime or Interval with outputs="

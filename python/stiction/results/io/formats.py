@@ -43,10 +43,12 @@ def write(
     """Write ``data`` (rows × names, ``time`` first) in the format of ``path``'s extension.
 
     The file is written under a temporary name and renamed at the end, so an interrupted
-    write (Ctrl-C, a full disk) never leaves a half-written result under ``path``."""
+    write (Ctrl-C, a full disk) never leaves a half-written result under ``path``; missing
+    folders of ``path`` are made."""
     suffix = result_format(path)
     writer = {".csv": write_csv, ".mat": write_mat, ".parquet": write_parquet}[suffix]
     target = Path(path)
+    target.parent.mkdir(parents=True, exist_ok=True)  # `-o out/x.csv` makes out/, as `make demo` expects
     partial = target.with_name(f".{target.name}.partial{suffix}")
     try:
         writer(partial, names, data, parameters)

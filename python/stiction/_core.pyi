@@ -104,3 +104,26 @@ class State:
     def from_bytes(data: bytes) -> State:
         """The state in bytes from ``to_bytes``; UsageError if they are not valid."""
     def __reduce__(self) -> tuple[Any, tuple[bytes]]: ...
+
+def tube(
+    ref_time: npt.NDArray[np.float64],
+    ref_values: npt.NDArray[np.float64],
+    time: npt.NDArray[np.float64],
+    tolerance: float,
+    floor: float,
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], float, float]:
+    """The MSL tube around a reference at ``time``: ``(lower, upper, x, y)``, its edges and its
+    half-sizes in time and value (``y >= floor``). ValueError if the reference has no rows or its
+    arrays differ in length."""
+
+def check_signal(
+    ref_time: npt.NDArray[np.float64],
+    ref_values: npt.NDArray[np.float64],
+    time: npt.NDArray[np.float64],
+    values: npt.NDArray[np.float64],
+    tolerance: float,
+    floor: float,
+) -> tuple[float, float | None, int, float, float]:
+    """One signal against the tube around its reference: ``(max_excess, worst_time,
+    points_outside, x, y)``; max_excess in tube half-heights (0.0 when every point is inside, inf
+    for a NaN), worst_time None when every point is inside."""

@@ -1,8 +1,9 @@
 //! The MSL regression check: does a result stay inside the tube around a reference?
 //!
 //! This is the comparison the Modelica Association runs on the MAP-LIB reference results (CSV
-//! Compare, tube method, relative tolerance 2e-3), ported from `python/stiction/compare.py` with
-//! the same semantics so that `cargo test` and pytest give the same verdicts. For each signal:
+//! Compare, tube method, relative tolerance 2e-3): the one implementation, which the MSL tests
+//! here and Python's `stiction` comparison (through the binding's `_core.tube` and
+//! `_core.check_signal`) both run. For each signal:
 //!
 //! * `X = tol · (t_max − t_min)` of the reference is the tube half-width in time,
 //! * `Y = tol · max(y_max − y_min, 1e-15 · max(1, |y|max))` (finite values) its half-height,
@@ -132,7 +133,7 @@ pub struct SignalReport {
     pub y_half: f64,
 }
 
-/// The smallest tube half-height (`compare.py`'s default `floor`).
+/// The smallest tube half-height by default (Python's `DEFAULT_FLOOR`).
 pub const FLOOR: f64 = 1e-9;
 
 /// Checks `result` against `reference` on `signals` (`time` is skipped) with the tube method:
@@ -174,49 +175,136 @@ pub fn compare<S: AsRef<str>>(
         if t_ref.is_empty() {
             return Err(trajectory(&ref_what, "the reference has no rows".into()));
         }
-        reports.push(check_signal(name, (&t_ref, &y_ref), (&t, &y), tolerance));
+        let check = check_signal((&t_ref, &y_ref), (&t, &y), tolerance, FLOOR)?;
+        reports.push(SignalReport {
+            name: name.into(),
+            passed: check.points_outside == 0,
+            max_excess: check.max_excess,
+            worst_time: check.worst_time,
+            points_outside: check.points_outside,
+            missing: None,
+            x_half: check.x_half,
+            y_half: check.y_half,
+        });
     }
     Ok(reports)
 }
 
-/// One signal against its tube; the reference has rows and both sides have equal lengths.
-fn check_signal(
-    name: &str,
-    (t_ref, y_ref): (&[f64], &[f64]),
-    (t, y): (&[f64], &[f64]),
-    tol: f64,
-) -> SignalReport {
+/// The tube around a reference signal at given times: its lower and upper edges and its
+/// half-sizes, X in time and Y in value (`comparison.py`'s `tube`).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Tube {
+    pub lower: Vec<f64>,
+    pub upper: Vec<f64>,
+    pub x_half: f64,
+    pub y_half: f64,
+}
+
+/// One signal against its tube, as numbers (`comparison.py`'s per-signal check).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SignalCheck {
+    /// The largest distance of a point outside the tube, in tube half-heights Y: 0 when every
+    /// point is inside, infinite for a NaN.
+    pub max_excess: f64,
+    /// When that worst point is (None when every point is inside).
+    pub worst_time: Option<f64>,
+    pub points_outside: usize,
+    pub x_half: f64,
+    pub y_half: f64,
+}
+
+/// The tube half-sizes of a reference with rows: X = `tol`·(its time span), Y =
+/// `tol`·max(y_max − y_min, 1e-15·max(1, |y|max)) over its finite values, at least `floor`.
+fn half_sizes(t_ref: &[f64], y_ref: &[f64], tol: f64, floor: f64) -> (f64, f64) {
     let x_half = tol * (t_ref[t_ref.len() - 1] - t_ref[0]);
     let (lo, hi) = y_ref.iter().filter(|v| v.is_finite()).fold(EMPTY, extend);
     let (lo, hi) = if lo <= hi { (lo, hi) } else { (0.0, 0.0) };
-    let y_half = (tol * (hi - lo).max(1e-15 * lo.abs().max(hi.abs()).max(1.0))).max(FLOOR);
-    let mut report = SignalReport {
-        name: name.into(),
-        passed: true,
+    let y_half = (tol * (hi - lo).max(1e-15 * lo.abs().max(hi.abs()).max(1.0))).max(floor);
+    (x_half, y_half)
+}
+
+/// (min, max) of the reference curve over the window `[ti − X, ti + X]`: the reference points
+/// in it and the curve at its ends (interpolated); NaN if a NaN is among them. A window holds
+/// about 2·tol of the rows, so a plain scan is cheap.
+fn window(t_ref: &[f64], y_ref: &[f64], ti: f64, x_half: f64) -> (f64, f64) {
+    let (start, stop) = (ti - x_half, ti + x_half);
+    let first = t_ref.partition_point(|&v| v < start);
+    let end = t_ref.partition_point(|&v| v <= stop).max(first);
+    let ends = [interp(start, t_ref, y_ref), interp(stop, t_ref, y_ref)];
+    ends.iter().chain(&y_ref[first..end]).fold(EMPTY, extend)
+}
+
+/// Checks that each side has as many values as times and the reference has rows.
+fn check_lengths(t_ref: &[f64], sides: &[(&str, &[f64], &[f64])]) -> Result<(), CompareError> {
+    for (what, t, y) in sides {
+        if y.len() != t.len() {
+            let msg = format!("{} values for {} times", y.len(), t.len());
+            return Err(trajectory(what, msg));
+        }
+    }
+    match t_ref.is_empty() {
+        true => Err(trajectory("reference", "the reference has no rows".into())),
+        false => Ok(()),
+    }
+}
+
+/// The tube around the reference (`t_ref`, `y_ref`: time non-decreasing, a repeated time a
+/// jump) at times `t`, with relative tolerance `tol` and smallest half-height `floor`: at each
+/// time, `[min − Y, max + Y]` of the reference curve over `[t − X, t + X]` (NaN where a NaN of
+/// the reference is in that window). An error if the reference has no rows.
+pub fn tube(
+    (t_ref, y_ref): (&[f64], &[f64]),
+    t: &[f64],
+    tol: f64,
+    floor: f64,
+) -> Result<Tube, CompareError> {
+    check_lengths(t_ref, &[("reference", t_ref, y_ref)])?;
+    let (x_half, y_half) = half_sizes(t_ref, y_ref, tol, floor);
+    let (mut lower, mut upper) = (Vec::with_capacity(t.len()), Vec::with_capacity(t.len()));
+    for &ti in t {
+        let (lo, hi) = window(t_ref, y_ref, ti, x_half);
+        lower.push(lo - y_half);
+        upper.push(hi + y_half);
+    }
+    Ok(Tube {
+        lower,
+        upper,
+        x_half,
+        y_half,
+    })
+}
+
+/// One signal (`t`, `y`) against the tube around its reference (`t_ref`, `y_ref`; see
+/// `tube`): how far outside its points are, in half-heights Y (a NaN point is infinitely
+/// far), and the worst of them (the first if several are). An error if the reference has no
+/// rows or a side has not as many values as times.
+pub fn check_signal(
+    (t_ref, y_ref): (&[f64], &[f64]),
+    (t, y): (&[f64], &[f64]),
+    tol: f64,
+    floor: f64,
+) -> Result<SignalCheck, CompareError> {
+    let sides = [("reference", t_ref, y_ref), ("result", t, y)];
+    check_lengths(t_ref, &sides)?;
+    let (x_half, y_half) = half_sizes(t_ref, y_ref, tol, floor);
+    let mut check = SignalCheck {
         x_half,
         y_half,
         ..Default::default()
     };
     for (&ti, &yi) in t.iter().zip(y) {
-        // The reference points in the window and the curve at its ends (interpolated). A window
-        // holds about 2·tol of the rows, so a plain scan is cheap.
-        let (start, stop) = (ti - x_half, ti + x_half);
-        let first = t_ref.partition_point(|&v| v < start);
-        let end = t_ref.partition_point(|&v| v <= stop).max(first);
-        let ends = [interp(start, t_ref, y_ref), interp(stop, t_ref, y_ref)];
-        let curve = ends.iter().chain(&y_ref[first..end]);
-        let (lo, hi) = curve.fold(EMPTY, extend);
+        let (lo, hi) = window(t_ref, y_ref, ti, x_half);
         let (below, above) = ((lo - y_half) - yi, yi - (hi + y_half));
         let e = extend((below, below), &above).1 / y_half;
         let excess = if e.is_nan() { f64::INFINITY } else { e };
         if excess > 0.0 {
-            report.points_outside += 1;
-            if report.passed || excess > report.max_excess {
-                (report.passed, report.max_excess, report.worst_time) = (false, excess, Some(ti));
+            check.points_outside += 1;
+            if check.worst_time.is_none() || excess > check.max_excess {
+                (check.max_excess, check.worst_time) = (excess, Some(ti));
             }
         }
     }
-    report
+    Ok(check)
 }
 
 /// `numpy.interp` on a non-decreasing `xp`: at a repeated time (an event written twice) the
@@ -286,4 +374,46 @@ fn split_header(line: &str) -> Vec<String> {
     }
     names.push(field.trim().to_string());
     names
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A step written twice at t = 1 (a jump): the tube spans both sides within X of it.
+    #[test]
+    fn the_tube_follows_jumps_floors_and_nans() {
+        let (t_ref, y_ref) = ([0.0, 1.0, 1.0, 2.0], [0.0, 0.0, 1.0, 1.0]);
+        let t = [0.0, 0.5, 0.999, 1.0, 1.5, 2.0];
+        let step = tube((&t_ref, &y_ref), &t, 1e-2, 0.0).expect("a reference with rows");
+        assert_eq!((step.x_half, step.y_half), (0.02, 0.01));
+        assert_eq!(step.lower, [-0.01, -0.01, -0.01, -0.01, 0.99, 0.99]);
+        assert_eq!(step.upper, [0.01, 0.01, 1.01, 1.01, 1.01, 1.01]);
+        // a flat zero reference: Y is the floor
+        let zero = tube((&t_ref, &[0.0; 4]), &t, 1e-2, 1e-9).unwrap();
+        assert_eq!(zero.y_half, 1e-9);
+        // a NaN in the reference makes the tube NaN where it is in the window
+        let nan = tube((&t_ref, &[0.0, f64::NAN, 1.0, 1.0]), &[2.0], 1e-2, 0.0).unwrap();
+        assert!(nan.lower[0] == 0.99 && nan.upper[0] == 1.01);
+        let near = tube((&t_ref, &[0.0, f64::NAN, 1.0, 1.0]), &[1.0], 1e-2, 0.0).unwrap();
+        assert!(near.lower[0].is_nan() && near.upper[0].is_nan());
+        assert!(tube((&[], &[]), &t, 1e-2, 0.0).is_err());
+    }
+
+    #[test]
+    fn a_signal_is_checked_against_its_tube() {
+        let (t_ref, y_ref) = ([0.0, 1.0, 1.0, 2.0], [0.0, 0.0, 1.0, 1.0]);
+        let t = [0.0, 0.5, 1.5, 2.0];
+        let inside = check_signal((&t_ref, &y_ref), (&t, &[0.0, 0.005, 1.0, 1.0]), 1e-2, 0.0);
+        let inside = inside.unwrap();
+        assert_eq!((inside.points_outside, inside.worst_time), (0, None));
+        assert_eq!(inside.max_excess, 0.0);
+        // 0.03 at 0.5 is two half-heights out, a NaN infinitely: the NaN is the worst
+        let y = [0.0, 0.03, f64::NAN, 1.0];
+        let out = check_signal((&t_ref, &y_ref), (&t, &y), 1e-2, 0.0).unwrap();
+        assert_eq!(out.points_outside, 2);
+        assert_eq!((out.max_excess, out.worst_time), (f64::INFINITY, Some(1.5)));
+        let short = check_signal((&t_ref, &y_ref), (&t, &y[..3]), 1e-2, 0.0);
+        assert!(short.is_err());
+    }
 }

@@ -73,7 +73,8 @@ pub use result::{recycle_table, ElementAudit, EventRecord, SimResult};
 
 // ---- the MSL tube comparison (the regression oracle of the tests and of `stiction compare`)
 pub use compare::{
-    compare, read_signal_list, Columns, CompareError, Reference, Side, SignalReport,
+    check_signal, compare, read_signal_list, tube, Columns, CompareError, Reference, Side,
+    SignalCheck, SignalReport, Tube, FLOOR as TUBE_FLOOR,
 };
 
 // ---- the engine's parts the integration tests check on their own (the banded refactorization

@@ -1,6 +1,7 @@
 //! `stiction._core`: the Python face of the Rust engine. Converts in and out, releases the GIL
 //! while simulating, and turns every error — and any panic — into a Python exception.
 
+mod compare;
 mod compiled;
 mod info;
 mod state;
@@ -472,6 +473,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(write_csv, m)?)?;
     m.add_function(wrap_pyfunction!(write_mat, m)?)?;
     info::register(m)?;
+    compare::register(m)?;
     m.add_class::<RawResult>()?;
     m.add_class::<PySimulation>()?;
     m.add_class::<PyCancelHandle>()?;

@@ -10,24 +10,16 @@ use stiction_core::same_instant;
 use stiction_core::ParamKind;
 use stiction_core::{catalogue as core_catalogue, TypeInfo};
 
+use crate::toml_doc::value_to_py;
 use crate::{guarded, model_err, parse};
 
-/// A parameter default (TOML data) as a Python value.
+/// A parameter default (TOML data) as a Python value; a date or time (no default is one) as
+/// its TOML text.
 fn toml_to_py<'py>(py: Python<'py>, v: &toml::Value) -> PyResult<Bound<'py, PyAny>> {
-    Ok(match v {
-        toml::Value::Float(x) => x.into_pyobject(py)?.into_any(),
-        toml::Value::Integer(i) => i.into_pyobject(py)?.into_any(),
-        toml::Value::Boolean(b) => b.into_pyobject(py)?.to_owned().into_any(),
-        toml::Value::String(s) => s.into_pyobject(py)?.into_any(),
-        toml::Value::Array(a) => {
-            let items = a
-                .iter()
-                .map(|x| toml_to_py(py, x))
-                .collect::<PyResult<Vec<_>>>()?;
-            PyList::new(py, items)?.into_any()
-        }
-        other => other.to_string().into_pyobject(py)?.into_any(),
-    })
+    match value_to_py(py, v)? {
+        Some(value) => Ok(value),
+        None => Ok(v.to_string().into_pyobject(py)?.into_any()),
+    }
 }
 
 /// One component type of the catalogue as a dict (see `stiction.catalogue`).

@@ -1,5 +1,7 @@
-//! `parse_toml`: model-file text into the Python objects `tomllib` gives, parsed by the
-//! engine's TOML parser (the pure-Python one took 0.3 s for a model of thousands of components).
+//! TOML data as Python objects, in one place: `parse_toml` (model-file text into the objects
+//! `tomllib` gives, parsed by the engine's TOML parser; the pure-Python one took 0.3 s for a
+//! model of thousands of components) and `value_to_py`, which the catalogue's parameter
+//! defaults go through too.
 
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -15,6 +17,15 @@ pub fn parse_toml<'py>(py: Python<'py>, text: &str) -> PyResult<Option<Bound<'py
         return Ok(None);
     };
     table_to_py(py, &table)
+}
+
+/// A TOML value as the Python object `tomllib` gives (tables as dicts in their order); None
+/// for a date or time, which `tomllib` turns into a datetime and this does not.
+pub fn value_to_py<'py>(
+    py: Python<'py>,
+    value: &toml::Value,
+) -> PyResult<Option<Bound<'py, PyAny>>> {
+    toml_to_py(py, value)
 }
 
 fn table_to_py<'py>(py: Python<'py>, table: &toml::Table) -> PyResult<Option<Bound<'py, PyAny>>> {

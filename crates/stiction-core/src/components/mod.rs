@@ -12,10 +12,9 @@ pub mod gears;
 pub mod heat;
 pub mod inertia;
 pub mod sources;
+
 #[cfg(test)]
-mod toy_relay;
-#[cfg(test)]
-mod toy_stop;
+mod toys;
 
 use std::path::Path;
 
@@ -157,9 +156,8 @@ pub fn registry() -> Vec<Entry> {
     r.extend(blocks::REGISTRY);
     r.extend(heat::REGISTRY);
     #[cfg(test)]
-    r.extend(toy_stop::REGISTRY);
-    #[cfg(test)]
-    r.extend(toy_relay::REGISTRY);
+    r.extend(toys::REGISTRY);
+
     r
 }
 

@@ -173,13 +173,24 @@ pub struct Losses {
 /// A switching element as the engine drives it.
 pub trait SwitchingElement: Send + Sync {
     fn name(&self) -> &str;
-    /// `pre()` of its discrete state at initialization.
-    fn initial_state(&self) -> SwitchState;
+    /// `pre()` of its discrete state at initialization; by default MSL's initial `pre()`
+    /// (mode unknown, no start flags), neither locked nor free, every relation false.
+    fn initial_state(&self) -> SwitchState {
+        SwitchState {
+            pre: Discrete::INITIAL,
+            locked: false,
+            free: false,
+            rel: RelationSet::default(),
+        }
+    }
     /// The mode the initialization log reports as the one before the start.
     fn log_start_mode(&self) -> i8 {
         self.initial_state().pre.mode
     }
-    fn heat_node(&self) -> Option<usize>;
+    /// The heat node its loss power goes to (none by default).
+    fn heat_node(&self) -> Option<usize> {
+        None
+    }
     /// Refuses a start its own logic forbids (a one-way clutch turning backward): the reason,
     /// given its relative speed at the start.
     fn check_start(&self, _w: f64) -> Result<(), String> {
@@ -225,10 +236,16 @@ pub trait SwitchingElement: Send + Sync {
     fn is_free(&self, _signals: &[f64]) -> bool {
         false
     }
-    /// Its relations at `v`, from their previous values (literal at initialization).
-    fn relations(&self, previous: RelationSet, v: &ElementValues, initial: bool) -> RelationSet;
-    /// The relations that are start conditions on `sa` (all false: a stuck element locks).
-    fn start_relations(&self) -> &'static [usize];
+    /// Its relations at `v`, from their previous values (literal at initialization); by
+    /// default one, `w > 0`.
+    fn relations(&self, previous: RelationSet, v: &ElementValues, initial: bool) -> RelationSet {
+        previous.update(&[v.w], initial)
+    }
+    /// The relations that are start conditions on `sa` (all false: a stuck element locks);
+    /// none by default.
+    fn start_relations(&self) -> &'static [usize] {
+        &[]
+    }
     /// Relations a union of two candidate sets takes from the first only (a LossyGear's
     /// driving side).
     fn own_relations(&self) -> &'static [usize] {

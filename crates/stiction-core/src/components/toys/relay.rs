@@ -6,7 +6,8 @@
 //! that instant after a handful of mode changes, naming the element (issue 13). MSL's friction
 //! elements never do this: their stuck mode is what this toy lacks.
 
-use super::{with_support, Component, Entry, Ports};
+use super::OnFlange;
+use crate::components::Component;
 use crate::error::ModelResult;
 use crate::model::Params;
 use crate::rel::Rel;
@@ -15,7 +16,6 @@ use crate::switching::element::{
 };
 use crate::switching::logic::{Discrete, BACKWARD, FORWARD};
 use crate::switching::relation::{flip_indicator, RelationSet};
-use crate::system::{Builder, Out};
 
 /// Its one relation: `w > 0`.
 const W_POS: usize = 0;
@@ -29,17 +29,6 @@ struct Relay {
 impl SwitchingElement for Relay {
     fn name(&self) -> &str {
         &self.name
-    }
-    fn initial_state(&self) -> SwitchState {
-        SwitchState {
-            pre: Discrete::INITIAL,
-            locked: false,
-            free: false,
-            rel: RelationSet::default(),
-        }
-    }
-    fn heat_node(&self) -> Option<usize> {
-        None
     }
     fn motion(&self) -> &Rel {
         &self.rel
@@ -59,12 +48,6 @@ impl SwitchingElement for Relay {
         v.held = s.held;
         v.sa = v.tau;
         v.loss = v.tau * v.w;
-    }
-    fn relations(&self, previous: RelationSet, v: &ElementValues, initial: bool) -> RelationSet {
-        previous.update(&[v.w], initial)
-    }
-    fn start_relations(&self) -> &'static [usize] {
-        &[]
     }
     fn start_flags(&self, _pre: Discrete, _r: RelationSet, _initial: bool) -> (bool, bool) {
         (false, false)
@@ -91,49 +74,17 @@ impl SwitchingElement for Relay {
     }
 }
 
-struct ToyRelay {
-    tau_max: f64,
-}
-
-impl Component for ToyRelay {
-    fn ports(&self) -> Ports {
-        Ports {
-            mech: with_support(&["flange"], false),
-            ..Ports::default()
-        }
-    }
-
-    fn build(&self, b: &mut Builder) -> ModelResult<()> {
-        let (n, ground) = (b.node("flange")?, b.node("support")?);
-        let relay = Relay {
-            name: b.name().to_string(),
-            rel: Rel::of(&[(n, 1.0), (ground, -1.0)]),
-            tau_max: self.tau_max,
-        };
-        let k = b.add_switching(Box::new(relay));
-        for (name, var) in [
+pub(super) fn toy_relay(p: &Params) -> ModelResult<Box<dyn Component>> {
+    let tau_max = p.real("tau_max", 1.0)?;
+    Ok(Box::new(OnFlange {
+        element: Box::new(move |name, rel| Box::new(Relay { name, rel, tau_max })),
+        variables: &[
             ("w", SwitchVar::W),
             ("tau", SwitchVar::Tau),
             ("mode", SwitchVar::Mode),
-        ] {
-            b.output(name, Out::Switch(k, var));
-        }
-        b.flange("flange", n, Some(Out::Switch(k, SwitchVar::Tau)))
-    }
-}
-
-fn toy_relay(p: &Params) -> ModelResult<Box<dyn Component>> {
-    Ok(Box::new(ToyRelay {
-        tau_max: p.real("tau_max", 1.0)?,
+        ],
     }))
 }
-
-pub const REGISTRY: &[Entry] = &[Entry::new(
-    "ToyRelay",
-    "stiction.Tests.ToyRelay",
-    "Coulomb friction without a stuck mode, tau = tau_max·sign(w): it chatters (tests only)",
-    toy_relay,
-)];
 
 #[cfg(test)]
 mod tests {

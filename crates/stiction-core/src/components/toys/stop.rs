@@ -4,7 +4,8 @@
 //! the housing: the shaft turns freely forward; the first time its speed reaches 0 the pawl
 //! drops and holds it for ever, whatever the torque.
 
-use super::{with_support, Component, Entry, Ports};
+use super::OnFlange;
+use crate::components::Component;
 use crate::error::ModelResult;
 use crate::model::Params;
 use crate::rel::Rel;
@@ -13,7 +14,6 @@ use crate::switching::element::{
 };
 use crate::switching::logic::{Discrete, FORWARD, STUCK};
 use crate::switching::relation::{flip_indicator, RelationSet};
-use crate::system::{Builder, Out};
 
 /// Its one relation: `w > 0`.
 const W_POS: usize = 0;
@@ -26,17 +26,6 @@ struct Pawl {
 impl SwitchingElement for Pawl {
     fn name(&self) -> &str {
         &self.name
-    }
-    fn initial_state(&self) -> SwitchState {
-        SwitchState {
-            pre: Discrete::INITIAL,
-            locked: false,
-            free: false,
-            rel: RelationSet::default(),
-        }
-    }
-    fn heat_node(&self) -> Option<usize> {
-        None
     }
     fn motion(&self) -> &Rel {
         &self.rel
@@ -56,12 +45,6 @@ impl SwitchingElement for Pawl {
         v.held = s.held;
         v.sa = v.tau;
         v.loss = v.tau * v.w;
-    }
-    fn relations(&self, previous: RelationSet, v: &ElementValues, initial: bool) -> RelationSet {
-        previous.update(&[v.w], initial)
-    }
-    fn start_relations(&self) -> &'static [usize] {
-        &[]
     }
     fn start_flags(&self, _pre: Discrete, r: RelationSet, initial: bool) -> (bool, bool) {
         (initial && r.get(W_POS), false)
@@ -90,43 +73,17 @@ impl SwitchingElement for Pawl {
     }
 }
 
-struct ToyStop;
-
-impl Component for ToyStop {
-    fn ports(&self) -> Ports {
-        Ports {
-            mech: with_support(&["flange"], false),
-            ..Ports::default()
-        }
-    }
-
-    fn build(&self, b: &mut Builder) -> ModelResult<()> {
-        let (n, ground) = (b.node("flange")?, b.node("support")?);
-        let rel = Rel::of(&[(n, 1.0), (ground, -1.0)]);
-        let name = b.name().to_string();
-        let k = b.add_switching(Box::new(Pawl { name, rel }));
-        for (name, var) in [
+pub(super) fn toy_stop(_: &Params) -> ModelResult<Box<dyn Component>> {
+    Ok(Box::new(OnFlange {
+        element: Box::new(|name, rel| Box::new(Pawl { name, rel })),
+        variables: &[
             ("w", SwitchVar::W),
             ("tau", SwitchVar::Tau),
             ("mode", SwitchVar::Mode),
             ("locked", SwitchVar::Locked),
-        ] {
-            b.output(name, Out::Switch(k, var));
-        }
-        b.flange("flange", n, Some(Out::Switch(k, SwitchVar::Tau)))
-    }
+        ],
+    }))
 }
-
-fn toy_stop(_: &Params) -> ModelResult<Box<dyn Component>> {
-    Ok(Box::new(ToyStop))
-}
-
-pub const REGISTRY: &[Entry] = &[Entry::new(
-    "ToyStop",
-    "stiction.Tests.ToyStop",
-    "A frictionless pawl that holds its shaft once it stops (tests only)",
-    toy_stop,
-)];
 
 #[cfg(test)]
 mod tests {

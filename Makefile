@@ -7,7 +7,7 @@ EXAMPLE ?= examples/msl/CoupledClutches.toml
 # what the demo plots: speeds on one axes, the clutch modes on another
 DEMO_SIGNALS ?= J1.w+J2.w+J3.w+J4.w,clutch1.mode+clutch2.mode+clutch3.mode
 
-.PHONY: setup demo test test-rust test-python lint docs bench bench-io bench-fmu bench-scaling bench-sweep bench-stiff bench-interrupt soak clean
+.PHONY: setup demo test test-fast test-rust test-python lint docs bench bench-io bench-fmu bench-scaling bench-sweep bench-stiff bench-interrupt soak clean
 
 setup:
 	@test -x $(PY) || python3 -m venv $(VENV)
@@ -23,7 +23,15 @@ demo: setup
 	$(VENV)/bin/stiction simulate $(EXAMPLE) -o $(OUT)/$(basename $(notdir $(EXAMPLE))).csv \
 		--plot $(OUT)/$(basename $(notdir $(EXAMPLE))).png --signals "$(DEMO_SIGNALS)"
 
+# Everything: the Rust tests, then every Python test (tests/ mirrors python/stiction; see
+# tests/conftest.py). The Rust test binaries take about 4 minutes to build the first time.
 test: setup test-rust test-python
+
+# The Python tests less those marked slow (`pytest -m slow --collect-only` lists them: the
+# 1000-element models, the wheel build, the longest runs): well under a minute after setup.
+# No Rust tests: they run in seconds, but building them the first time takes minutes.
+test-fast: setup
+	$(PY) -m pytest -q -m "not slow"
 
 test-rust:
 	cargo test --release -p stiction-core -p stiction-fmi
@@ -47,7 +55,7 @@ docs: setup
 
 # The property tests over 10⁴ random drivetrains (CI runs a fixed budget of about 200).
 soak: setup
-	STICTION_SOAK=10000 $(PY) -m pytest -q tests/test_properties.py --hypothesis-show-statistics
+	STICTION_SOAK=10000 $(PY) -m pytest -q tests/properties/test_properties.py --hypothesis-show-statistics
 
 bench: setup
 	$(VENV)/bin/stiction bench

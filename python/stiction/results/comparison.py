@@ -16,6 +16,10 @@ event that happens a little earlier or later than in the reference still pass.
 One addition to MSL's method: ``Y`` is at least an absolute ``floor`` (default 1e-9), so a
 signal that is exactly zero in the reference (a torque in an unconnected flange) is not failed
 by round-off of 1e-12 in the result, where MSL's ``Y`` would be 2e-18.
+
+The tube and the check of a signal are the core's (``compare.rs``, through ``_core.tube`` and
+``_core.check_signal``): one implementation for ``cargo test`` and Python alike. This module
+reads the inputs and reports.
 """
 
 from __future__ import annotations
@@ -111,32 +115,13 @@ class CompareReport:
         return "\n".join([*shown, f"{passed}/{len(self)} signals passed (tolerance {self.tolerance:g})"])
 
 
-# --- the tube -------------------------------------------------------------------------
-def _range_extrema(y: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Give min and max of y[lo:hi] for many ranges at once (sparse table)."""
-    n = y.size
-    mins, maxs = [y], [y]
-    k = 1
-    while 2 * k <= n:
-        pad = np.full(2 * k - 1, np.nan)  # keep every level n long; padded cells are never read
-        mins.append(np.concatenate([np.minimum(mins[-1][: n - k], mins[-1][k:])[: n - 2 * k + 1], pad]))
-        maxs.append(np.concatenate([np.maximum(maxs[-1][: n - k], maxs[-1][k:])[: n - 2 * k + 1], pad]))
-        k *= 2
-    tmin, tmax = np.stack(mins), np.stack(maxs)
-    length = hi - lo
-    empty = length <= 0
-    safe = np.where(empty, 1, length)
-    level = np.frexp(safe.astype(np.float64))[1] - 1  # floor(log2(length)), exact
-    right = hi - (1 << level)
-    lo_c = np.where(empty, 0, lo)
-    right = np.where(empty, 0, right)
-    wmin = np.minimum(tmin[level, lo_c], tmin[level, right])
-    wmax = np.maximum(tmax[level, lo_c], tmax[level, right])
-    return np.where(empty, np.inf, wmin), np.where(empty, -np.inf, wmax)
-
-
+# --- the tube: computed by the core (compare.rs), the one implementation -----------------
 DEFAULT_FLOOR = 1e-9
 """Smallest tube half-height: exact zeros compare equal to round-off."""
+
+
+def _f64(values: Any) -> np.ndarray:
+    return np.ascontiguousarray(values, dtype=np.float64)
 
 
 def tube(
@@ -147,27 +132,9 @@ def tube(
     floor: float = DEFAULT_FLOOR,
 ) -> tuple[np.ndarray, np.ndarray, float, float]:
     """Lower and upper tube edges at times ``t``, and the half-sizes (X, Y); Y >= ``floor``."""
-    t_ref = np.asarray(t_ref, dtype=np.float64)
-    y_ref = np.asarray(y_ref, dtype=np.float64)
-    t = np.asarray(t, dtype=np.float64)
-    if t_ref.size == 0:
-        raise ValueError("the reference has no rows")
-    x_half = tolerance * float(t_ref[-1] - t_ref[0])
-    finite = y_ref[np.isfinite(y_ref)]
-    y_lo, y_hi = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 0.0)
-    nominal = 1e-15 * max(1.0, abs(y_lo), abs(y_hi))
-    y_half = max(tolerance * max(y_hi - y_lo, nominal), floor)
+    from stiction import _core
 
-    start, stop = t - x_half, t + x_half
-    lo = np.searchsorted(t_ref, start, side="left")  # first reference point in the window
-    hi = np.searchsorted(t_ref, stop, side="right")  # one past the last
-    wmin, wmax = _range_extrema(y_ref, lo, hi)
-    # The curve at the window ends (interpolated) belongs to the window too.
-    y_start = np.interp(start, t_ref, y_ref)
-    y_stop = np.interp(stop, t_ref, y_ref)
-    lower = np.minimum(np.minimum(y_start, y_stop), wmin) - y_half
-    upper = np.maximum(np.maximum(y_start, y_stop), wmax) + y_half
-    return lower, upper, x_half, y_half
+    return _core.tube(_f64(t_ref), _f64(y_ref), _f64(t), float(tolerance), float(floor))
 
 
 def _check_signal(
@@ -179,23 +146,12 @@ def _check_signal(
     tol: float,
     floor: float,
 ) -> SignalReport:
-    lower, upper, x_half, y_half = tube(t_ref, y_ref, t, tol, floor)
-    excess = np.maximum(lower - y, y - upper) / y_half
-    excess = np.where(np.isnan(excess), np.inf, excess)  # NaN in the test is never inside
-    outside = excess > 0.0
-    if not outside.any():
-        return SignalReport(name, True, 0.0, None, 0, None, x_half, y_half)
-    worst = int(np.argmax(excess))
-    return SignalReport(
-        name,
-        False,
-        float(excess[worst]),
-        float(t[worst]),
-        int(outside.sum()),
-        None,
-        x_half,
-        y_half,
+    from stiction import _core
+
+    excess, when, outside, x_half, y_half = _core.check_signal(
+        _f64(t_ref), _f64(y_ref), _f64(t), _f64(y), float(tol), float(floor)
     )
+    return SignalReport(name, outside == 0, excess, when, outside, None, x_half, y_half)
 
 
 # --- inputs ---------------------------------------------------------------------------

@@ -3,6 +3,7 @@
     expressions/  model/  results/  run/  sweeps/  modelica/  fmu/  cli/
     integration/  MSL examples against their references and an oracle, the tutorial, end to end
     properties/   Hypothesis: random drivetrains (``make soak`` runs 10⁴) and the .mo fuzzer
+    tests/ itself: checks of the whole tree (layers, structure, the public names)
 
 Shared data stays put: tests/data (models written for tests; data/msl: MSL reference results,
 see data/msl/README.md) and tests/fmi (a C host for FMUs). Tests reach them, and the repository's

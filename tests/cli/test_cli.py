@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 from paths import MSL_DATA, REPO
 
-from stiction.comparison import read_signal_list
-from stiction.csvio import read_csv, write_csv
+from stiction.results.comparison import read_signal_list
+from stiction.results.io.csv import read_csv, write_csv
 
 MODEL = REPO / "examples" / "msl" / "CoupledClutches.toml"
 REFERENCE = MSL_DATA / "CoupledClutches.csv"

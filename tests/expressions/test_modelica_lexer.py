@@ -10,8 +10,8 @@ import pytest
 from paths import MSL_EXAMPLES
 
 import stiction as st
-from stiction.modelica import lexer
-from stiction.modelica.lexer import ModelicaError
+from stiction.expressions import lexer
+from stiction.expressions.lexer import ModelicaError
 
 EXAMPLES = MSL_EXAMPLES
 TEXTS = {p.stem: p.read_text(encoding="utf-8") for p in sorted(EXAMPLES.glob("*.mo"))}

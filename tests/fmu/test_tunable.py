@@ -21,8 +21,8 @@ from fmpy.validation import validate_fmu
 from test_fmu_state import Runner
 
 import stiction as st
-from stiction.catalogue import catalogue
 from stiction.errors import ModelError
+from stiction.model.catalogue import catalogue
 
 OUTPUTS = ["flywheel.w", "load.w"]
 

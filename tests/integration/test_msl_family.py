@@ -17,7 +17,7 @@ import pytest
 from paths import MSL_DATA, REPO
 
 import stiction as st
-from stiction.csvio import read_csv
+from stiction.results.io.csv import read_csv
 
 MSL_DIR = MSL_DATA
 EXAMPLES = ["SimpleGearShift", "First", "OneWayClutch", "OneWayClutchDisengaged", "Backlash"]

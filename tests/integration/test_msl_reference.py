@@ -16,8 +16,8 @@ import pytest
 from paths import MSL_DATA, REPO
 
 import stiction as st
-from stiction.comparison import read_signal_list
-from stiction.csvio import read_csv
+from stiction.results.comparison import read_signal_list
+from stiction.results.io.csv import read_csv
 
 MSL_DIR = MSL_DATA
 EXAMPLES = ["CoupledClutches", "Friction"]

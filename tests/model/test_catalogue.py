@@ -10,8 +10,8 @@ import pytest
 from paths import REPO
 
 import stiction as st
-from stiction.catalogue import catalogue, show_value
 from stiction.cli import main
+from stiction.model.catalogue import catalogue, show_value
 
 ROOT = REPO
 

@@ -18,7 +18,7 @@ import pytest
 from paths import MSL_DATA, REPO
 
 import stiction as st
-from stiction.csvio import read_csv
+from stiction.results.io.csv import read_csv
 
 EXAMPLES = REPO / "examples" / "msl"
 MSL_DIR = MSL_DATA

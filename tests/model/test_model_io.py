@@ -11,7 +11,7 @@ from click.testing import CliRunner
 
 import stiction as st
 from stiction.cli import main
-from stiction.csvio import read_csv
+from stiction.results.io.csv import read_csv
 
 # The design document's example, verbatim: `connect` after [components] lands
 # under it in TOML.

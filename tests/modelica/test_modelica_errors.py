@@ -287,7 +287,7 @@ def test_reals_without_a_range_accept_any_finite_value() -> None:
     wrong, treating a Real without a declared range as always valid (500 steps differing in
     startTime are one check). This holds the engine to that: every such Real, at extreme
     finite values, passes its component's check."""
-    from stiction.catalogue import catalogue
+    from stiction.model.catalogue import catalogue
     from stiction.modelica.convert import _batch_problem, _free_reals
 
     refused = []

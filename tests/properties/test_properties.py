@@ -22,7 +22,7 @@ from hypothesis import strategies as hs
 from paths import DATA
 
 import stiction as st
-from stiction.comparison import compare
+from stiction.results.comparison import compare
 
 EXAMPLES = int(os.environ.get("STICTION_SOAK", "100"))
 AUDIT = ("system.kineticEnergy", "system.potentialEnergy", "system.dissipatedEnergy", "system.sourceWork")

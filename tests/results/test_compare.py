@@ -11,9 +11,9 @@ from click.testing import CliRunner
 from paths import MSL_DATA
 
 from stiction.cli import main
-from stiction.comparison import compare, read_signal_list, tube
-from stiction.csvio import read_csv
-from stiction.result import Result
+from stiction.results.comparison import compare, read_signal_list, tube
+from stiction.results.io.csv import read_csv
+from stiction.results.result import Result
 
 MSL_DIR = MSL_DATA
 EXAMPLES = sorted(p.stem for p in MSL_DIR.glob("*.csv"))

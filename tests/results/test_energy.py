@@ -158,7 +158,7 @@ def test_every_element_balances_its_power_and_none_that_is_passive_delivers_ener
 def test_the_audit_names_an_element_whose_balance_does_not_close() -> None:
     """The audit can fail: a balance off by 1 mW in a 1 W model, or a passive element that
     delivers net energy, is reported with its name."""
-    from stiction.audit import ElementBalance, EnergyAudit
+    from stiction.results.audit import ElementBalance, EnergyAudit
 
     good = ElementBalance("J1", 1e-15, 1.0, 1.0, True, 0.0, 0.5, 0.0)
     off = ElementBalance("spring", 1e-3, 1.0, 1.0, True, 0.0, 0.1, 0.0)
@@ -173,7 +173,7 @@ def test_the_audit_names_an_element_whose_balance_does_not_close() -> None:
 def test_a_withheld_power_is_judged_against_the_torque_times_the_slip_bound() -> None:
     """A one-way clutch's withheld power (tau·w_rel while MSL's lossPower is 0) closes while
     its slip is within ``slip_bound`` and is reported beyond it."""
-    from stiction.audit import ElementBalance, EnergyAudit
+    from stiction.results.audit import ElementBalance, EnergyAudit
 
     def one_way(withheld: float) -> ElementBalance:
         return ElementBalance("c4", 1e-15, 1.0, 10.0, True, 0.0, 0.5, 0.5, withheld, slip_bound=1e-6)

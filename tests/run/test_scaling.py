@@ -126,19 +126,19 @@ def test_bench_scale_prints_a_refused_size_and_goes_on(monkeypatch: pytest.Monke
     """A size the engine refuses (its memory guard) is one row saying why; the others still run."""
     from click.testing import CliRunner
 
-    import stiction.bench
+    import stiction.cli.benchmarks
     from stiction.cli import main
 
-    real = stiction.bench.bench_scale
+    real = stiction.cli.benchmarks.bench_scale
 
-    def guarded(kind: str, n: int) -> stiction.bench.ScaleRow:
+    def guarded(kind: str, n: int) -> stiction.cli.benchmarks.ScaleRow:
         if n > 10:
             raise st.ModelError(
                 "experiment: Interval = 0.0015 gives about 11002 rows, more than fits in memory"
             )
         return real(kind, n)
 
-    monkeypatch.setattr(stiction.bench, "bench_scale", guarded)
+    monkeypatch.setattr(stiction.cli.benchmarks, "bench_scale", guarded)
     out = CliRunner().invoke(main, ["bench", "--scale", "4,20"])
     assert out.exit_code == 0, out.output
     rows = [line.split() for line in out.output.splitlines()[1:]]

@@ -8,8 +8,8 @@ import pytest
 from paths import EXAMPLES, MSL_EXAMPLES
 
 import stiction as st
-from stiction.bench import bench_solvers
 from stiction.cli import main
+from stiction.cli.benchmarks import bench_solvers
 
 STIFF = EXAMPLES / "stiff"
 MSL = MSL_EXAMPLES

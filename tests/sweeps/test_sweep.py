@@ -13,8 +13,8 @@ import pytest
 from paths import EXAMPLES
 
 import stiction as st
-from stiction import sweeps as sweep_module
 from stiction.sweeps import grid, sample, sweep
+from stiction.sweeps import runner as sweep_module
 
 COUPLED = st.Model.load(EXAMPLES / "msl" / "CoupledClutches.toml")
 FLYWHEEL = st.Model.load(EXAMPLES / "braked_flywheel.toml")

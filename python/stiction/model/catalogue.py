@@ -13,6 +13,9 @@ import difflib
 import functools
 import importlib
 import inspect
+import operator
+import re
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -42,6 +45,35 @@ def show_value(value: Any) -> str:
     return repr(value) if isinstance(value, str) else str(value)
 
 
+_COMPARE: dict[str, Callable[[float, float], bool]] = {
+    ">": operator.gt,
+    ">=": operator.ge,
+    "<": operator.lt,
+    "<=": operator.le,
+    "!=": operator.ne,
+}
+
+
+@functools.cache
+def _range_test(text: str) -> Callable[[float], bool] | None:
+    """The test of a catalogue range on a number: ``> 0``, ``>= -273.15``, ``!= 0``,
+    ``(0, 100]``, ``a whole number``; None for a range written for a table."""
+    if text == "a whole number":
+        return lambda v: v.is_integer()
+    compared = re.fullmatch(r"(>=|<=|!=|>|<) (\S+)", text)
+    if compared:
+        op, bound = _COMPARE[compared.group(1)], float(compared.group(2))
+        return lambda v: op(v, bound)
+    interval = re.fullmatch(r"([(\[])(\S+), (\S+)([)\]])", text)
+    if interval:
+        left, lo, hi, right = interval.groups()
+        low = operator.ge if left == "[" else operator.gt
+        high = operator.le if right == "]" else operator.lt
+        a, b = float(lo), float(hi)
+        return lambda v: low(v, a) and high(v, b)
+    return None
+
+
 @dataclass(frozen=True)
 class Parameter:
     """One parameter: its MSL name, kind, default, unit, valid range and description."""
@@ -67,6 +99,18 @@ class Parameter:
         if self.choices:
             return "Literal[" + ", ".join(repr(c) for c in self.choices) + "]"
         return _ANNOTATIONS[self.kind]
+
+    def violation(self, value: Any) -> str | None:
+        """Why a plain number is outside this parameter's range (``must be > 0, got -1.2``),
+        the engine's words; None when it is inside, or not a plain number, or the range is one
+        only the engine reads (a table's columns): the engine checks those when it reads them."""
+        if self.range is None or isinstance(value, bool) or not isinstance(value, (int, float)):
+            return None
+        inside = _range_test(self.range)
+        if inside is None or inside(float(value)):
+            return None
+        shown = int(value) if float(value).is_integer() else value
+        return f"must be {self.range}, got {shown}"
 
     def summary(self) -> str:
         """``Real [N], required, >= 0`` — kind, unit, default and range on one line."""

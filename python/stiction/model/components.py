@@ -15,7 +15,7 @@ from collections.abc import Mapping, Sequence
 from typing import Any, ClassVar, Union
 
 from stiction.errors import ModelError
-from stiction.model.catalogue import ComponentInfo, catalogue
+from stiction.model.catalogue import ComponentInfo, Parameter, catalogue
 
 __all__ = [
     "FACTORIES",
@@ -112,6 +112,7 @@ class Component:
             if key == "type":
                 raise ModelError(f"{type}: 'type' is reserved and cannot be a parameter name")
             self.params[key] = normalize_value(value, f"{type}: parameter '{key}'")
+        _check_ranges(type, self.params)
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
@@ -127,6 +128,30 @@ class Component:
             args = ", ".join(f"{k}={v!r}" for k, v in self.params.items())
             return f"{type(self).__name__}({args})"
         return f"Component({self.type!r}, {self.params!r})"
+
+
+@functools.cache
+def _ranged_parameters(type_name: str) -> dict[str, Parameter]:
+    """The parameters of a type that have a range, by name (none for an unknown type or a
+    source tree without the compiled engine)."""
+    try:
+        info = catalogue().get(type_name)
+    except ModuleNotFoundError as exc:
+        if exc.name != "stiction._core":
+            raise
+        return {}
+    return {p.name: p for p in info.parameters if p.range is not None} if info else {}
+
+
+def _check_ranges(type_name: str, params: Mapping[str, Any]) -> None:
+    """Refuse a number outside its parameter's range now (``Inertia(J=-1.2)``), with the
+    engine's words, as ``Model.set`` and a model file do; tables, expressions and unknown names
+    are the engine's to check when it reads the model."""
+    ranged = _ranged_parameters(type_name)
+    for key, value in params.items():
+        problem = ranged[key].violation(value) if key in ranged else None
+        if problem:
+            raise ModelError(f"{type_name}: parameter '{key}': {problem}")
 
 
 class _Factory(Component):

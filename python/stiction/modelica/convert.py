@@ -260,7 +260,13 @@ class _Converter:
                 self.positions[(name, key)] = mod.pos
         if stype == "CombiTimeTable":
             stype, params = combi_time_table(name, decl, params)
-        self.model.components[name] = Component(stype, params)
+        try:
+            self.model.components[name] = Component(stype, params)
+        except ModelError as exc:  # a value out of its range: placed at its modifier
+            param = re.search(r"parameter '(\w+)'", str(exc))
+            pos = self.positions.get((name, param.group(1))) if param else None
+            message = str(exc).replace(f"{stype}: ", f"component '{name}' ({stype}): ", 1)
+            raise ModelicaError(pos or decl.type_pos, message) from None
 
     def modifier(self, comp: str, stype: str, mod: Modification) -> tuple[str | None, Any]:
         key = PARAMETER_RENAMES.get(stype, {}).get(mod.name, mod.name)

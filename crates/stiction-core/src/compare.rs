@@ -118,6 +118,7 @@ pub enum Side {
 
 /// The verdict for one signal.
 #[derive(Debug, Clone, Default, PartialEq)]
+// Alike in shape only to other field lists (the duplicate finder pairs plain structs).
 pub struct SignalReport {
     pub name: String,
     pub passed: bool,
@@ -193,6 +194,7 @@ pub fn compare<S: AsRef<str>>(
 /// The tube around a reference signal at given times: its lower and upper edges and its
 /// half-sizes, X in time and Y in value (`comparison.py`'s `tube`).
 #[derive(Debug, Clone, Default, PartialEq)]
+// Alike in shape only to other field lists (the duplicate finder pairs plain structs).
 pub struct Tube {
     pub lower: Vec<f64>,
     pub upper: Vec<f64>,

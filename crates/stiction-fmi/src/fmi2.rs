@@ -3,6 +3,11 @@
 //! `fmi2Error`, never unwound into the host. Calls this runtime does not support (Model
 //! Exchange, directional derivatives, input derivatives, asynchronous
 //! steps) exist, since importers bind every symbol, and return `fmi2Error` with a message.
+//!
+//! Not merged (the duplicate finder pairs the entry points with each other and with
+//! fmi3.rs's): each exported symbol is written out rather than made by a macro, so every FMI
+//! name can be found as written; each is a line or two over `host::with` and `Instance`, where
+//! the logic is written once.
 #![allow(non_snake_case, clippy::missing_safety_doc)] // FMI's names; FMI 2.0 is the contract
 
 use std::ffi::{c_int, CStr, CString};

@@ -4,6 +4,11 @@
 //! function an importer binds exists; those for Model Exchange, Scheduled Execution, clocks,
 //! derivatives and the integer, string and binary types return
 //! `fmi3Error` with a logged message.
+//!
+//! Not merged (the duplicate finder pairs the entry points with each other and with
+//! fmi2.rs's): each exported symbol is written out rather than made by a macro, so every FMI
+//! name can be found as written; each is a line or two over `host::with` and `Instance`, where
+//! the logic is written once.
 #![allow(non_snake_case, clippy::missing_safety_doc)] // FMI's names; FMI 3.0 is the contract
 
 use std::ffi::{c_char, c_void, CStr, CString};

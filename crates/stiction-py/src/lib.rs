@@ -226,6 +226,15 @@ fn table_values<'a>(data: &'a PyReadonlyArray2<'_, f64>, names: usize) -> PyResu
         .map_err(|_| PyValueError::new_err("data must be a C-contiguous float64 array"))
 }
 
+/// An I/O error as Python's OSError (errno, message, file name), as `open` raises it.
+fn os_error(e: std::io::Error, path: &str) -> PyErr {
+    PyOSError::new_err((
+        e.raw_os_error().unwrap_or(0),
+        e.to_string(),
+        path.to_string(),
+    ))
+}
+
 /// Writes `data` (rows × names) as an MSL-style CSV; `integer` marks mode and flag columns.
 #[pyfunction]
 fn write_csv(
@@ -240,18 +249,14 @@ fn write_csv(
         let file = std::fs::File::create(path)?;
         stiction_core::write_csv(file, &names, &integer, values)
     })
-    .map_err(|e| {
-        PyOSError::new_err((
-            e.raw_os_error().unwrap_or(0),
-            e.to_string(),
-            path.to_string(),
-        ))
-    })
+    .map_err(|e| os_error(e, path))
 }
 
 /// Writes `data` (rows × names, `time` first) and `parameters` (name, description, value) as a
 /// Dymola/OpenModelica result file (MATLAB v4).
 #[pyfunction]
+// Alike in shape to write_csv (the arguments of a file writer); what they share is
+// `table_values` and `os_error`.
 fn write_mat(
     py: Python<'_>,
     path: &str,
@@ -273,13 +278,7 @@ fn write_mat(
         let file = std::fs::File::create(path)?;
         stiction_core::write_mat(file, &names, &descriptions, values, &params)
     })
-    .map_err(|e| {
-        PyOSError::new_err((
-            e.raw_os_error().unwrap_or(0),
-            e.to_string(),
-            path.to_string(),
-        ))
-    })
+    .map_err(|e| os_error(e, path))
 }
 
 /// Simulates a model given as TOML text; `overrides` replace `[experiment]` settings.

@@ -316,6 +316,8 @@ impl Topology {
     }
 
     /// One heat node per set of connected heat ports.
+    // Not merged with the mechanical nodes above: those also join rigid pairs, fix grounds and
+    // resolve supports; heat nodes only number the sets.
     fn heat_nodes(&mut self, sets: &mut Sets) {
         let mut heat_of_root: HashMap<usize, usize> = HashMap::new();
         self.heat_node = vec![None; self.ports.len()];

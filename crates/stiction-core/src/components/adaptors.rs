@@ -142,6 +142,7 @@ impl Component for AngleToTorque {
     }
 }
 
+// Alike in shape to `torque_to_angle` (two flags, each MSL's own declaration).
 fn angle_to_torque(p: &Params) -> ModelResult<Box<dyn Component>> {
     Ok(Box::new(AngleToTorque {
         use_w: p.boolean(ATT_USE_W, true)?,

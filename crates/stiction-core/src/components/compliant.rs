@@ -103,49 +103,57 @@ impl Component for Compliant {
     }
 }
 
-fn spring(p: &Params) -> ModelResult<Box<dyn Component>> {
-    Ok(Box::new(Compliant {
-        c: p.at_least("c", p.real("c [N.m/rad] Spring constant", 1e5)?, 0.0)?,
-        d: 0.0,
-        phi_rel0: p.real("phi_rel0 [rad] Unstretched spring angle", 0.0)?,
-        phi_rel: p.init(PHI_REL, 0.0)?,
-        w_rel: InitValue {
+/// A Spring, Damper or SpringDamper, its parameters read in MSL's order. A spring alone has
+/// no `w_rel` to start (a free guess) and no heat port.
+fn linear(p: &Params, has_spring: bool, has_damper: bool) -> ModelResult<Box<dyn Component>> {
+    let c = if has_spring {
+        p.at_least("c", p.real("c [N.m/rad] Spring constant", 1e5)?, 0.0)?
+    } else {
+        0.0
+    };
+    let d = if has_damper {
+        p.at_least("d", p.real("d [N.m.s/rad] Damping constant", 0.0)?, 0.0)?
+    } else {
+        0.0
+    };
+    let phi_rel0 = if has_spring {
+        p.real("phi_rel0 [rad] Unstretched spring angle", 0.0)?
+    } else {
+        0.0
+    };
+    let phi_rel = p.init(PHI_REL, 0.0)?;
+    let (w_rel, use_heat_port) = if has_damper {
+        (p.init(W_REL, 0.0)?, p.boolean(USE_HEAT_PORT, false)?)
+    } else {
+        let guess = InitValue {
             start: 0.0,
             fixed: false,
-        },
-        has_damper: false,
-        has_spring: true,
-        use_heat_port: false,
+        };
+        (guess, false)
+    };
+    Ok(Box::new(Compliant {
+        c,
+        d,
+        phi_rel0,
+        phi_rel,
+        w_rel,
+        has_damper,
+        has_spring,
+        use_heat_port,
         backlash: None,
     }))
+}
+
+fn spring(p: &Params) -> ModelResult<Box<dyn Component>> {
+    linear(p, true, false)
 }
 
 fn damper(p: &Params) -> ModelResult<Box<dyn Component>> {
-    Ok(Box::new(Compliant {
-        c: 0.0,
-        d: p.at_least("d", p.real("d [N.m.s/rad] Damping constant", 0.0)?, 0.0)?,
-        phi_rel0: 0.0,
-        phi_rel: p.init(PHI_REL, 0.0)?,
-        w_rel: p.init(W_REL, 0.0)?,
-        has_damper: true,
-        has_spring: false,
-        use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
-        backlash: None,
-    }))
+    linear(p, false, true)
 }
 
 fn spring_damper(p: &Params) -> ModelResult<Box<dyn Component>> {
-    Ok(Box::new(Compliant {
-        c: p.at_least("c", p.real("c [N.m/rad] Spring constant", 1e5)?, 0.0)?,
-        d: p.at_least("d", p.real("d [N.m.s/rad] Damping constant", 0.0)?, 0.0)?,
-        phi_rel0: p.real("phi_rel0 [rad] Unstretched spring angle", 0.0)?,
-        phi_rel: p.init(PHI_REL, 0.0)?,
-        w_rel: p.init(W_REL, 0.0)?,
-        has_damper: true,
-        has_spring: true,
-        use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
-        backlash: None,
-    }))
+    linear(p, true, true)
 }
 
 fn elasto_backlash(p: &Params) -> ModelResult<Box<dyn Component>> {

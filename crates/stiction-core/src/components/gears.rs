@@ -7,6 +7,8 @@ use crate::error::ModelResult;
 use crate::model::Params;
 use crate::system::{Builder, Out, Rel};
 
+// The two-flange components (IdealGear, LossyGear, Brake) declare their ports alike in
+// shape; each adds its own (signal, heat), so there is no one shape to share.
 struct IdealGear {
     ratio: f64,
     use_support: bool,
@@ -39,12 +41,17 @@ impl Component for IdealGear {
     }
 }
 
-fn ideal_gear(p: &Params) -> ModelResult<Box<dyn Component>> {
+/// The transmission ratio of a gear (IdealGear, LossyGear): not zero.
+pub fn gear_ratio(p: &Params) -> ModelResult<f64> {
     let ratio = p.real(
         "ratio [1] Transmission ratio flange_a.phi/flange_b.phi",
         1.0,
     )?;
-    let ratio = p.nonzero("ratio", ratio)?;
+    p.nonzero("ratio", ratio)
+}
+
+fn ideal_gear(p: &Params) -> ModelResult<Box<dyn Component>> {
+    let ratio = gear_ratio(p)?;
     Ok(Box::new(IdealGear {
         ratio,
         use_support: p.boolean(USE_SUPPORT, false)?,
@@ -90,6 +97,7 @@ fn ideal_planetary(p: &Params) -> ModelResult<Box<dyn Component>> {
     Ok(Box::new(IdealPlanetary { ratio }))
 }
 
+// Registries are alike in shape in every family: one line per type.
 pub const REGISTRY: &[Entry] = &[
     Entry::new(
         "IdealGear",

@@ -7,6 +7,14 @@ use crate::model::{InitValue, Params};
 use crate::system::{Builder, Out};
 use crate::thermal::{Conductance, Link};
 
+/// The ports of a component with one heat port, `port`.
+fn one_port() -> Ports {
+    Ports {
+        heat: vec!["port"],
+        ..Ports::default()
+    }
+}
+
 struct HeatCapacitor {
     c: f64,
     t: InitValue,
@@ -14,10 +22,7 @@ struct HeatCapacitor {
 
 impl Component for HeatCapacitor {
     fn ports(&self) -> Ports {
-        Ports {
-            heat: vec!["port"],
-            ..Ports::default()
-        }
+        one_port()
     }
 
     fn build(&self, b: &mut Builder) -> ModelResult<()> {
@@ -68,16 +73,14 @@ impl Component for Conductor {
     }
 }
 
+// Alike in shape to HeatCapacitor (one heat port); the port list is `one_port`.
 struct FixedTemperature {
     t: f64,
 }
 
 impl Component for FixedTemperature {
     fn ports(&self) -> Ports {
-        Ports {
-            heat: vec!["port"],
-            ..Ports::default()
-        }
+        one_port()
     }
 
     fn build(&self, b: &mut Builder) -> ModelResult<()> {
@@ -134,6 +137,7 @@ fn fixed_temperature_celsius(p: &Params) -> ModelResult<Box<dyn Component>> {
     Ok(Box::new(FixedTemperature { t }))
 }
 
+// Registries are alike in shape in every family: one line per type.
 pub const REGISTRY: &[Entry] = &[
     Entry::new(
         "HeatCapacitor",

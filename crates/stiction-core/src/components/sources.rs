@@ -239,28 +239,36 @@ fn w_nominal(p: &Params) -> ModelResult<f64> {
     p.positive("w_nominal", p.required("w_nominal [rad/s] Nominal speed")?)
 }
 
-fn linear(p: &Params) -> ModelResult<Box<dyn Component>> {
-    let kind = Kind::Linear {
-        tau_nominal: p.required("tau_nominal [N.m] Nominal torque (negative: acting as load)")?,
-        direction: p.boolean(
-            "TorqueDirection true: same direction of torque in both directions of rotation",
-            true,
-        )?,
-        w_nominal: w_nominal(p)?,
+/// The linear or the quadratic speed-dependent torque: the same parameters, in the order MSL
+/// declares them (`tau_nominal`, `TorqueDirection`, `w_nominal`).
+fn speed_dependent(p: &Params, quadratic: bool) -> ModelResult<Box<dyn Component>> {
+    let tau_nominal = p.required("tau_nominal [N.m] Nominal torque (negative: acting as load)")?;
+    let direction = p.boolean(
+        "TorqueDirection true: same direction of torque in both directions of rotation",
+        true,
+    )?;
+    let w_nominal = w_nominal(p)?;
+    let kind = match quadratic {
+        false => Kind::Linear {
+            tau_nominal,
+            direction,
+            w_nominal,
+        },
+        true => Kind::Quadratic {
+            tau_nominal,
+            direction,
+            w_nominal,
+        },
     };
     source(p, kind, false, vec![])
 }
 
+fn linear(p: &Params) -> ModelResult<Box<dyn Component>> {
+    speed_dependent(p, false)
+}
+
 fn quadratic(p: &Params) -> ModelResult<Box<dyn Component>> {
-    let kind = Kind::Quadratic {
-        tau_nominal: p.required("tau_nominal [N.m] Nominal torque (negative: acting as load)")?,
-        direction: p.boolean(
-            "TorqueDirection true: same direction of torque in both directions of rotation",
-            true,
-        )?,
-        w_nominal: w_nominal(p)?,
-    };
-    source(p, kind, false, vec![])
+    speed_dependent(p, true)
 }
 
 fn sign(p: &Params) -> ModelResult<Box<dyn Component>> {
@@ -327,6 +335,8 @@ impl Component for ConstantSpeed {
         b.output("tau", Out::ConstraintTau(k, -1.0));
         b.output("phi", Out::Angle(rel.clone()));
         b.output("w", Out::Speed(rel));
+        // Alike in shape to `Source::build` (flange and support outputs), over a constraint's
+        // multiplier instead of a law's torque.
         b.flange("flange", nf, Some(Out::ConstraintTau(k, 1.0)))?;
         if self.use_support {
             b.flange("support", ns, Some(Out::ConstraintTau(k, -1.0)))?;

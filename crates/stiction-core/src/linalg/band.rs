@@ -15,6 +15,7 @@ pub struct BandLu;
 /// padding follow the last so that the rows step k works on (`k ..< k + kl`, the window) are
 /// always there; `refactor` saves and restores windows to resume an elimination midway.
 #[derive(Debug, Clone)]
+// Alike in shape only to other field lists (the duplicate finder pairs plain structs).
 pub(super) struct Banded {
     pub n: usize,
     pub kl: usize,

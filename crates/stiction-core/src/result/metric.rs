@@ -126,6 +126,7 @@ const FUNCTIONS: &str = "final, max, min, integral, mean, time_of, events";
 
 /// `x`, or `x op number`.
 fn condition(arg: &str) -> Result<(&str, Cmp, f64), String> {
+    // A table of pairs, alike in shape to the output lists of the components.
     for (op, cmp) in [
         ("<=", Cmp::Le),
         (">=", Cmp::Ge),

@@ -94,6 +94,7 @@ impl Stepper {
     /// Restarts the integrator at (t, self.x); with `rewind`, t lies in the last step and the
     /// integrator is first taken back there, otherwise (the "auto" change of method,
     /// between two steps) it starts there.
+    // Alike in shape only (the signature of every method over the solver), not in logic.
     pub fn restart_at<'a, S>(
         &mut self,
         solver: &mut S,
@@ -199,6 +200,7 @@ impl Stepper {
 
     /// Sets model input `k` at the current time: the integrator goes back to `now` (a pending
     /// step is discarded), and the new value acts from there through an event.
+    // Alike in shape only (the signature of every method over the solver), not in logic.
     pub fn set_input<'a, S>(
         &mut self,
         solver: &mut S,

@@ -68,6 +68,7 @@ impl Stepper {
     }
 
     /// Records the grid points in (last recorded, limit] (or up to but excluding `limit`).
+    // Alike in shape only (the signature of every method over the solver), not in logic.
     pub(super) fn emit_grid<'a, S>(
         &mut self,
         solver: &S,
@@ -170,6 +171,7 @@ impl Stepper {
     /// Records the grid points up to `target` while a step is processed only that far, leaving
     /// out one that coincides with the `event` ahead (its two event rows will stand for it, as
     /// when the step is processed at once).
+    // Alike in shape only (the signature of every method over the solver), not in logic.
     pub(super) fn emit_grid_before<'a, S>(
         &mut self,
         solver: &S,

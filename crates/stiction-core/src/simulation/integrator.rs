@@ -190,6 +190,8 @@ pub fn problem(
         guard.evaluated_at(t, x);
     });
     let ph = phase.clone();
+    // Not merged with `rhs` above: each closure borrows the fields of the phase it uses (the
+    // Jacobian product needs its probe and the f0 cache besides).
     let jac_vec: JacFn = Box::new(move |x, _p, t, v, y| {
         let mut guard = ph.borrow_mut();
         let Phase {

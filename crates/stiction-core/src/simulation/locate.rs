@@ -15,6 +15,7 @@ use crate::switching::element::{INDICATORS, NEVER};
 
 impl Stepper {
     /// The indicator `i` at time t on the dense output of the last step.
+    // Alike in shape only (the signature of every method over the solver), not in logic.
     pub(super) fn indicator_at<'a, S>(
         &mut self,
         solver: &S,

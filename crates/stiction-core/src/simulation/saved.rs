@@ -33,6 +33,7 @@ pub struct InputChange {
 
 /// The whole state of a run at its current time: enough to continue from it later.
 #[derive(Debug, Clone, PartialEq)]
+// Alike in shape to `Trajectory` (a struct of documented vectors), not the same data.
 pub struct SimState {
     /// Every input event from the start to now, in order.
     pub inputs: Vec<InputChange>,

@@ -167,6 +167,7 @@ impl Stepper {
 
     /// Backward-difference rates at every sample (forward at the step's start, which the dense
     /// output does not reach behind) for the indicators without an analytic one.
+    // Alike in shape only (the signature of every method over the solver), not in logic.
     fn difference_rates<'a, S>(
         &mut self,
         solver: &S,

@@ -212,6 +212,7 @@ impl Stepper {
     /// dropped), the left row with the old parameters, `sys` takes over, the event iteration,
     /// the right row, the integrator restarted. Returns the number of rows recorded with the
     /// old parameters.
+    // Alike in shape only (the signature of every method over the solver), not in logic.
     fn retune<'a, S>(
         &mut self,
         solver: &mut S,

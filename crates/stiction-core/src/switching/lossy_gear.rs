@@ -37,6 +37,7 @@ pub struct LossyGearElem {
 /// The relations of the LossyGear's Boolean equations, each `g > 0` with hysteresis (see
 /// `relation`): `sa > tauLossMax_p`, `sa < tauLossMin_m`, `w_a > 0`, `w_a < 0` and
 /// `tau_eta ≥ 0` (`tau_etaPos`, the driving side). Their indices in a `RelationSet`:
+// Alike in shape to the friction logic's `relation_index`: each element's own relations.
 pub mod relation_index {
     pub const SA_ABOVE_MAX_P: usize = 0;
     pub const SA_BELOW_MIN_M: usize = 1;

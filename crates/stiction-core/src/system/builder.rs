@@ -196,23 +196,23 @@ impl Builder {
     }
 
     pub fn init_angle(&mut self, rel: Rel, value: InitValue, variable: &str) {
-        let variable = format!("{}.{variable}", self.name());
-        self.sys.init_phi.push(InitEq {
-            rel,
-            value,
-            variable,
-            constraint: false,
-        });
+        let eq = self.start_value(rel, value, variable);
+        self.sys.init_phi.push(eq);
     }
 
     pub fn init_speed(&mut self, rel: Rel, value: InitValue, variable: &str) {
-        let variable = format!("{}.{variable}", self.name());
-        self.sys.init_w.push(InitEq {
+        let eq = self.start_value(rel, value, variable);
+        self.sys.init_w.push(eq);
+    }
+
+    /// The start-value equation of this component's `variable`.
+    fn start_value(&self, rel: Rel, value: InitValue, variable: &str) -> InitEq {
+        InitEq {
             rel,
             value,
-            variable,
+            variable: format!("{}.{variable}", self.name()),
             constraint: false,
-        });
+        }
     }
 
     /// A gear's kinematic row `row = 0` holds from the start, for angles and speeds.

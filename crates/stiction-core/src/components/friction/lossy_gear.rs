@@ -9,6 +9,7 @@
 
 use super::super::{heat_port, with_support, Component, Entry, Ports};
 use crate::components::decl::{USE_HEAT_PORT, USE_SUPPORT};
+use crate::components::gears::gear_ratio;
 use crate::error::ModelResult;
 use crate::lookup_table::Table1D;
 use crate::model::Params;
@@ -16,6 +17,7 @@ use crate::switching::lossy_gear::{tbf_a, LossyGearElem};
 use crate::system::outputs::SwitchVar as GearVar;
 use crate::system::{Builder, Out, Rel};
 
+// Ports alike in shape to IdealGear and Brake (see gears.rs).
 struct LossyGear {
     ratio: f64,
     table: Vec<Vec<f64>>,
@@ -114,11 +116,7 @@ impl Component for LossyGear {
 }
 
 fn lossy_gear(p: &Params) -> ModelResult<Box<dyn Component>> {
-    let ratio = p.real(
-        "ratio [1] Transmission ratio flange_a.phi/flange_b.phi",
-        1.0,
-    )?;
-    let ratio = p.nonzero("ratio", ratio)?;
+    let ratio = gear_ratio(p)?;
     let table = p.matrix(
         "lossTable [rad/s, 1, 1, N.m, N.m] Rows [abs(w_a), eta_mf1, eta_mf2, tau_bf1, tau_bf2]",
         5,

@@ -98,6 +98,7 @@ fn friction_outputs(
 }
 
 /// Brake and BearingFriction: friction between a shaft and its support.
+// Ports alike in shape to IdealGear and LossyGear (see gears.rs).
 struct Brake {
     p: FrictionParams,
     use_support: bool,

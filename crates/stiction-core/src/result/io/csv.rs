@@ -5,6 +5,8 @@
 
 use std::io::{self, Write};
 
+use super::check_shape;
+
 /// Writes `rows × names.len()` values (row-major `table`) as CSV; `integer[c]` marks columns
 /// written as integers when a value is integral (modes, Boolean flags).
 pub fn write_csv<W: Write>(
@@ -14,12 +16,7 @@ pub fn write_csv<W: Write>(
     table: &[f64],
 ) -> io::Result<()> {
     let width = names.len();
-    if width == 0 || integer.len() != width || !table.len().is_multiple_of(width) {
-        return Err(io::Error::new(
-            io::ErrorKind::InvalidInput,
-            "table shape does not match the names",
-        ));
-    }
+    check_shape(width, integer.len(), table.len())?;
     let mut out = io::BufWriter::with_capacity(1 << 20, out);
     let header: Vec<String> = names
         .iter()

@@ -9,6 +9,8 @@
 
 use std::io::{self, Write};
 
+use super::check_shape;
+
 const TEXT: i32 = 51; // little-endian IEEE, uint8 characters, text matrix
 const INT32: i32 = 20;
 const DOUBLE: i32 = 0;
@@ -21,6 +23,7 @@ pub struct Parameter {
 }
 
 /// Writes a result: `names[0]` must be `time`; `table` is row-major `rows × names.len()`.
+// Alike in shape to `write_csv` (a file writer's arguments); the shape check is shared.
 pub fn write_mat<W: Write>(
     out: W,
     names: &[String],
@@ -29,12 +32,7 @@ pub fn write_mat<W: Write>(
     parameters: &[Parameter],
 ) -> io::Result<()> {
     let width = names.len();
-    if width == 0 || descriptions.len() != width || !table.len().is_multiple_of(width) {
-        return Err(io::Error::new(
-            io::ErrorKind::InvalidInput,
-            "table shape does not match the names",
-        ));
-    }
+    check_shape(width, descriptions.len(), table.len())?;
     let rows = table.len() / width;
     let mut out = io::BufWriter::with_capacity(1 << 20, out);
     let aclass = ["Atrajectory", "1.1", "", "binTrans"];

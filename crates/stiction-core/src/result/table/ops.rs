@@ -66,6 +66,7 @@ impl Array {
     #[inline]
     pub(super) fn of(self, ws: &Workspace) -> &[f64] {
         match self {
+            // One arm per array: alike in shape, each a different field.
             Array::Phi => &ws.phi,
             Array::W => &ws.w,
             Array::A => &ws.a,

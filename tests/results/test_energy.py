@@ -170,6 +170,19 @@ def test_the_audit_names_an_element_whose_balance_does_not_close() -> None:
     assert "spring is off by" in str(EnergyAudit([good, off]))
 
 
+def test_the_summary_names_the_element_that_fails_not_the_largest_residual() -> None:
+    """Issue 29: the summary said "worst brake, 3.19e-08 W" (the largest residual, within its
+    bound) while the clutch delivered energy; it names the clutch first."""
+    from stiction.results.audit import ElementBalance, EnergyAudit
+
+    brake = ElementBalance("brake", 3.19e-8, 1e3, 10.0, True, 0.0, 5.0, 5.0)
+    clutch = ElementBalance("clutch", 1e-12, 1e3, 10.0, True, -50.0, -22.6e6, -22.6e6)
+    summary = str(EnergyAudit([brake, clutch], span=10.0))
+    assert summary.splitlines()[0] == "energy audit DOES NOT CLOSE: clutch fails"
+    assert "clutch delivered 2.26e+07 J" in summary and "brake" not in summary
+    assert str(EnergyAudit([brake], span=10.0)).startswith("energy audit closes: largest residual brake")
+
+
 def test_a_withheld_power_is_judged_against_the_torque_times_the_slip_bound() -> None:
     """A one-way clutch's withheld power (tau·w_rel while MSL's lossPower is 0) closes while
     its slip is within ``slip_bound`` and is reported beyond it."""

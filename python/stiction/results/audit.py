@@ -122,17 +122,22 @@ class EnergyAudit:
 
         return pd.DataFrame([vars(e) for e in self.elements]).set_index("component")
 
+    def failures(self, tolerance: float = DEFAULT_TOLERANCE) -> list[str]:
+        """One line per element that fails, worst first: a passive element that delivered
+        energy, then a balance that does not close; empty when the audit passes."""
+        delivering = sorted(self.delivering(tolerance), key=lambda e: e.dissipated)
+        unclosed = sorted(self.open(tolerance), key=lambda e: -max(e.residual, e.withheld))
+        return [
+            *(f"{e.component} delivered {-e.dissipated:.3g} J (a passive element)" for e in delivering),
+            *(f"{e.component} is off by {max(e.residual, e.withheld):.3g} W" for e in unclosed),
+        ]
+
     def __str__(self) -> str:
         worst = self.worst
         if worst is None:
             return "energy audit: no component with flanges"
-        state = "closes" if self.ok() else "DOES NOT CLOSE"
-        lines = [
-            f"energy audit {state}: worst {worst.component}, {worst.residual:.3g} W of {self.scale:.3g} W",
-            *(f"  {e.component} is off by {max(e.residual, e.withheld):.3g} W" for e in self.open()),
-            *(f"  {e.component} delivered {-e.dissipated:.3g} J" for e in self.delivering()),
-        ]
-        return "\n".join(lines)
-
-    def __repr__(self) -> str:
-        return f"<EnergyAudit {len(self.elements)} elements; {str(self).splitlines()[0]}>"
+        failures = self.failures()
+        if failures:  # name the elements that fail, not the largest residual (issue 29)
+            first = failures[0].split(" ", 1)[0]
+            return "\n".join([f"energy audit DOES NOT CLOSE: {first} fails", *(f"  {f}" for f in failures)])
+        return f"energy audit closes: largest residual {worst.component}, {worst.residual:.3g} W of {self.scale:.3g} W"

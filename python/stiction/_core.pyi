@@ -1,9 +1,31 @@
 """Typed interface of the compiled engine (Rust, PyO3); stiction.model is its face."""
 
-from typing import Any, TypedDict
+from typing import Any, TypedDict, final
 
 import numpy as np
 import numpy.typing as npt
+
+__all__ = [
+    "CancelHandle",
+    "CompiledModel",
+    "ModelError",
+    "RawResult",
+    "Simulation",
+    "SimulationError",
+    "State",
+    "catalogue",
+    "check",
+    "check_parameters",
+    "check_signal",
+    "experiment",
+    "initialization",
+    "parse_toml",
+    "simulate",
+    "time_event_sources",
+    "tube",
+    "write_csv",
+    "write_mat",
+]
 
 class ModelError(ValueError):
     """A model is invalid; the message names the component and the parameter or port."""
@@ -11,7 +33,7 @@ class ModelError(ValueError):
 class SimulationError(RuntimeError):
     """A valid model could not be simulated (singular system, no consistent mode, ...)."""
 
-class ParameterInfo(TypedDict):
+class _ParameterInfo(TypedDict):
     name: str
     kind: str
     default: Any
@@ -20,14 +42,15 @@ class ParameterInfo(TypedDict):
     description: str
     range: str | None
 
-class TypeInfo(TypedDict):
+class _TypeInfo(TypedDict):
     name: str
     msl_class: str
     description: str
-    parameters: list[ParameterInfo]
+    parameters: list[_ParameterInfo]
     ports: list[tuple[str, str, str | None]]
     variables: list[tuple[str, str]]
 
+@final
 class RawResult:
     """One run: states on the output grid and both sides of every event.
 
@@ -52,6 +75,10 @@ class RawResult:
     def is_direct(self, name: str) -> bool:
         """Whether a variable is read from the states without evaluating the system (an angle,
         a speed, a mode, a flag); any other is a column of ``table()``."""
+    def metric(self, text: str) -> float:
+        """A metric of this run (``max(J1.w)``, ``time_of(clutch2.locked)``, ...), as a sweep computes it."""
+    def audit(self) -> list[dict[str, Any]]:
+        """The energy audit per element: one dict of ``ElementBalance``'s fields per component with flanges."""
 
 def simulate(
     model_toml: str, base_dir: str = ".", overrides: dict[str, float] | None = None, solver: str | None = None
@@ -85,9 +112,10 @@ def check(model_toml: str, base_dir: str = ".", motion: bool = True) -> None:
     """Validate a model without running it (with ``motion``: also that every shaft's motion is
     determined); raises ModelError."""
 
-def catalogue() -> list[TypeInfo]:
+def catalogue() -> list[_TypeInfo]:
     """Every component type: MSL class, parameters, ports (name, kind, enabling Boolean), variables."""
 
+@final
 class State:
     """A saved simulation state (opaque; restore it with ``Simulation.set_state``).
 
@@ -127,3 +155,78 @@ def check_signal(
     """One signal against the tube around its reference: ``(max_excess, worst_time,
     points_outside, x, y)``; max_excess in tube half-heights (0.0 when every point is inside, inf
     for a NaN), worst_time None when every point is inside."""
+
+def write_csv(path: str, names: list[str], integer: list[bool], data: npt.NDArray[np.float64]) -> None:
+    """Write ``data`` (rows x names, C-contiguous) as an MSL-style CSV; ``integer`` marks mode
+    and flag columns. OSError as ``open`` raises it."""
+
+def write_mat(
+    path: str,
+    names: list[str],
+    descriptions: list[str],
+    data: npt.NDArray[np.float64],
+    parameters: list[tuple[str, str, float]],
+) -> None:
+    """Write ``data`` (rows x names, ``time`` first) and ``parameters`` (name, description, value)
+    as a Dymola/OpenModelica result file (MATLAB v4)."""
+
+@final
+class CancelHandle:
+    """Cancels a running ``Simulation`` from any thread."""
+
+    def cancel(self) -> None: ...
+
+@final
+class Simulation:
+    """A run advanced in pieces (``advance_to``), driven through its inputs and parameters."""
+
+    def __new__(
+        cls,
+        model_toml: str,
+        base_dir: str = ".",
+        overrides: dict[str, float] | None = None,
+        solver: str | None = None,
+    ) -> Simulation: ...
+    @property
+    def time(self) -> float: ...
+    @property
+    def stop_time(self) -> float: ...
+    @property
+    def finished(self) -> bool: ...
+    def advance_to(self, t: float) -> None: ...
+    def inputs(self) -> list[tuple[str, float]]: ...
+    def set_input(self, name: str, value: float) -> None: ...
+    def set_parameters(self, values: dict[str, Any]) -> None: ...
+    def names(self) -> list[str]: ...
+    def values(self) -> list[float]: ...
+    def get(self, name: str) -> float: ...
+    def cancel_handle(self) -> CancelHandle: ...
+    def state(self) -> State: ...
+    def set_state(self, state: State) -> None: ...
+    def reset(self) -> None: ...
+    def result(self) -> RawResult: ...
+
+@final
+class CompiledModel:
+    """A model compiled once; variants with other values are one build each."""
+
+    def __new__(cls, model_toml: str, base_dir: str = ".") -> CompiledModel: ...
+    def parameter_names(self) -> list[str]:
+        """Every name a variant may set: ``component.parameter``, then the experiment settings."""
+    def grid(self) -> list[float]:
+        """The output grid's times (where sweep trajectories are kept)."""
+    def variant(self, values: dict[str, Any] | None = None) -> CompiledModel:
+        """A variant with these overrides (each checked now, naming component and parameter)."""
+    def simulate(self, record_all: bool = False) -> RawResult: ...
+    def check_plan(self, metrics: list[str], outputs: list[str]) -> None:
+        """Checks metrics and outputs before a sweep (ModelError naming the bad one)."""
+    def sweep(
+        self,
+        variants: dict[str, list[Any]] | list[dict[str, Any]],
+        metrics: list[str],
+        outputs: list[str],
+        workers: int | None = None,
+    ) -> tuple[
+        npt.NDArray[np.float64], list[npt.NDArray[np.float64]], list[str | None], npt.NDArray[np.float64]
+    ]:
+        """``(metrics, trajectories, errors, wall_s)`` of every variant, run on ``workers`` threads."""

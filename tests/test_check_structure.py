@@ -101,3 +101,14 @@ def test_docs_listing_another_order_fail(tmp_path: Path) -> None:
     done = check(write(tmp_path, {**GOOD, **docs}))
     assert done.returncode == 1
     assert "docs/architecture.md lists the layers as ['model', 'error']" in done.stdout
+
+
+def test_an_import_loop_in_another_crate_fails(tmp_path: Path) -> None:
+    fmi = {
+        "crates/stiction-fmi/src/lib.rs": "mod instance;\nmod serial;\n",
+        "crates/stiction-fmi/src/instance.rs": "use crate::serial::to_bytes;\npub struct Snapshot;\n",
+        "crates/stiction-fmi/src/serial.rs": "use crate::instance::Snapshot;\npub fn to_bytes() {}\n",
+    }
+    done = check(write(tmp_path, {**GOOD, **fmi}))
+    assert done.returncode == 1
+    assert "stiction-fmi: import cycle between top-level modules: instance ↔ serial" in done.stdout

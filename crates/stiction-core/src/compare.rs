@@ -226,14 +226,65 @@ fn half_sizes(t_ref: &[f64], y_ref: &[f64], tol: f64, floor: f64) -> (f64, f64) 
 }
 
 /// (min, max) of the reference curve over the window `[ti − X, ti + X]`: the reference points
-/// in it and the curve at its ends (interpolated); NaN if a NaN is among them. A window holds
-/// about 2·tol of the rows, so a plain scan is cheap.
-fn window(t_ref: &[f64], y_ref: &[f64], ti: f64, x_half: f64) -> (f64, f64) {
+/// in it and the curve at its ends (interpolated); NaN if a NaN is among them.
+fn window(reference: &mut Extrema, t_ref: &[f64], ti: f64, x_half: f64) -> (f64, f64) {
+    let y_ref = reference.y;
     let (start, stop) = (ti - x_half, ti + x_half);
     let first = t_ref.partition_point(|&v| v < start);
     let end = t_ref.partition_point(|&v| v <= stop).max(first);
     let ends = [interp(start, t_ref, y_ref), interp(stop, t_ref, y_ref)];
-    ends.iter().chain(&y_ref[first..end]).fold(EMPTY, extend)
+    let inside = reference.of(first..end);
+    ends.iter().fold(inside, extend)
+}
+
+/// (min, max) of runs of the reference values, NaN-propagating as `extend`. A window holds
+/// about 2·tol of the rows: a short run is scanned; for long ones (a loose tolerance) the
+/// extrema of every run of 2^k values are kept (a sparse table, levels built as far as a query
+/// needs), so a run costs two lookups, as Python's sparse table did.
+struct Extrema<'a> {
+    y: &'a [f64],
+    /// `levels[k - 1][i]`: (min, max) of `y[i..i + 2^k]`.
+    levels: Vec<Vec<(f64, f64)>>,
+}
+
+impl<'a> Extrema<'a> {
+    /// Runs up to this long are scanned.
+    const SCAN: usize = 64;
+
+    fn new(y: &'a [f64]) -> Self {
+        Self {
+            y,
+            levels: Vec::new(),
+        }
+    }
+
+    fn of(&mut self, run: std::ops::Range<usize>) -> (f64, f64) {
+        let n = run.len();
+        if n <= Self::SCAN {
+            return self.y[run].iter().fold(EMPTY, extend);
+        }
+        let k = n.ilog2() as usize; // 2^k <= n < 2^(k+1)
+        while self.levels.len() < k {
+            let next = match self.levels.last() {
+                None => (self.y.windows(2))
+                    .map(|w| extend(extend(EMPTY, &w[0]), &w[1]))
+                    .collect(),
+                Some(below) => {
+                    let half = 1 << self.levels.len();
+                    let pairs = below.iter().zip(&below[half..]);
+                    pairs.map(|(&a, &b)| both(a, b)).collect()
+                }
+            };
+            self.levels.push(next);
+        }
+        let level = &self.levels[k - 1];
+        both(level[run.start], level[run.end - (1 << k)])
+    }
+}
+
+/// The extrema of two sets from theirs (a NaN in either wins).
+fn both(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
+    extend(extend(a, &b.0), &b.1)
 }
 
 /// Checks that each side has as many values as times and the reference has rows.
@@ -263,8 +314,9 @@ pub fn tube(
     check_lengths(t_ref, &[("reference", t_ref, y_ref)])?;
     let (x_half, y_half) = half_sizes(t_ref, y_ref, tol, floor);
     let (mut lower, mut upper) = (Vec::with_capacity(t.len()), Vec::with_capacity(t.len()));
+    let mut reference = Extrema::new(y_ref);
     for &ti in t {
-        let (lo, hi) = window(t_ref, y_ref, ti, x_half);
+        let (lo, hi) = window(&mut reference, t_ref, ti, x_half);
         lower.push(lo - y_half);
         upper.push(hi + y_half);
     }
@@ -294,8 +346,9 @@ pub fn check_signal(
         y_half,
         ..Default::default()
     };
+    let mut reference = Extrema::new(y_ref);
     for (&ti, &yi) in t.iter().zip(y) {
-        let (lo, hi) = window(t_ref, y_ref, ti, x_half);
+        let (lo, hi) = window(&mut reference, t_ref, ti, x_half);
         let (below, above) = ((lo - y_half) - yi, yi - (hi + y_half));
         let e = extend((below, below), &above).1 / y_half;
         let excess = if e.is_nan() { f64::INFINITY } else { e };
@@ -417,5 +470,28 @@ mod tests {
         assert_eq!((out.max_excess, out.worst_time), (f64::INFINITY, Some(1.5)));
         let short = check_signal((&t_ref, &y_ref), (&t, &y[..3]), 1e-2, 0.0);
         assert!(short.is_err());
+    }
+
+    /// Long runs through the sparse table give what a scan gives, NaN included.
+    #[test]
+    fn long_runs_equal_a_scan() {
+        let mut state = 12345u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut y: Vec<f64> = (0..700).map(|_| next() * 2.0 - 1.0).collect();
+        y[500] = f64::NAN;
+        let mut table = Extrema::new(&y);
+        for _ in 0..2000 {
+            let (a, b) = ((next() * 700.0) as usize, (next() * 701.0) as usize);
+            let run = a.min(b)..a.max(b);
+            let scan = y[run.clone()].iter().fold(EMPTY, extend);
+            let got = table.of(run.clone());
+            let same = |u: f64, v: f64| u.to_bits() == v.to_bits() || (u.is_nan() && v.is_nan());
+            assert!(same(got.0, scan.0) && same(got.1, scan.1), "{run:?}");
+        }
     }
 }

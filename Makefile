@@ -7,7 +7,7 @@ EXAMPLE ?= examples/msl/CoupledClutches.toml
 # what the demo plots: speeds on one axes, the clutch modes on another
 DEMO_SIGNALS ?= J1.w+J2.w+J3.w+J4.w,clutch1.mode+clutch2.mode+clutch3.mode
 
-.PHONY: setup demo test test-fast test-rust test-python lint docs bench bench-io bench-fmu bench-scaling bench-sweep bench-stiff bench-interrupt soak clean
+.PHONY: fmu-windows setup demo test test-fast test-rust test-python lint docs bench bench-io bench-fmu bench-scaling bench-sweep bench-stiff bench-interrupt soak clean
 
 setup:
 	@test -x $(PY) || python3 -m venv $(VENV)
@@ -46,6 +46,10 @@ lint: setup
 	cargo clippy --release --all-targets -- -D warnings
 	$(VENV)/bin/ruff check python tests scripts docs examples
 	$(VENV)/bin/ruff format --check python tests scripts docs examples
+	@# the Python package's layers and the one way in for optional packages (.importlinter)
+	$(VENV)/bin/lint-imports --no-cache
+	@# the compiled module against its stub (run outside the tree: stubtest imports by name)
+	cd /tmp && $(CURDIR)/$(PY) -m mypy.stubtest stiction._core
 
 # The documentation site in docs/_build/html: runs every example into the gallery and the
 # tutorial's script; any warning (a broken example, a stale name, a bad docstring) fails it.
@@ -62,6 +66,15 @@ bench: setup
 
 clean:
 	rm -rf $(VENV) $(OUT) target docs/_build docs/_generated
+
+# The FMU runtime for Windows x86-64, cross-compiled (docs/fmu.md, "Platforms"): every FMU
+# exported afterwards carries it beside the Linux one. Not part of `test`: the Rust target is a
+# download (rustup), the linker Debian's MinGW-w64.
+fmu-windows:
+	rustup target add x86_64-pc-windows-gnu
+	command -v x86_64-w64-mingw32-gcc >/dev/null || apt-get install -y gcc-mingw-w64-x86-64
+	CARGO_TARGET_DIR=target/cross CARGO_TARGET_X86_64_PC_WINDOWS_GNU_LINKER=x86_64-w64-mingw32-gcc \
+		cargo build --release -p stiction-fmi --target x86_64-pc-windows-gnu
 
 # Modelica import and result-file speed (issue 11): prints numbers, asserts nothing
 bench-io: setup

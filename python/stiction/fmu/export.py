@@ -1,7 +1,8 @@
 """FMU export: a model as an FMI 2.0 or 3.0 Co-Simulation FMU that any FMI importer runs.
 
 The FMU holds ``modelDescription.xml``, the runtime library (``crates/stiction-fmi``, a C-ABI
-build of the engine: no Python in the importer's process) in ``binaries/<platform>/`` and, in
+build of the engine: no Python in the importer's process) in ``binaries/<platform>/`` (this
+platform's, and every other platform's that is built: ``make fmu-windows``) and, in
 ``resources/``, the model file and the table that maps value references to names. Inputs are
 the model's declared inputs; outputs are the chosen variables; parameters are the Real and
 Boolean parameters of the components with their MSL names, and the tables given in the model
@@ -35,7 +36,7 @@ from stiction.fmu import description as fmu_xml
 if TYPE_CHECKING:
     from stiction.model.model import Model
 
-__all__ = ["export_fmu", "runtime_library"]
+__all__ = ["export_fmu", "other_runtimes", "runtime_library"]
 
 LIBRARY = {"linux": "libstiction_fmi.so", "darwin": "libstiction_fmi.dylib", "win32": "stiction_fmi.dll"}
 # binaries/ folder names of FMI 2.0 and FMI 3.0, and the library suffix
@@ -101,6 +102,36 @@ def runtime_library() -> Path:
         f"the FMU runtime ({name}) is not built: run `make setup` "
         "(or `cargo build --release -p stiction-fmi`)"
     )
+
+
+# The Rust target of each platform's runtime: `make fmu-windows` cross-builds the Windows one.
+RUST_TARGET = {
+    "linux": "x86_64-unknown-linux-gnu",
+    "darwin": "x86_64-apple-darwin",
+    "win32": "x86_64-pc-windows-gnu",
+}
+
+
+def other_runtimes() -> dict[str, Path]:
+    """Runtimes built for other platforms, by platform (``win32``): an FMU carries them beside
+    this platform's, so one file runs on each. Found next to this platform's runtime in the
+    package, or in the build tree (``target/<rust target>/release``, ``target/cross/...``)."""
+    package = Path(__file__).resolve().parents[1]
+    target = package.parents[1] / "target"
+    found = {}
+    for plat, name in LIBRARY.items():
+        if plat == sys.platform:
+            continue
+        triple = RUST_TARGET[plat]
+        for path in (
+            package / name,
+            target / triple / "release" / name,
+            target / "cross" / triple / "release" / name,
+        ):
+            if path.is_file():
+                found[plat] = path
+                break
+    return found
 
 
 def _platform(fmi_version: int) -> tuple[str, str]:
@@ -261,6 +292,9 @@ def export_fmu(
     with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as z:
         z.writestr("modelDescription.xml", write(model.name, exp, variables, ident, guid))
         z.write(library, f"binaries/{folder}/{ident}{ext}")
+        for plat, other in other_runtimes().items():
+            fmi2, fmi3, other_ext = PLATFORM[plat]
+            z.write(other, f"binaries/{fmi2 if fmi_version == 2 else fmi3}/{ident}{other_ext}")
         z.writestr("resources/model.toml", text)
         z.writestr("resources/variables.tsv", variable_table(variables, guid))
         for name in _data_files(model, tomllib.loads(text).get("components", {})):

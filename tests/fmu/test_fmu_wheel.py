@@ -1,6 +1,7 @@
 """The FMU runtime ships inside the wheel: built with maturin, installed into a fresh virtual
 environment (its dependencies borrowed from this one, so no network), it exports an FMU that
-FMPy runs — no Rust toolchain and no build tree involved on that side."""
+FMPy runs — no Rust toolchain and no build tree involved on that side; and `stiction bench`
+finds its default models in the installed package, not in a checkout."""
 
 from __future__ import annotations
 
@@ -25,6 +26,12 @@ assert str(runtime_library()).startswith({env!r}), runtime_library()
 m = st.Model.load({model!r})
 out = fmpy.simulate_fmu(str(m.to_fmu("cc.fmu", outputs=["J1.w"])), stop_time=1.5, output_interval=0.01)
 ref = m.simulate()
+from click.testing import CliRunner
+from stiction.cli import main
+from stiction.cli.bench import BENCH_MODELS
+assert str(BENCH_MODELS).startswith({env!r}), BENCH_MODELS  # bench's models ship in the wheel
+bench = CliRunner().invoke(main, ["bench", "--repeat", "1", "--warmup", "0"])
+assert bench.exit_code == 0 and "HeatLosses" in bench.output, bench.output
 print(np.max(np.abs(out["J1.w"] - np.interp(out["time"], ref.time, ref["J1.w"]))))
 """
 

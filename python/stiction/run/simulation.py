@@ -142,7 +142,9 @@ class CancelHandle:
 
 
 class SimulationState:
-    """A saved state of a ``Simulation`` (opaque)."""
+    """A saved state of a ``Simulation``: opaque, and bytes when asked (``to_bytes``), the
+    core's one format, which an FMU's serialized state holds too. It pickles as those bytes,
+    under its public name ``stiction.SimulationState``."""
 
     def __init__(self, core: object) -> None:
         self._core = core
@@ -151,3 +153,20 @@ class SimulationState:
     def time(self) -> float:
         """The time the state was saved at."""
         return float(self._core.time)  # type: ignore[attr-defined]
+
+    def to_bytes(self) -> bytes:
+        """The state as bytes: versioned, every value's bit pattern, a checksum."""
+        return bytes(self._core.to_bytes())  # type: ignore[attr-defined]
+
+    @classmethod
+    def from_bytes(cls, data: bytes) -> SimulationState:
+        """A state from ``to_bytes``; ``UsageError`` saying what is wrong with other bytes."""
+        from stiction import _core
+
+        return cls(_core.State.from_bytes(bytes(data)))
+
+    def __reduce__(self) -> tuple[object, tuple[bytes]]:
+        return (SimulationState.from_bytes, (self.to_bytes(),))
+
+
+SimulationState.__module__ = "stiction"  # pickles by its public name, wherever it lives

@@ -2,8 +2,10 @@
 
 ``from stiction._deps import pandas as pd`` costs nothing: the name is a stand-in that imports
 pandas on first use, so ``import stiction`` and a plain run never pay for pandas, Arrow,
-matplotlib or Dask. A package that is not installed raises ``ModuleNotFoundError`` naming the
-extra that brings it (``pip install 'stiction[parquet]'``) at that first use. Everything else
+matplotlib, Dask or pint. A package that is not installed raises ``ModuleNotFoundError`` naming the
+extra that brings it (``pip install 'stiction[parquet]'``) at that first use. pint (quantities
+with units, ``"20 kN"``) is a dependency, not an extra; it loads here too because its unit
+registry costs a quarter of a second, paid only by a model that writes a unit. Everything else
 of stiction imports these packages only here (``make lint`` checks it with import-linter);
 type annotations may still import them under ``TYPE_CHECKING``.
 """
@@ -14,13 +16,13 @@ import importlib
 from types import ModuleType
 from typing import Any
 
-__all__ = ["distributed", "figure", "pandas", "parquet", "pyarrow", "pyplot", "ticker", "tqdm_auto"]
+__all__ = ["distributed", "figure", "pandas", "parquet", "pint", "pyarrow", "pyplot", "ticker", "tqdm_auto"]
 
 
 class _LazyModule(ModuleType):
     """A module imported on first attribute access; a missing one names its extra."""
 
-    def __init__(self, name: str, extra: str) -> None:
+    def __init__(self, name: str, extra: str | None) -> None:
         super().__init__(name)
         self._extra = extra
         self._module: ModuleType | None = None
@@ -30,9 +32,9 @@ class _LazyModule(ModuleType):
             try:
                 self._module = importlib.import_module(self.__name__)
             except ModuleNotFoundError as exc:
+                install = f"stiction[{self._extra}]" if self._extra else self.__name__
                 raise ModuleNotFoundError(
-                    f"{self.__name__} is needed for this: pip install 'stiction[{self._extra}]'",
-                    name=exc.name,
+                    f"{self.__name__} is needed for this: pip install '{install}'", name=exc.name
                 ) from None
         return self._module
 
@@ -51,3 +53,4 @@ ticker: Any = _LazyModule("matplotlib.ticker", "plot")
 figure: Any = _LazyModule("matplotlib.figure", "plot")
 distributed: Any = _LazyModule("distributed", "dask")
 tqdm_auto: Any = _LazyModule("tqdm.auto", "sweep")
+pint: Any = _LazyModule("pint", None)  # a dependency: a missing one is a broken install

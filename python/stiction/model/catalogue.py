@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from stiction.errors import ModelError
+from stiction.model.quantities import display_unit, in_display_unit
 
 __all__ = ["ComponentInfo", "Parameter", "Port", "Variable", "catalogue", "describe", "show_value", "unit_of"]
 
@@ -94,8 +95,8 @@ class Parameter:
     @property
     def annotation(self) -> str:
         """The Python type the parameter takes, as an annotation string."""
-        if self.kind.startswith("table"):
-            return "Sequence[Sequence[float]]"
+        if self.kind.startswith("table"):  # a cell may be a quantity or an expression (text)
+            return "Sequence[Sequence[float | str]]"
         if self.choices:
             return "Literal[" + ", ".join(repr(c) for c in self.choices) + "]"
         return _ANNOTATIONS[self.kind]
@@ -113,14 +114,19 @@ class Parameter:
         return f"must be {self.range}, got {shown}"
 
     def summary(self) -> str:
-        """``Real [N], required, >= 0`` — kind, unit, default and range on one line."""
-        parts = [self.kind + (f" [{self.unit}]" if self.unit else "")]
+        """``Real [N], required, >= 0`` — kind, unit, default and range on one line; MSL's
+        display unit with the unit and the default (``[K] (displayUnit degC) … 293.15 (20 degC)``)."""
+        shown = display_unit(self.unit)
+        parts = [self.kind + _unit_text(self.unit)]
         if self.required:
             parts.append("required")
         elif self.default is not None:
             what = {"start value": "start (a guess unless given)", "Boolean start value": "start"}
             what = what.get(self.kind, "default")
-            parts.append(f"{what} {show_value(self.default)}")
+            default = show_value(self.default)
+            if shown and isinstance(self.default, float) and self.default:
+                default += f" ({show_value(round(in_display_unit(self.default, self.unit)[0], 10))} {shown})"
+            parts.append(f"{what} {default}")
         if self.range:
             parts.append(self.range)
         return ", ".join(parts)
@@ -177,7 +183,7 @@ class ComponentInfo:
             lines.append("")
         lines += ["Ports", "-----"] + [f"- {p.summary()}" for p in self.ports] + [""]
         lines += ["Variables", "---------"]
-        lines += [f"- {v.name} [{v.unit}]" if v.unit else f"- {v.name}" for v in self.variables]
+        lines += [f"- {v.name}{_unit_text(v.unit)}" for v in self.variables]
         return "\n".join(lines)
 
     def signature(self) -> inspect.Signature:
@@ -197,6 +203,12 @@ class ComponentInfo:
 
     def __str__(self) -> str:
         return f"{self.name}\n{'=' * len(self.name)}\n{self.docstring()}"
+
+
+def _unit_text(unit: str) -> str:
+    """`` [K] (displayUnit degC)``, `` [N.m]`` or nothing."""
+    shown = display_unit(unit)
+    return f" [{unit}] (displayUnit {shown})" if shown else f" [{unit}]" if unit else ""
 
 
 def _suggest(word: str, choices: list[str]) -> str:

@@ -3,7 +3,9 @@
 A component here is data, not behaviour; the engine owns the physics. Values are
 normalised at construction to what a TOML model file can hold (numbers, booleans,
 strings, arrays, small tables), so a model built in Python and one loaded from a file
-are indistinguishable.
+are indistinguishable. A quantity with a unit (``J="2 kg*m^2"``, ``w="1500 rpm"``) is
+converted then to the parameter's SI unit, and a table's expression cells are kept as
+expression text (``in_si``; ``stiction.model.quantities``, ``stiction.model.parameters``).
 """
 
 from __future__ import annotations
@@ -16,6 +18,8 @@ from typing import Any, ClassVar, Union
 
 from stiction.errors import ModelError
 from stiction.model.catalogue import ComponentInfo, Parameter, catalogue
+from stiction.model.parameters import table_cells
+from stiction.model.quantities import to_si
 
 __all__ = [
     "FACTORIES",
@@ -25,6 +29,8 @@ __all__ = [
     "StartValue",
     "component_types",
     "factory",
+    "in_si",
+    "si_overrides",
 ]
 
 StartValue = Mapping[str, float | bool]
@@ -53,6 +59,8 @@ START_VARIABLES = frozenset(
 )
 
 _PLAIN = frozenset((float, int, bool, str))
+_NUMBERS = frozenset((float, int, bool))
+type_of = type  # `type` is Component.__init__'s argument (MSL's word): the builtin by another name
 
 
 def normalize_value(value: Any, where: str) -> Any:
@@ -111,7 +119,9 @@ class Component:
                 raise ModelError(f"{type}: parameter names must be non-empty strings, got {key!r}")
             if key == "type":
                 raise ModelError(f"{type}: 'type' is reserved and cannot be a parameter name")
-            self.params[key] = normalize_value(value, f"{type}: parameter '{key}'")
+            where = f"{type}: parameter '{key}'"
+            value = normalize_value(value, where)
+            self.params[key] = value if type_of(value) in _NUMBERS else in_si(type, key, value, where)
         _check_ranges(type, self.params)
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
@@ -128,6 +138,58 @@ class Component:
             args = ", ".join(f"{k}={v!r}" for k, v in self.params.items())
             return f"{type(self).__name__}({args})"
         return f"Component({self.type!r}, {self.params!r})"
+
+
+@functools.cache
+def _parameters_of(type_name: str) -> dict[str, Parameter]:
+    """Every parameter of a type by name (none for an unknown type or a source tree without the
+    compiled engine)."""
+    try:
+        info = catalogue().get(type_name)
+    except ModuleNotFoundError as exc:
+        if exc.name != "stiction._core":
+            raise
+        return {}
+    return {p.name: p for p in info.parameters} if info else {}
+
+
+def in_si(type_name: str, key: str, value: Any, where: str) -> Any:
+    """A parameter value with its quantities in the parameter's unit: ``"20 kN"`` → 20000.0
+    for a Real in N, ``"1500 rpm"`` (or ``{"start": "1500 rpm", …}``) for a start value in
+    rad/s; a table's cells (quantities in their column's unit, expressions kept as text, see
+    ``table_cells``). Other values, and those of unknown parameters, are returned as they are."""
+    param = _parameters_of(type_name).get(key)
+    if param is None:
+        return value
+    if param.kind in ("Real", "start value") and type_of(value) is str:
+        return to_si(value, param.unit, where)
+    if param.kind == "start value" and isinstance(value, dict) and type_of(value.get("start")) is str:
+        return {**value, "start": to_si(value["start"], param.unit, f"{where}: start")}
+    if param.kind.startswith("table"):
+        return table_cells(value, [u.strip() for u in param.unit.split(",")], where)
+    return value
+
+
+# experiment settings that are times: a sweep may vary StopTime = "2 min"
+_EXPERIMENT_UNITS = {"StartTime": "s", "StopTime": "s", "Interval": "s", "timeout": "s"}
+
+
+def si_overrides(components: Mapping[str, Component], overrides: Mapping[str, Any]) -> dict[str, Any]:
+    """A run's overrides (``{"J1.w": "100 rpm", "brake.mu_pos": [[0, "mu0"]]}``) with their
+    quantities converted as ``in_si`` converts a component's; top-level parameters are left to
+    ``evaluate_parameters`` (it reads ``"100 rpm"`` there too), numbers as they are."""
+    out = dict(overrides)
+    for name, value in overrides.items():
+        if type_of(value) in _NUMBERS:
+            continue
+        comp_name, _, key = name.partition(".")
+        comp = components.get(comp_name) if key else None
+        if comp is not None:
+            where = f"component '{comp_name}' ({comp.type}): parameter '{key}'"
+            out[name] = in_si(comp.type, key, normalize_value(value, where), where)
+        elif name in _EXPERIMENT_UNITS and type_of(value) is str:
+            out[name] = to_si(value, _EXPERIMENT_UNITS[name], f"experiment: '{name}'")
+    return out
 
 
 @functools.cache

@@ -11,6 +11,8 @@ ParamValue: TypeAlias = bool | int | float | str | Sequence[Any] | Mapping[str, 
 FACTORIES: dict[str, type[Component]]
 
 def normalize_value(value: Any, where: str) -> Any: ...
+def in_si(type_name: str, key: str, value: Any, where: str) -> Any: ...
+def si_overrides(components: Mapping[str, Component], overrides: Mapping[str, Any]) -> dict[str, Any]: ...
 def component_types() -> dict[str, dict[str, list[str]]] | None: ...
 def factory(type_name: str) -> type[Component]: ...
 def _make_class(info: ComponentInfo) -> type[Component]: ...
@@ -79,7 +81,7 @@ class Inertia(_Factory):
     ----------
     J : Real [kg.m2], default 1, >= 0
         Moment of inertia
-    phi : start value [rad], start (a guess unless given) 0
+    phi : start value [rad] (displayUnit deg), start (a guess unless given) 0
         Absolute rotation angle of the component (start value)
     w : start value [rad/s], start (a guess unless given) 0
         Absolute angular velocity of the component (start value)
@@ -91,12 +93,12 @@ class Inertia(_Factory):
 
     Variables
     ---------
-    - phi [rad]
+    - phi [rad] (displayUnit deg)
     - w [rad/s]
     - a [rad/s2]
-    - flange_a.phi [rad]
+    - flange_a.phi [rad] (displayUnit deg)
     - flange_a.tau [N.m]
-    - flange_b.phi [rad]
+    - flange_b.phi [rad] (displayUnit deg)
     - flange_b.tau [N.m]
     """
 
@@ -115,7 +117,7 @@ class Fixed(_Factory):
 
     Parameters
     ----------
-    phi0 : Real [rad], default 0
+    phi0 : Real [rad] (displayUnit deg), default 0
         Fixed offset angle of the housing
 
     Ports
@@ -124,7 +126,7 @@ class Fixed(_Factory):
 
     Variables
     ---------
-    - flange.phi [rad]
+    - flange.phi [rad] (displayUnit deg)
     - flange.tau [N.m]
     """
 
@@ -143,9 +145,9 @@ class Spring(_Factory):
     ----------
     c : Real [N.m/rad], default 100000, >= 0
         Spring constant
-    phi_rel0 : Real [rad], default 0
+    phi_rel0 : Real [rad] (displayUnit deg), default 0
         Unstretched spring angle
-    phi_rel : start value [rad], start (a guess unless given) 0
+    phi_rel : start value [rad] (displayUnit deg), start (a guess unless given) 0
         Relative rotation angle flange_b.phi - flange_a.phi (start value)
 
     Ports
@@ -155,11 +157,11 @@ class Spring(_Factory):
 
     Variables
     ---------
-    - phi_rel [rad]
+    - phi_rel [rad] (displayUnit deg)
     - tau [N.m]
-    - flange_a.phi [rad]
+    - flange_a.phi [rad] (displayUnit deg)
     - flange_a.tau [N.m]
-    - flange_b.phi [rad]
+    - flange_b.phi [rad] (displayUnit deg)
     - flange_b.tau [N.m]
     """
 
@@ -180,7 +182,7 @@ class Damper(_Factory):
     ----------
     d : Real [N.m.s/rad], default 0, >= 0
         Damping constant
-    phi_rel : start value [rad], start (a guess unless given) 0
+    phi_rel : start value [rad] (displayUnit deg), start (a guess unless given) 0
         Relative rotation angle flange_b.phi - flange_a.phi (start value)
     w_rel : start value [rad/s], start (a guess unless given) 0
         Relative angular velocity der(phi_rel) (start value)
@@ -195,16 +197,16 @@ class Damper(_Factory):
 
     Variables
     ---------
-    - phi_rel [rad]
+    - phi_rel [rad] (displayUnit deg)
     - w_rel [rad/s]
     - a_rel [rad/s2]
     - tau [N.m]
     - lossPower [W]
-    - flange_a.phi [rad]
+    - flange_a.phi [rad] (displayUnit deg)
     - flange_a.tau [N.m]
-    - flange_b.phi [rad]
+    - flange_b.phi [rad] (displayUnit deg)
     - flange_b.tau [N.m]
-    - heatPort.T [K]
+    - heatPort.T [K] (displayUnit degC)
     - heatPort.Q_flow [W]
     """
 
@@ -228,9 +230,9 @@ class SpringDamper(_Factory):
         Spring constant
     d : Real [N.m.s/rad], default 0, >= 0
         Damping constant
-    phi_rel0 : Real [rad], default 0
+    phi_rel0 : Real [rad] (displayUnit deg), default 0
         Unstretched spring angle
-    phi_rel : start value [rad], start (a guess unless given) 0
+    phi_rel : start value [rad] (displayUnit deg), start (a guess unless given) 0
         Relative rotation angle flange_b.phi - flange_a.phi (start value)
     w_rel : start value [rad/s], start (a guess unless given) 0
         Relative angular velocity der(phi_rel) (start value)
@@ -245,18 +247,18 @@ class SpringDamper(_Factory):
 
     Variables
     ---------
-    - phi_rel [rad]
+    - phi_rel [rad] (displayUnit deg)
     - w_rel [rad/s]
     - a_rel [rad/s2]
     - tau [N.m]
     - tau_c [N.m]
     - tau_d [N.m]
     - lossPower [W]
-    - flange_a.phi [rad]
+    - flange_a.phi [rad] (displayUnit deg)
     - flange_a.tau [N.m]
-    - flange_b.phi [rad]
+    - flange_b.phi [rad] (displayUnit deg)
     - flange_b.tau [N.m]
-    - heatPort.T [K]
+    - heatPort.T [K] (displayUnit degC)
     - heatPort.Q_flow [W]
     """
 
@@ -278,15 +280,15 @@ class ElastoBacklash(_Factory):
 
     Parameters
     ----------
-    b : Real [rad], default 0, >= 0
+    b : Real [rad] (displayUnit deg), default 0, >= 0
         Total backlash
     c : Real [N.m/rad], default 100000, > 0
         Spring constant
     d : Real [N.m.s/rad], default 0, >= 0
         Damping constant
-    phi_rel0 : Real [rad], default 0
+    phi_rel0 : Real [rad] (displayUnit deg), default 0
         Unstretched spring angle
-    phi_rel : start value [rad], start (a guess unless given) 0
+    phi_rel : start value [rad] (displayUnit deg), start (a guess unless given) 0
         Relative rotation angle flange_b.phi - flange_a.phi (start value)
     w_rel : start value [rad/s], start (a guess unless given) 0
         Relative angular velocity der(phi_rel) (start value)
@@ -301,16 +303,16 @@ class ElastoBacklash(_Factory):
 
     Variables
     ---------
-    - phi_rel [rad]
+    - phi_rel [rad] (displayUnit deg)
     - w_rel [rad/s]
     - a_rel [rad/s2]
     - tau [N.m]
     - lossPower [W]
-    - flange_a.phi [rad]
+    - flange_a.phi [rad] (displayUnit deg)
     - flange_a.tau [N.m]
-    - flange_b.phi [rad]
+    - flange_b.phi [rad] (displayUnit deg)
     - flange_b.tau [N.m]
-    - heatPort.T [K]
+    - heatPort.T [K] (displayUnit degC)
     - heatPort.Q_flow [W]
     """
 
@@ -346,13 +348,13 @@ class IdealGear(_Factory):
 
     Variables
     ---------
-    - phi_a [rad]
-    - phi_b [rad]
-    - flange_a.phi [rad]
+    - phi_a [rad] (displayUnit deg)
+    - phi_b [rad] (displayUnit deg)
+    - flange_a.phi [rad] (displayUnit deg)
     - flange_a.tau [N.m]
-    - flange_b.phi [rad]
+    - flange_b.phi [rad] (displayUnit deg)
     - flange_b.tau [N.m]
-    - support.phi [rad]
+    - support.phi [rad] (displayUnit deg)
     - support.tau [N.m]
     """
 
@@ -381,11 +383,11 @@ class IdealPlanetary(_Factory):
 
     Variables
     ---------
-    - sun.phi [rad]
+    - sun.phi [rad] (displayUnit deg)
     - sun.tau [N.m]
-    - carrier.phi [rad]
+    - carrier.phi [rad] (displayUnit deg)
     - carrier.tau [N.m]
-    - ring.phi [rad]
+    - ring.phi [rad] (displayUnit deg)
     - ring.tau [N.m]
     """
 
@@ -414,11 +416,11 @@ class Torque(_Factory):
     Variables
     ---------
     - tau [N.m]
-    - phi [rad]
+    - phi [rad] (displayUnit deg)
     - w [rad/s]
-    - flange.phi [rad]
+    - flange.phi [rad] (displayUnit deg)
     - flange.tau [N.m]
-    - support.phi [rad]
+    - support.phi [rad] (displayUnit deg)
     - support.tau [N.m]
     """
 
@@ -448,11 +450,11 @@ class ConstantTorque(_Factory):
     Variables
     ---------
     - tau [N.m]
-    - phi [rad]
+    - phi [rad] (displayUnit deg)
     - w [rad/s]
-    - flange.phi [rad]
+    - flange.phi [rad] (displayUnit deg)
     - flange.tau [N.m]
-    - support.phi [rad]
+    - support.phi [rad] (displayUnit deg)
     - support.tau [N.m]
     """
 
@@ -487,11 +489,11 @@ class TorqueStep(_Factory):
     Variables
     ---------
     - tau [N.m]
-    - phi [rad]
+    - phi [rad] (displayUnit deg)
     - w [rad/s]
-    - flange.phi [rad]
+    - flange.phi [rad] (displayUnit deg)
     - flange.tau [N.m]
-    - support.phi [rad]
+    - support.phi [rad] (displayUnit deg)
     - support.tau [N.m]
     """
 
@@ -528,11 +530,11 @@ class LinearSpeedDependentTorque(_Factory):
     Variables
     ---------
     - tau [N.m]
-    - phi [rad]
+    - phi [rad] (displayUnit deg)
     - w [rad/s]
-    - flange.phi [rad]
+    - flange.phi [rad] (displayUnit deg)
     - flange.tau [N.m]
-    - support.phi [rad]
+    - support.phi [rad] (displayUnit deg)
     - support.tau [N.m]
     """
 
@@ -569,11 +571,11 @@ class QuadraticSpeedDependentTorque(_Factory):
     Variables
     ---------
     - tau [N.m]
-    - phi [rad]
+    - phi [rad] (displayUnit deg)
     - w [rad/s]
-    - flange.phi [rad]
+    - flange.phi [rad] (displayUnit deg)
     - flange.tau [N.m]
-    - support.phi [rad]
+    - support.phi [rad] (displayUnit deg)
     - support.tau [N.m]
     """
 
@@ -610,11 +612,11 @@ class SignTorque(_Factory):
     Variables
     ---------
     - tau [N.m]
-    - phi [rad]
+    - phi [rad] (displayUnit deg)
     - w [rad/s]
-    - flange.phi [rad]
+    - flange.phi [rad] (displayUnit deg)
     - flange.tau [N.m]
-    - support.phi [rad]
+    - support.phi [rad] (displayUnit deg)
     - support.tau [N.m]
     """
 
@@ -653,11 +655,11 @@ class InverseSpeedDependentTorque(_Factory):
     Variables
     ---------
     - tau [N.m]
-    - phi [rad]
+    - phi [rad] (displayUnit deg)
     - w [rad/s]
-    - flange.phi [rad]
+    - flange.phi [rad] (displayUnit deg)
     - flange.tau [N.m]
-    - support.phi [rad]
+    - support.phi [rad] (displayUnit deg)
     - support.tau [N.m]
     """
 
@@ -680,7 +682,7 @@ class ConstantSpeed(_Factory):
     ----------
     w_fixed : Real [rad/s], required
         Fixed speed of the flange relative to the support
-    phi : start value [rad], start (a guess unless given) 0
+    phi : start value [rad] (displayUnit deg), start (a guess unless given) 0
         Angle of the flange relative to the support (start value)
     useSupport : Boolean, default false
         true: enable the support connector (else the housing is fixed at angle 0)
@@ -693,11 +695,11 @@ class ConstantSpeed(_Factory):
     Variables
     ---------
     - tau [N.m]
-    - phi [rad]
+    - phi [rad] (displayUnit deg)
     - w [rad/s]
-    - flange.phi [rad]
+    - flange.phi [rad] (displayUnit deg)
     - flange.tau [N.m]
-    - support.phi [rad]
+    - support.phi [rad] (displayUnit deg)
     - support.tau [N.m]
     """
 
@@ -729,10 +731,10 @@ class TorqueToAngleAdaptor(_Factory):
     Variables
     ---------
     - tau [N.m]
-    - phi [rad]
+    - phi [rad] (displayUnit deg)
     - w [rad/s]
     - a [rad/s2]
-    - flange.phi [rad]
+    - flange.phi [rad] (displayUnit deg)
     - flange.tau [N.m]
     """
 
@@ -765,10 +767,10 @@ class AngleToTorqueAdaptor(_Factory):
     Variables
     ---------
     - tau [N.m]
-    - phi [rad]
+    - phi [rad] (displayUnit deg)
     - w [rad/s]
     - a [rad/s2]
-    - flange.phi [rad]
+    - flange.phi [rad] (displayUnit deg)
     - flange.tau [N.m]
     """
 
@@ -824,23 +826,23 @@ class Brake(_Factory):
     - mode
     - startForward
     - startBackward
-    - heatPort.T [K]
+    - heatPort.T [K] (displayUnit degC)
     - heatPort.Q_flow [W]
-    - phi [rad]
+    - phi [rad] (displayUnit deg)
     - w [rad/s]
     - a [rad/s2]
-    - flange_a.phi [rad]
+    - flange_a.phi [rad] (displayUnit deg)
     - flange_a.tau [N.m]
-    - flange_b.phi [rad]
+    - flange_b.phi [rad] (displayUnit deg)
     - flange_b.tau [N.m]
-    - support.phi [rad]
+    - support.phi [rad] (displayUnit deg)
     - support.tau [N.m]
     """
 
     def __init__(
         self,
         *,
-        mu_pos: Sequence[Sequence[float]] = ...,
+        mu_pos: Sequence[Sequence[float | str]] = ...,
         peak: float = ...,
         cgeo: float = ...,
         fn_max: float = ...,
@@ -868,7 +870,7 @@ class Clutch(_Factory):
         Relative speed above which a speed jump reverses sliding directly
     useHeatPort : Boolean, default false
         true: enable the heatPort connector (else the loss power goes nowhere)
-    phi_rel : start value [rad], start (a guess unless given) 0
+    phi_rel : start value [rad] (displayUnit deg), start (a guess unless given) 0
         Relative rotation angle flange_b.phi - flange_a.phi (start value)
     w_rel : start value [rad/s], start (a guess unless given) 0
         Relative angular velocity der(phi_rel) (start value)
@@ -895,21 +897,21 @@ class Clutch(_Factory):
     - mode
     - startForward
     - startBackward
-    - heatPort.T [K]
+    - heatPort.T [K] (displayUnit degC)
     - heatPort.Q_flow [W]
-    - phi_rel [rad]
+    - phi_rel [rad] (displayUnit deg)
     - w_rel [rad/s]
     - a_rel [rad/s2]
-    - flange_a.phi [rad]
+    - flange_a.phi [rad] (displayUnit deg)
     - flange_a.tau [N.m]
-    - flange_b.phi [rad]
+    - flange_b.phi [rad] (displayUnit deg)
     - flange_b.tau [N.m]
     """
 
     def __init__(
         self,
         *,
-        mu_pos: Sequence[Sequence[float]] = ...,
+        mu_pos: Sequence[Sequence[float | str]] = ...,
         peak: float = ...,
         cgeo: float = ...,
         fn_max: float = ...,
@@ -955,23 +957,23 @@ class BearingFriction(_Factory):
     - mode
     - startForward
     - startBackward
-    - heatPort.T [K]
+    - heatPort.T [K] (displayUnit degC)
     - heatPort.Q_flow [W]
-    - phi [rad]
+    - phi [rad] (displayUnit deg)
     - w [rad/s]
     - a [rad/s2]
-    - flange_a.phi [rad]
+    - flange_a.phi [rad] (displayUnit deg)
     - flange_a.tau [N.m]
-    - flange_b.phi [rad]
+    - flange_b.phi [rad] (displayUnit deg)
     - flange_b.tau [N.m]
-    - support.phi [rad]
+    - support.phi [rad] (displayUnit deg)
     - support.tau [N.m]
     """
 
     def __init__(
         self,
         *,
-        tau_pos: Sequence[Sequence[float]] = ...,
+        tau_pos: Sequence[Sequence[float | str]] = ...,
         peak: float = ...,
         w_small: float = ...,
         useHeatPort: bool = ...,
@@ -997,7 +999,7 @@ class OneWayClutch(_Factory):
         Relative speed above which a speed jump reverses sliding directly
     useHeatPort : Boolean, default false
         true: enable the heatPort connector (else the loss power goes nowhere)
-    phi_rel : start value [rad], start (a guess unless given) 0
+    phi_rel : start value [rad] (displayUnit deg), start (a guess unless given) 0
         Relative rotation angle flange_b.phi - flange_a.phi (start value)
     w_rel : start value [rad/s], start (a guess unless given) 0
         Relative angular velocity der(phi_rel) (start value)
@@ -1027,21 +1029,21 @@ class OneWayClutch(_Factory):
     - tau0_max [N.m]
     - startForward
     - stuck
-    - heatPort.T [K]
+    - heatPort.T [K] (displayUnit degC)
     - heatPort.Q_flow [W]
-    - phi_rel [rad]
+    - phi_rel [rad] (displayUnit deg)
     - w_rel [rad/s]
     - a_rel [rad/s2]
-    - flange_a.phi [rad]
+    - flange_a.phi [rad] (displayUnit deg)
     - flange_a.tau [N.m]
-    - flange_b.phi [rad]
+    - flange_b.phi [rad] (displayUnit deg)
     - flange_b.tau [N.m]
     """
 
     def __init__(
         self,
         *,
-        mu_pos: Sequence[Sequence[float]] = ...,
+        mu_pos: Sequence[Sequence[float | str]] = ...,
         peak: float = ...,
         cgeo: float = ...,
         fn_max: float = ...,
@@ -1078,8 +1080,8 @@ class LossyGear(_Factory):
 
     Variables
     ---------
-    - phi_a [rad]
-    - phi_b [rad]
+    - phi_a [rad] (displayUnit deg)
+    - phi_b [rad] (displayUnit deg)
     - w_a [rad/s]
     - a_a [rad/s2]
     - sa [N.m]
@@ -1100,13 +1102,13 @@ class LossyGear(_Factory):
     - tau_etaPos
     - tau_aPos
     - ideal
-    - flange_a.phi [rad]
+    - flange_a.phi [rad] (displayUnit deg)
     - flange_a.tau [N.m]
-    - flange_b.phi [rad]
+    - flange_b.phi [rad] (displayUnit deg)
     - flange_b.tau [N.m]
-    - support.phi [rad]
+    - support.phi [rad] (displayUnit deg)
     - support.tau [N.m]
-    - heatPort.T [K]
+    - heatPort.T [K] (displayUnit degC)
     - heatPort.Q_flow [W]
     """
 
@@ -1114,7 +1116,7 @@ class LossyGear(_Factory):
         self,
         *,
         ratio: float = ...,
-        lossTable: Sequence[Sequence[float]] = ...,
+        lossTable: Sequence[Sequence[float | str]] = ...,
         useSupport: bool = ...,
         useHeatPort: bool = ...,
     ) -> None: ...
@@ -1220,7 +1222,7 @@ class Sine(_Factory):
         Amplitude of the sine wave
     f : Real [Hz], default 1
         Frequency of the sine wave
-    phase : Real [rad], default 0
+    phase : Real [rad] (displayUnit deg), default 0
         Phase of the sine wave
     offset : Real [1], default 0
         Offset of the output signal y
@@ -1419,7 +1421,7 @@ class TimeTable(_Factory):
         self,
         *,
         file: str | os.PathLike[str] = ...,
-        table: Sequence[Sequence[float]] = ...,
+        table: Sequence[Sequence[float | str]] = ...,
         extrapolation: Literal["LastTwoPoints", "HoldLastPoint"] = ...,
         offset: float = ...,
         startTime: float = ...,
@@ -1434,7 +1436,7 @@ class HeatCapacitor(_Factory):
     ----------
     C : Real [J/K], required, > 0
         Heat capacity of the element (cp*m)
-    T : start value [K], start (a guess unless given) 293.15
+    T : start value [K] (displayUnit degC), start (a guess unless given) 293.15 (20 degC)
         Temperature of the element (start value)
 
     Ports
@@ -1443,9 +1445,9 @@ class HeatCapacitor(_Factory):
 
     Variables
     ---------
-    - T [K]
+    - T [K] (displayUnit degC)
     - der_T [K/s]
-    - port.T [K]
+    - port.T [K] (displayUnit degC)
     - port.Q_flow [W]
     """
 
@@ -1474,10 +1476,10 @@ class ThermalConductor(_Factory):
     Variables
     ---------
     - Q_flow [W]
-    - dT [K]
-    - port_a.T [K]
+    - dT [K] (displayUnit degC)
+    - port_a.T [K] (displayUnit degC)
     - port_a.Q_flow [W]
-    - port_b.T [K]
+    - port_b.T [K] (displayUnit degC)
     - port_b.Q_flow [W]
     """
 
@@ -1502,10 +1504,10 @@ class Convection(_Factory):
     ---------
     - Gc [W/K]
     - Q_flow [W]
-    - dT [K]
-    - solid.T [K]
+    - dT [K] (displayUnit degC)
+    - solid.T [K] (displayUnit degC)
     - solid.Q_flow [W]
-    - fluid.T [K]
+    - fluid.T [K] (displayUnit degC)
     - fluid.Q_flow [W]
     """
 
@@ -1518,7 +1520,7 @@ class FixedTemperature(_Factory):
 
     Parameters
     ----------
-    T : Real [K], required, > 0
+    T : Real [K] (displayUnit degC), required, > 0
         Fixed temperature at the port
 
     Ports
@@ -1527,7 +1529,7 @@ class FixedTemperature(_Factory):
 
     Variables
     ---------
-    - port.T [K]
+    - port.T [K] (displayUnit degC)
     - port.Q_flow [W]
     """
 

@@ -171,6 +171,8 @@ class Model:
     def set(self, name: str, value: Any) -> Model:
         """Change one parameter, ``m.set("brake.fn_max", 1800.0)``; returns the model.
 
+        A quantity with a unit is converted to the parameter's unit (``"20 kN"`` → 20000.0 N).
+
         The name and the value get the checks a component gets when the model is read:
         unknown names (with suggestions), types, ranges and table shapes — now, not at the
         next run. On an error the model is left unchanged.
@@ -183,7 +185,11 @@ class Model:
             )
         old = self.components[comp_name]
         params = {**old.params, param: value}
-        new = FACTORIES[old.type](**params) if old.type in FACTORIES else Component(old.type, params)
+        try:  # "20 kN" is converted here, to the parameter's unit
+            new = FACTORIES[old.type](**params) if old.type in FACTORIES else Component(old.type, params)
+        except ModelError as exc:
+            detail = str(exc).removeprefix(f"{old.type}: ")
+            raise ModelError(f"component '{comp_name}' ({old.type}): {detail}") from None
         known = component_types()
         allowed = known[old.type]["parameters"] if known and old.type in known else [param]
         if param not in allowed:
@@ -192,8 +198,10 @@ class Model:
                 f"unknown parameter{_did_you_mean(param, allowed)}"
             )
         from stiction import _core
+        from stiction.model.parameters import evaluate_parameters, resolve_params
 
-        text = modelfile.dumps(self.name, {}, [(comp_name, new.type, new.params)], [], {})
+        values = resolve_params(comp_name, new.params, evaluate_parameters(self.parameters))
+        text = modelfile.dumps(self.name, {}, [(comp_name, new.type, values)], [], {})
         _core.check_parameters(text, str(self.base_dir))
         self.components[comp_name] = new
         return self

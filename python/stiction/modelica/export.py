@@ -12,7 +12,7 @@ from stiction.errors import ModelError
 from stiction.expressions.evaluate import format_literal
 from stiction.model.catalogue import catalogue
 from stiction.model.components import START_VARIABLES
-from stiction.model.parameters import is_expr
+from stiction.model.parameters import is_expr, is_table
 from stiction.modelica.names import MSL_CLASSES
 from stiction.modelica.timetable import COMBI_CLASS, time_table_modifiers
 
@@ -121,6 +121,9 @@ def _modifier(key: str, value: Any, is_start: bool) -> str:
         return f"{key}({attrs})"
     if is_start and isinstance(value, (int, float)) and not isinstance(value, bool):
         return f"{key}(start={format_literal(float(value))}, fixed=true)"
+    if is_table(value):  # a cell may be an expression over parameters: [0, mu0; 100, 0.9 * mu0]
+        rows = (", ".join(c if isinstance(c, str) else format_literal(c) for c in row) for row in value)
+        return f"{key}=[{'; '.join(rows)}]"
     try:
         return f"{key}={format_literal(value)}"
     except ValueError as exc:

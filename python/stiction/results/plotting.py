@@ -1,16 +1,18 @@
 """Plots of results with matplotlib, imported only when a plot is asked for.
 
 Figures are built with the object-oriented API (no pyplot), so plotting never switches
-the user's backend and works headless: saving a PNG goes through Agg.
+the user's backend and works headless: saving a PNG goes through Agg. Axes show MSL's
+display units (``displayUnit``): temperatures in degC, angles in deg.
 """
 
 from __future__ import annotations
 
 import os
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from stiction import _deps
+from stiction.model.quantities import in_display_unit
 from stiction.results.io.csv import is_integer_signal
 from stiction.results.modes import mode_name
 
@@ -26,9 +28,14 @@ MODE_LEVELS = (-1, 0, 1, 2)
 
 
 def _label(result: Result, name: str) -> str:
-    """``brake.tau [N.m]``: the name with its unit, when it has one."""
-    unit = result.unit(name)
+    """``brake.tau [N.m]``: the name with its unit (its display unit), when it has one."""
+    unit = in_display_unit(0.0, result.unit(name))[1]
     return f"{name} [{unit}]" if unit else name
+
+
+def _shown(result: Result, name: str) -> Any:
+    """A variable's values in MSL's display unit: temperatures in degC, angles in deg."""
+    return in_display_unit(result[name], result.unit(name))[0]
 
 
 def plot_result(
@@ -56,7 +63,7 @@ def plot_result(
     for axis, group in zip(axes, groups, strict=False):
         for name in group:
             # Event rows repeat the time (left, then right value): jumps are vertical.
-            axis.plot(t, result[name], label=_label(result, name), linewidth=1.2)
+            axis.plot(t, _shown(result, name), label=_label(result, name), linewidth=1.2)
         axis.grid(True, alpha=0.3)
         if all(n.endswith(".mode") for n in group):  # friction modes: named levels
             axis.set_yticks(list(MODE_LEVELS), [mode_name(m) for m in MODE_LEVELS])

@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
+from stiction.model.components import si_overrides
 from stiction.model.parameters import evaluate_parameters, expand_parameters
 from stiction.model.runinfo import RunInfo
 from stiction.results.result import Result
@@ -32,7 +33,7 @@ def simulate(
     all_variables = records_all(record)
     given: dict[str, Any] = {"StartTime": StartTime, "StopTime": StopTime, "Interval": Interval}
     given |= {"Tolerance": Tolerance, "Solver": Solver}
-    overrides = merge_overrides(params, given)
+    overrides = si_overrides(model.components, merge_overrides(params, given))  # "100 rpm"
     text, values = model._text_and_values()
     top = evaluate_parameters(
         {**model.parameters, **{k: overrides[k] for k in model.parameters if k in overrides}}

@@ -13,6 +13,7 @@ from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING
 
 from stiction.errors import UsageError
+from stiction.model.components import si_overrides
 from stiction.model.parameters import evaluate_parameters
 from stiction.model.runinfo import RunInfo
 from stiction.results.result import Result
@@ -37,6 +38,7 @@ class Simulation:
         self._name = model.name
         self._variables = dict(model.variables)
         self._parameters = evaluate_parameters(model.parameters)
+        self._components = dict(model.components)  # their types: "2.5 kN" in set_parameter
         text, base = model.engine_toml(), str(model.base_dir)
         self._core = _core.Simulation(text, base, overrides, Solver)
         self._info = RunInfo(text, base, overrides, Solver, model.types())
@@ -68,7 +70,7 @@ class Simulation:
         """Set a model input from the current time on; a new value is an event now."""
         self._core.set_input(name, float(value))
 
-    def set_parameter(self, name: str, value: float | Sequence[Sequence[float]]) -> None:
+    def set_parameter(self, name: str, value: float | str | Sequence[Sequence[float]]) -> None:
         """Set a tunable parameter (``"brake.fn_max"``) from the current time on.
 
         The change is an event now, as an input's jump is: the row before it has the old
@@ -79,11 +81,12 @@ class Simulation:
         """
         self.set_parameters({name: value})
 
-    def set_parameters(self, values: Mapping[str, float | Sequence[Sequence[float]]]) -> None:
+    def set_parameters(self, values: Mapping[str, float | str | Sequence[Sequence[float]]]) -> None:
         """Set several tunable parameters (``{"brake.fn_max": 200.0, "spring.c": 1e4}``) from
         the current time on, at one event; a table (``lossy.lossTable``) is given whole.
-        Nothing changes if one is refused (see ``set_parameter``)."""
-        self._core.set_parameters(dict(values))
+        Nothing changes if one is refused (see ``set_parameter``). A value may be a quantity,
+        ``"2.5 kN"``, converted to the parameter's unit."""
+        self._core.set_parameters(si_overrides(self._components, dict(values)))
 
     def get(self, name: str) -> float:
         """One variable at the current time, by its MSL name (``"J1.w"``)."""

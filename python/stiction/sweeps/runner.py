@@ -19,8 +19,9 @@ import numpy as np
 
 from stiction import _deps
 from stiction.errors import ModelError
+from stiction.model.components import si_overrides
 from stiction.model.model import Model
-from stiction.model.parameters import expand_parameters
+from stiction.model.parameters import expand_parameters, is_table
 from stiction.run.compiled import CompiledModel
 from stiction.sweeps.result import SweepResult, SweepTable
 from stiction.sweeps.store import PartStore
@@ -45,6 +46,37 @@ def _columns(frame: pandas.DataFrame, rows: np.ndarray) -> dict[str, list[Any]]:
     return {str(name): frame[name].to_numpy()[rows].tolist() for name in frame.columns}
 
 
+def _in_si(model: Model, frame: pandas.DataFrame) -> pandas.DataFrame:
+    """The variants with their quantities in SI (``"100 rpm"`` → 10.47 for ``J1.w``), each
+    column converted once, before any batch; table cells that are expressions are kept as
+    text, evaluated per variant (``_expanded``)."""
+    for name in frame.columns:
+        values = frame[name].tolist()
+        if all(type(v) in (float, int, bool) for v in values):
+            continue
+        converted = [si_overrides(model.components, {str(name): v})[str(name)] for v in values]
+        frame[name] = converted if any(is_table(v) for v in converted) else _numbers(converted)
+    return frame
+
+
+def _numbers(values: list[Any]) -> Any:
+    """A column of numbers as floats (a column of text is left as it is, for the core to name)."""
+    try:
+        return np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        return values
+
+
+def _table_expressions(frame: pandas.DataFrame) -> bool:
+    """Whether a column holds a table with an expression cell (evaluated per variant)."""
+    return any(
+        is_table(v) and any(type(c) is str for row in v for c in row)
+        for name in frame.columns
+        if frame[name].dtype == object
+        for v in frame[name]
+    )
+
+
 def _expanded(model: Model, columns: dict[str, list[Any]]) -> list[dict[str, Any]]:
     """Variants of top-level parameters (``T2``) as the component values they imply."""
     names = list(columns)
@@ -63,7 +95,7 @@ class _Batch:
 
 
 def _batches(frame: pandas.DataFrame, todo: np.ndarray, size: int, model: Any) -> Iterator[_Batch]:
-    expand = isinstance(model, Model) and bool(model.parameters)
+    expand = isinstance(model, Model) and (bool(model.parameters) or _table_expressions(frame))
     for start in range(0, len(todo), size):
         rows = todo[start : start + size]
         columns = _columns(frame, rows)
@@ -109,7 +141,9 @@ def sweep(
     """Run every variant of ``model`` and compute ``metrics`` (see the module docstring).
 
     ``variants``: a DataFrame or a dict of equal-length columns, one per override name
-    (a top-level parameter of ``model``, e.g. ``T2``, recomputes what depends on it).
+    (a top-level parameter of ``model``, e.g. ``T2``, recomputes what depends on it; a
+    quantity such as ``"100 rpm"`` is converted to the parameter's unit; a table may have
+    expression cells, ``[[0, "mu0"], [100, "0.9*mu0"]]``).
     ``outputs``: variables kept as trajectories on the output grid. ``workers``: threads
     per process (None: every core locally, one per Dask task; 1: serial). ``client``: a
     ``distributed.Client``. ``out``: a folder for Parquet parts (resumable). ``progress``:
@@ -121,6 +155,7 @@ def sweep(
     described = model if isinstance(model, Model) else Model.loads(compiled.text, compiled.base_dir)
     for name in frame.columns:  # a wrong name is the caller's mistake, not each variant's
         described.check_name(str(name), "sweep")
+    frame = _in_si(described, frame)
     if outputs and any(k in ("StartTime", "StopTime", "Interval") for k in frame.columns):
         raise ModelError(
             "trajectories need one output grid: do not vary StartTime, StopTime or Interval with outputs="

@@ -140,3 +140,11 @@ def test_importing_stiction_does_not_load_pint() -> None:
     code = "import sys, stiction as st; st.Inertia(J=1.0, w=2.0); print('pint' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+def test_a_top_level_quantity_is_exported_as_its_si_number() -> None:
+    m = _flywheel()
+    m.parameters["w0"] = "60 rpm"
+    m.set("J.w", st.expr("w0"))
+    assert "parameter Real w0 = 6.283185307179586;" in m.to_modelica()
+    assert st.Model.from_modelica(m.to_modelica()).simulate()["J.w"][0] == pytest.approx(2 * math.pi)

@@ -86,3 +86,12 @@ def test_modelica_export_and_import_keep_the_expressions() -> None:
     again = st.Model.from_modelica(text)
     assert again["brake"].params["mu_pos"] == [[0.0, "mu0"], [100.0, "0.9 * mu0"]]
     assert "mu_pos = [[0.0, 0.5], [100.0, 0.45]]" in _engine_table(again)
+
+
+def test_a_running_simulation_takes_a_table_with_expression_cells() -> None:
+    m = st.Model.loads(TEXT)
+    sim = m.simulation()
+    sim.advance_to(0.1)
+    sim.set_parameter("brake.mu_pos", [[0, "2*mu0"]])  # mu0 = 0.5: a coefficient of 1
+    sim.advance_to(0.2)
+    assert sim["brake.mu"] == pytest.approx(1.0)

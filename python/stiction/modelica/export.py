@@ -13,6 +13,7 @@ from stiction.expressions.evaluate import format_literal
 from stiction.model.catalogue import catalogue
 from stiction.model.components import START_VARIABLES
 from stiction.model.parameters import is_expr, is_table
+from stiction.model.quantities import is_quantity, si_base
 from stiction.modelica.names import MSL_CLASSES
 from stiction.modelica.timetable import COMBI_CLASS, time_table_modifiers
 
@@ -88,6 +89,8 @@ def _parameter(name: str, value: Any, declared: Mapping[str, Any]) -> str:
     attrs = [
         f"{key}={format_literal(v)}" for key, v in declared.items() if key not in ("type", "description")
     ]
+    if isinstance(value, str) and is_quantity(value):  # "60 rpm": Modelica has the SI number
+        value = si_base(value, f"parameter '{name}'")
     text = value if isinstance(value, str) else format_literal(value)
     line = (
         f"parameter {kind} {name}({', '.join(attrs)}) = {text}"

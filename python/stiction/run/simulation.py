@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 
 from stiction.errors import UsageError
 from stiction.model.components import si_overrides
-from stiction.model.parameters import evaluate_parameters
+from stiction.model.parameters import evaluate_parameters, is_table, resolve_params
 from stiction.model.runinfo import RunInfo
 from stiction.results.result import Result
 
@@ -86,7 +86,12 @@ class Simulation:
         the current time on, at one event; a table (``lossy.lossTable``) is given whole.
         Nothing changes if one is refused (see ``set_parameter``). A value may be a quantity,
         ``"2.5 kN"``, converted to the parameter's unit."""
-        self._core.set_parameters(si_overrides(self._components, dict(values)))
+        values = si_overrides(self._components, dict(values))
+        for name, value in values.items():  # a table with expression cells: this run's values
+            if is_table(value):
+                comp, _, key = name.partition(".")
+                values[name] = resolve_params(comp, {key: value}, self._parameters)[key]
+        self._core.set_parameters(values)
 
     def get(self, name: str) -> float:
         """One variable at the current time, by its MSL name (``"J1.w"``)."""

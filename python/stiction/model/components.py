@@ -140,16 +140,21 @@ class Component:
         return f"Component({self.type!r}, {self.params!r})"
 
 
-@functools.cache
-def _parameters_of(type_name: str) -> dict[str, Parameter]:
-    """Every parameter of a type by name (none for an unknown type or a source tree without the
-    compiled engine)."""
+def _known_types() -> dict[str, ComponentInfo] | None:
+    """The engine's catalogue, or None in a source tree without the compiled engine (a broken
+    build still fails)."""
     try:
-        info = catalogue().get(type_name)
+        return catalogue()
     except ModuleNotFoundError as exc:
         if exc.name != "stiction._core":
             raise
-        return {}
+        return None
+
+
+@functools.cache
+def _parameters_of(type_name: str) -> dict[str, Parameter]:
+    """Every parameter of a type by name (none for an unknown type or without the engine)."""
+    info = (_known_types() or {}).get(type_name)
     return {p.name: p for p in info.parameters} if info else {}
 
 
@@ -194,15 +199,8 @@ def si_overrides(components: Mapping[str, Component], overrides: Mapping[str, An
 
 @functools.cache
 def _ranged_parameters(type_name: str) -> dict[str, Parameter]:
-    """The parameters of a type that have a range, by name (none for an unknown type or a
-    source tree without the compiled engine)."""
-    try:
-        info = catalogue().get(type_name)
-    except ModuleNotFoundError as exc:
-        if exc.name != "stiction._core":
-            raise
-        return {}
-    return {p.name: p for p in info.parameters if p.range is not None} if info else {}
+    """The parameters of a type that have a range, by name."""
+    return {name: p for name, p in _parameters_of(type_name).items() if p.range is not None}
 
 
 def _check_ranges(type_name: str, params: Mapping[str, Any]) -> None:
@@ -239,12 +237,7 @@ def _make_class(info: ComponentInfo) -> type[Component]:
 
 def _make_classes() -> dict[str, type[Component]]:
     """One class per engine type whose name is a Python identifier (not Celsius.…)."""
-    try:
-        known = catalogue()
-    except ModuleNotFoundError as exc:  # a source tree without the compiled engine
-        if exc.name != "stiction._core":
-            raise
-        return {}
+    known = _known_types() or {}
     return {name: _make_class(info) for name, info in known.items() if name.isidentifier()}
 
 
@@ -254,11 +247,8 @@ globals().update(_make_classes())  # Inertia, Brake, …: listed in components.p
 @functools.cache
 def component_types() -> dict[str, dict[str, list[str]]] | None:
     """Give the engine's types with their parameter and port names; None if not built."""
-    try:
-        known = catalogue()
-    except ModuleNotFoundError as exc:
-        if exc.name != "stiction._core":
-            raise
+    known = _known_types()
+    if known is None:
         return None
     return {
         name: {"parameters": [p.name for p in info.parameters], "ports": [p.name for p in info.ports]}

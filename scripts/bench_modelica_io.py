@@ -19,7 +19,7 @@ import time
 from pathlib import Path
 
 import stiction as st
-from stiction import csvio
+from stiction.results.io import csv as csvio
 
 
 def chain_mo(clutches: int, name: str = "Chain") -> str:

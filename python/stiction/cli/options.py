@@ -34,8 +34,10 @@ FILE = click.Path(dir_okay=False, path_type=Path)
 """A file argument or option: a path, never a folder."""
 
 
-def fail(message: str) -> NoReturn:
-    click.echo(f"error: {' '.join(message.split())}", err=True)
+def fail(message: str, *more: str) -> NoReturn:
+    """Each message on one ``error: …`` line on stderr, then exit code 2."""
+    for line in (message, *more):
+        click.echo(f"error: {' '.join(line.split())}", err=True)
     sys.exit(2)
 
 
@@ -53,6 +55,8 @@ def friendly_errors(func: F) -> F:
         try:
             return func(*args, **kwargs)
         except ModelError as exc:
+            if len(getattr(exc, "each", ())) > 1:  # a Modelica file's errors, one a line
+                fail(*str(exc).split("\n"))
             fail(str(exc))
         except OSError as exc:
             if exc.strerror and exc.filename:

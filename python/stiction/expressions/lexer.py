@@ -80,12 +80,47 @@ class Pos:
 
 
 class ModelicaError(ModelError):
-    """Modelica text stiction cannot take; the message starts with ``file:line:column``."""
+    """Modelica text stiction cannot take; the message starts with ``file:line:column``.
+
+    A file with several errors raises one ``ModelicaError`` listing them all, one a line,
+    sorted by place (``ModelicaError.of``): ``pos`` and ``detail`` are the first one's and
+    ``errors`` holds every one as ``(line, column, message)``."""
+
+    REPORTED = 50  # the message lists this many, then "... and N more"
 
     def __init__(self, pos: Pos, message: str) -> None:
         super().__init__(f"{pos}: {message}")
         self.pos = pos
         self.detail = message
+        self._each: list[ModelicaError] | None = None  # of a combined error: all it reports
+
+    @property
+    def each(self) -> list[ModelicaError]:
+        """The single errors this one reports (itself alone, unless combined)."""
+        return self._each or [self]
+
+    @property
+    def errors(self) -> list[tuple[int, int, str]]:
+        """Every error reported, ``(line, column, message)``, in the order of the file."""
+        return [(e.pos.line, e.pos.col, e.detail) for e in self.each]
+
+    @classmethod
+    def of(cls, errors: list[ModelicaError]) -> ModelicaError:
+        """One error reporting all of ``errors`` (one at least), sorted by place, the same
+        error at the same place once; the message names the first first."""
+        unique: dict[tuple[Any, ...], ModelicaError] = {}
+        for error in (one for e in errors for one in e.each):
+            unique.setdefault((*error.pos, error.detail), error)
+        ordered = sorted(unique.values(), key=lambda e: (e.pos.line, e.pos.col))
+        if len(ordered) == 1:
+            return ordered[0]
+        lines = [str(e.args[0]) for e in ordered[: cls.REPORTED]]
+        if len(ordered) > cls.REPORTED:
+            lines.append(f"... and {len(ordered) - cls.REPORTED} more")
+        combined = cls(ordered[0].pos, ordered[0].detail)
+        combined.args = ("\n".join(lines),)
+        combined._each = ordered
+        return combined
 
 
 class _Where(Protocol):

@@ -10,7 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from stiction.expressions.ast import Expr, Ref
-from stiction.expressions.lexer import Pos
+from stiction.expressions.lexer import ModelicaError, Pos
 
 __all__ = ["ClassDef", "Connect", "Declaration", "Import", "Modification", "StoredDefinition"]
 
@@ -38,6 +38,7 @@ class Declaration:
     args: list[Modification] = field(default_factory=list)
     binding: Expr | None = None
     description: str = ""
+    refused: bool = False  # read past an error the parser reported (conditional, array, …)
 
 
 @dataclass
@@ -77,7 +78,9 @@ class ClassDef:
 
 @dataclass
 class StoredDefinition:
-    """A whole file: an optional ``within`` and its classes."""
+    """A whole file: an optional ``within`` and its classes; ``refused``, the constructs the
+    parser reported and read past (reported with the converter's errors)."""
 
     within: str
     classes: list[ClassDef]
+    refused: list[ModelicaError] = field(default_factory=list)

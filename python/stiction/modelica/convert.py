@@ -3,7 +3,10 @@ parameters, turn modifiers into component parameters, connections and the experi
 
 Top-level parameters are evaluated (in any order, cycles refused) and their values put into
 the components; variables with a binding become derived result columns (``Model.variables``).
-Every refusal names the construct at its ``file:line:column``.
+Every refusal names the construct at its ``file:line:column``. The whole model is converted
+and every error collected, with the parser's, into one ModelicaError listing them by place;
+a name whose own error is reported (an unknown class, a parameter that cannot be evaluated, a
+refused declaration) is not reported again where it is used.
 """
 
 from __future__ import annotations
@@ -20,7 +23,7 @@ from stiction.expressions.lexer import ModelicaError, Pos
 from stiction.model.components import START_VARIABLES, Component, component_types
 from stiction.model.modelfile import DECLARATION_KEYS
 from stiction.model.parameters import is_expr, resolve_params
-from stiction.modelica.ast import ClassDef, Declaration, Modification, StoredDefinition
+from stiction.modelica.ast import ClassDef, Connect, Declaration, Modification, StoredDefinition
 from stiction.modelica.names import (
     MSL_CLASSES,
     PARAMETER_RENAMES,
@@ -74,12 +77,25 @@ def select_class(tree: StoredDefinition, wanted: str | None, source: str) -> tup
 
 
 def convert(tree: StoredDefinition, wanted: str | None, source: str, base_dir: str) -> Model:
-    """Build the Model of class ``wanted`` (or the only one) of a parsed file."""
-    cls, enclosing, chain = select_class(tree, wanted, source)
+    """Build the Model of class ``wanted`` (or the only one) of a parsed file; raise one
+    ModelicaError listing every error of the file (the parser's refusals included)."""
+    try:
+        cls, enclosing, chain = select_class(tree, wanted, source)
+    except ModelicaError as exc:
+        raise ModelicaError.of([*tree.refused, exc]) from None
     local = {c.name: f"{enclosing}.{c.name}" if enclosing else c.name for c in _all_classes(tree.classes)}
     imports = [imp for c in chain for imp in c.imports]
     scope = Scope(enclosing, imports, local)
-    return _Converter(cls, scope, base_dir).run()
+    converter = _Converter(cls, scope, base_dir)
+    model = converter.run()
+    errors = [*tree.refused, *converter.errors]
+    if errors:
+        raise ModelicaError.of(errors)
+    return model
+
+
+class _Reported(Exception):
+    """A name whose own error is reported already: what uses it is not checked again."""
 
 
 def _all_classes(classes: list[ClassDef]) -> list[ClassDef]:
@@ -91,7 +107,9 @@ def _all_classes(classes: list[ClassDef]) -> list[ClassDef]:
 
 
 class _Converter:
-    """One model's conversion; each step raises ModelicaError at the construct it refuses."""
+    """One model's conversion. Each step raises ModelicaError at the construct it refuses
+    (or _Reported for a name already refused); ``run`` collects them in ``errors`` and goes on
+    with the next declaration, modifier, connection or variable."""
 
     def __init__(self, cls: ClassDef, scope: Scope, base_dir: str) -> None:
         from stiction.model.model import Model
@@ -106,22 +124,53 @@ class _Converter:
         self.variables: list[Declaration] = []
         self.positions: dict[tuple[str, str], Pos] = {}  # (component, parameter) -> modifier
         self.connected: set[frozenset[str]] = set()
+        self.fed: dict[str, str] = {}  # signal input -> the output connected to it
+        self.errors: list[ModelicaError] = []
+        self.reported: set[str] = set()  # declarations with an error: their uses are not checked
+        self.unchecked: set[str] = set()  # components with a refused value: not the engine's to check
 
     def run(self) -> Model:
+        """The model; what is wrong is in ``errors`` (the model is then incomplete)."""
+        errors = self.errors
         for name, pos in self.cls.extends:
-            if not is_icon(self.scope.resolve(name, pos)):
-                raise ModelicaError(pos, f"unsupported 'extends {name}'; only Modelica.Icons.* is ignored")
+            try:
+                if not is_icon(self.scope.resolve(name, pos)):
+                    raise ModelicaError(
+                        pos, f"unsupported 'extends {name}'; only Modelica.Icons.* is ignored"
+                    )
+            except ModelicaError as exc:
+                errors.append(exc)
         for decl in self.cls.declarations:
-            self.classify(decl)
+            try:
+                self.classify(decl)
+            except ModelicaError as exc:
+                errors.append(exc)
+                self.reported.add(decl.name)
         for name in self.params:
-            self.parameter(name)
-        self.model.parameters = {n: self.model.parameters[n] for n in self.params}  # declared order
+            if name in self.reported:
+                continue
+            try:
+                self.parameter(name)
+            except ModelicaError as exc:
+                errors.append(exc)
+                self.reported.update(self.evaluating)  # each waits for the one that failed
+            except _Reported:
+                self.reported.update(self.evaluating)
+            self.evaluating.clear()
+        parameters = self.model.parameters
+        self.model.parameters = {n: parameters[n] for n in self.params if n in parameters}  # declared order
         for name, (stype, decl) in self.components.items():
             self.component(name, stype, decl)
         for conn in self.cls.connects:
-            self.connect(conn.a, conn.b)
+            self.connect(conn)
         for decl in self.variables:
-            self.variable(decl)
+            try:
+                self.variable(decl)
+            except ModelicaError as exc:
+                errors.append(exc)
+                self.reported.add(decl.name)
+            except _Reported:
+                self.reported.add(decl.name)
         self.experiment()
         self.engine_check()
         return self.model
@@ -130,6 +179,9 @@ class _Converter:
     def classify(self, decl: Declaration) -> None:
         if decl.name in self.params or decl.name in self.components:
             raise ModelicaError(decl.pos, f"'{decl.name}' is declared twice")
+        if decl.refused:  # the parser reported it
+            self.reported.add(decl.name)
+            return
         full = self.scope.resolve(decl.type_name, decl.type_pos)
         if full in _TYPES or is_unit_type(full):
             decl.type_name = full
@@ -237,6 +289,8 @@ class _Converter:
         if ref.subscripts:
             raise ModelicaError(ref.pos, f"subscripted name '{ref.name}[…]' is not supported in a parameter")
         if ref.name in self.params:
+            if ref.name in self.reported:
+                raise _Reported
             return self.parameter(ref.name)
         full = self.scope.resolve(ref.name, ref.pos, "name") if "." in ref.name else ref.name
         if full in CONSTANTS:
@@ -250,23 +304,45 @@ class _Converter:
 
     # --- components -----------------------------------------------------------------------
     def component(self, name: str, stype: str, decl: Declaration) -> None:
+        """The component ``name``; a refused modifier is reported and left out, and the
+        component is then not checked by the engine (its ports still are, by connections)."""
+        errors, before = self.errors, len(self.errors)
         if decl.binding is not None:
-            raise ModelicaError(decl.binding.pos, f"component '{name}' cannot have a binding '= …'")
+            errors.append(ModelicaError(decl.binding.pos, f"component '{name}' cannot have a binding '= …'"))
         params = {}
         for mod in decl.args:
-            key, value = self.modifier(name, stype, mod)
+            try:
+                key, value = self.modifier(name, stype, mod)
+            except ModelicaError as exc:
+                errors.append(exc)
+                continue
+            except _Reported:
+                self.unchecked.add(name)
+                continue
             if key is not None:
                 params[key] = value
                 self.positions[(name, key)] = mod.pos
         if stype == "CombiTimeTable":
-            stype, params = combi_time_table(name, decl, params)
-        try:
-            self.model.components[name] = Component(stype, params)
-        except ModelError as exc:  # a value out of its range: placed at its modifier
-            param = re.search(r"parameter '(\w+)'", str(exc))
-            pos = self.positions.get((name, param.group(1))) if param else None
-            message = str(exc).replace(f"{stype}: ", f"component '{name}' ({stype}): ", 1)
-            raise ModelicaError(pos or decl.type_pos, message) from None
+            try:
+                stype, params = combi_time_table(name, decl, params)
+            except ModelicaError as exc:
+                errors.append(exc)
+                stype, params = "TimeTable", {}
+        while True:
+            try:
+                self.model.components[name] = Component(stype, params)
+                break
+            except ModelError as exc:  # a value out of its range: placed at its modifier
+                param = re.search(r"parameter '(\w+)'", str(exc))
+                pos = self.positions.get((name, param.group(1))) if param else None
+                message = str(exc).replace(f"{stype}: ", f"component '{name}' ({stype}): ", 1)
+                errors.append(ModelicaError(pos or decl.type_pos, message))
+                if param is None or param.group(1) not in params:
+                    self.model.components[name] = Component(stype)  # for its ports
+                    break
+                del params[param.group(1)]  # and the next value out of its range, if any
+        if len(errors) > before:
+            self.unchecked.add(name)
 
     def modifier(self, comp: str, stype: str, mod: Modification) -> tuple[str | None, Any]:
         key = PARAMETER_RENAMES.get(stype, {}).get(mod.name, mod.name)
@@ -312,30 +388,88 @@ class _Converter:
             return attrs["start"]  # the model file's short form of a fixed start value
         return attrs
 
-    def connect(self, a: Ref, b: Ref) -> None:
-        ends = (self.port(a), self.port(b))
-        if ends[0] == ends[1]:
-            raise ModelicaError(a.pos, f"connect({ends[0]}, {ends[1]}): a port cannot be connected to itself")
-        key = frozenset(ends)
-        if key in self.connected:
-            raise ModelicaError(a.pos, f"connect({ends[0]}, {ends[1]}): already connected")
+    def connect(self, conn: Connect) -> None:
+        """A connection, checked as the engine checks it (each end a port of its component,
+        the kinds matching, a signal input fed once), refused at its ``connect``."""
+        ends = []
+        for ref in (conn.a, conn.b):
+            try:
+                ends.append(self.port(ref))
+            except ModelicaError as exc:
+                self.errors.append(exc)
+            except _Reported:
+                pass
+        if len(ends) < 2:
+            return
+        (a, ka), (b, kb) = ends
+        key = frozenset((a, b))
+        if a == b:
+            problem: str | None = "a port cannot be connected to itself"
+        elif key in self.connected:
+            problem = "already connected"
+        elif ka == kb and ka in _JOINED or ka is None or kb is None:  # the common case first
+            problem = None
+        else:
+            problem = self.kinds_problem(a, ka, b, kb)
+        if problem is not None:
+            self.errors.append(ModelicaError(conn.pos, f"connect({a}, {b}): {problem}"))
+            return
         self.connected.add(key)
-        self.model.connections.append(ends)  # ports checked above (Model.connect is O(n) per call)
+        self.model.connections.append((a, b))  # ports checked above (Model.connect is O(n) per call)
 
-    def port(self, ref: Ref) -> str:
+    def kinds_problem(self, a: str, ka: str, b: str, kb: str) -> str | None:
+        """Why the engine would refuse to connect a signal port to another port (in its own
+        words), or None."""
+        if ka == kb == "signal input":
+            return "connects two signal inputs; one end must be an output (y)"
+        if ka == kb == "signal output":
+            return "connects two signal outputs"
+        if {ka, kb} != {"signal input", "signal output"}:
+            return f"cannot connect a {ka} ('{a}') to a {kb} ('{b}')"
+        out, inp = (a, b) if ka == "signal output" else (b, a)
+        if self.fed.setdefault(inp, out) != out:
+            return f"signal input '{inp}' is already connected to another output"
+        return None
+
+    def port(self, ref: Ref) -> tuple[str, str | None]:
+        """The port a connect names and its kind (None without the engine's catalogue)."""
         comp, _, port = ref.name.partition(".")
-        if comp not in self.model.components:
+        if comp in self.reported:
+            raise _Reported
+        component = self.model.components.get(comp)
+        if component is None:
             raise ModelicaError(ref.pos, f"connect to '{ref.name}': no component '{comp}' in the model")
-        ports = _ports_of(self.model.components[comp].type)
-        if not port or "." in port or ports is not None and port not in ports:
+        ports = _port_kinds().get(component.type)
+        kind, flag = ports.get(port, _NO_PORT) if ports is not None else (None, None)
+        if ports is not None and kind is None or not port or "." in port:
             raise ModelicaError(
                 ref.pos,
-                f"connect to '{ref.name}': {self.model.components[comp].type} '{comp}' has no port "
+                f"connect to '{ref.name}': {component.type} '{comp}' has no port "
                 f"'{port}' (ports: {', '.join(ports or [])})",
+            )
+        if flag in _CONDITIONAL and not self.enabled(comp, component, flag):
+            raise ModelicaError(
+                ref.pos,
+                f"connect to '{ref.name}': {component.type} '{comp}' has no port '{port}' "
+                f"(set {flag} = true to enable it)",
             )
         if ref.subscripts and not (self.components[comp][0] == "CombiTimeTable" and _is_one(ref)):
             raise ModelicaError(ref.pos, f"connect to '{ref.name}[…]': array connectors are not supported")
-        return ref.name
+        return ref.name, kind
+
+    def enabled(self, comp: str, component: Component, flag: str) -> bool:
+        """Whether the Boolean ``flag`` of a component (a value or an expression over the
+        top-level parameters) is true; a value that cannot be told counts as true."""
+        value = component.params.get(flag)
+        if value is None:
+            return comp in self.unchecked  # false by default, unless its modifier was refused
+        if type(value) is bool:
+            return value
+        try:
+            value = resolve_params(comp, {flag: value}, self.values)[flag]
+        except ModelError:
+            return True
+        return value is not False
 
     # --- variables, experiment ----------------------------------------------------------
     def variable(self, decl: Declaration) -> None:
@@ -344,6 +478,8 @@ class _Converter:
         from stiction.results.derived import check_expression
 
         assert decl.binding is not None
+        if self.reported and _refers_to(decl.binding, self.reported):
+            raise _Reported
         check_expression(decl.binding, self.model, self.scope.resolve, set(self.params))
         self.model.variables[decl.name] = unparse(decl.binding)
 
@@ -352,13 +488,22 @@ class _Converter:
             if mod.name != "experiment":
                 continue
             for sub in mod.args or []:
-                if sub.name == "__stiction_Solver" and sub.value is not None:
-                    self.model.experiment["Solver"] = python_value(self.expression(sub.value))
-                if sub.name in _EXPERIMENT and sub.value is not None:
-                    value = python_value(self.expression(sub.value))
-                    if isinstance(value, bool) or not isinstance(value, (int, float)):
-                        raise ModelicaError(sub.pos, f"experiment {sub.name} must be a number, got {value!r}")
-                    self.model.experiment[sub.name] = float(value)
+                try:
+                    self.setting(sub)
+                except ModelicaError as exc:
+                    self.errors.append(exc)
+                except _Reported:
+                    pass
+
+    def setting(self, sub: Modification) -> None:
+        """One setting of the experiment annotation."""
+        if sub.name == "__stiction_Solver" and sub.value is not None:
+            self.model.experiment["Solver"] = python_value(self.expression(sub.value))
+        if sub.name in _EXPERIMENT and sub.value is not None:
+            value = python_value(self.expression(sub.value))
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise ModelicaError(sub.pos, f"experiment {sub.name} must be a number, got {value!r}")
+            self.model.experiment[sub.name] = float(value)
 
     def engine_check(self) -> None:
         """Let the engine check each component's values (ranges, table shapes, kinds) and
@@ -367,18 +512,28 @@ class _Converter:
         thousands of components, and the connections were checked above."""
         distinct: dict[tuple[str, str], tuple[str, str, dict[str, Any]]] = {}
         for name, comp in self.model.components.items():
-            params = resolve_params(name, comp.params, self.values)
+            if name in self.unchecked:  # a value of it is refused: the engine would say it again
+                continue
+            try:
+                params = resolve_params(name, comp.params, self.values)
+            except ModelError:
+                if self.errors:
+                    continue  # an expression over a refused parameter
+                raise
             key = {k: v for k, v in params.items() if not _always_valid(comp.type, k, v)}
             distinct.setdefault((comp.type, repr(key)), (name, comp.type, params))
-        found = _first_problem(list(distinct.values()), str(self.model.base_dir))
-        if found is not None:
-            name, message = found
+        for name, message in _problems(list(distinct.values()), str(self.model.base_dir)):
             param = re.search(r"parameter '(\w+)'", message)
             pos = self.positions.get((name, param.group(1))) if param else None
-            raise ModelicaError(pos or self.components[name][1].type_pos, message)
+            self.errors.append(ModelicaError(pos or self.components[name][1].type_pos, message))
 
 
 _SIGNAL_INPUTS = ("f_normalized", "tau", "u", "u1", "u2", "Gc")
+_JOINED = ("flange", "heat port")  # kinds of port that connect to their own kind
+_NO_PORT = (None, None)
+# MSL's conditional connectors: the port exists when its flag is true (false by default). The
+# adaptors' w and a depend on two flags at once: the engine checks those.
+_CONDITIONAL = frozenset(("useSupport", "useHeatPort"))
 
 
 def _always_valid(stype: str, key: str, value: Any) -> bool:
@@ -413,22 +568,27 @@ def _free_reals() -> dict[str, frozenset[str]]:
 _BATCH = 32
 
 
-def _first_problem(items: list[tuple[str, str, dict[str, Any]]], base_dir: str) -> tuple[str, str] | None:
-    """(component, the engine's complaint about its parameters) for the first bad one, or None."""
+def _problems(items: list[tuple[str, str, dict[str, Any]]], base_dir: str) -> list[tuple[str, str]]:
+    """(component, the engine's complaint about its parameters) for each bad one (the engine
+    names one a check: a batch is checked again without it until it passes)."""
+    found = []
     for start in range(0, len(items), _BATCH):
         batch = items[start : start + _BATCH]
-        message = _batch_problem(batch, base_dir)
-        if message is None:
-            continue
-        hit = re.match(r"component 'c(\d+)'", message)
-        if hit and "parameter '" in message:
-            name = batch[int(hit.group(1))][0]
-            return name, message.replace(hit.group(0), f"component '{name}'", 1)
-        for item in batch:  # a complaint about no parameter may hide one: check each alone
-            alone = _batch_problem([item], base_dir)
-            if alone is not None and "parameter '" in alone:
-                return item[0], alone.replace("component 'c0'", f"component '{item[0]}'", 1)
-    return None
+        while batch:
+            message = _batch_problem(batch, base_dir)
+            if message is None:
+                break
+            hit = re.match(r"component 'c(\d+)'", message)
+            if hit and "parameter '" in message:
+                name = batch.pop(int(hit.group(1)))[0]
+                found.append((name, message.replace(hit.group(0), f"component '{name}'", 1)))
+                continue
+            for item in batch:  # a complaint about no parameter may hide one: check each alone
+                alone = _batch_problem([item], base_dir)
+                if alone is not None and "parameter '" in alone:
+                    found.append((item[0], alone.replace("component 'c0'", f"component '{item[0]}'", 1)))
+            break
+    return found
 
 
 def _batch_problem(items: list[tuple[str, str, dict[str, Any]]], base_dir: str) -> str | None:
@@ -441,7 +601,10 @@ def _batch_problem(items: list[tuple[str, str, dict[str, Any]]], base_dir: str) 
         return None
     model = Model("check", base_dir=base_dir)
     for k, (_, stype, params) in enumerate(items):
-        model.components[f"c{k}"] = Component(stype, params)
+        try:
+            model.components[f"c{k}"] = Component(stype, params)
+        except ModelError as exc:  # a value out of its range once its expression is evaluated
+            return str(exc).replace(f"{stype}: ", f"component 'c{k}' ({stype}): ", 1)
         for port in _ports_of(stype) or []:
             if port in _SIGNAL_INPUTS:
                 model.inputs[f"c{k}.{port}"] = 0.0
@@ -455,7 +618,7 @@ def _batch_problem(items: list[tuple[str, str, dict[str, Any]]], base_dir: str) 
 def _refers_to(expr: Any, names: set[str]) -> bool:
     """Whether an expression mentions one of ``names``."""
     if isinstance(expr, Ref):
-        return expr.name in names
+        return expr.name in names or expr.name.partition(".")[0] in names
     children = [getattr(expr, f, None) for f in ("left", "right", "operand", "cond", "then", "other")]
     children += list(getattr(expr, "args", None) or []) + list(getattr(expr, "items", None) or [])
     children += [item for row in getattr(expr, "rows", None) or [] for item in row]
@@ -487,6 +650,18 @@ def _parameters_of(stype: str) -> list[str] | None:
 def _ports_of(stype: str) -> list[str] | None:
     known = _catalogue()
     return None if known is None else known.get(stype, {}).get("ports", [])
+
+
+@functools.cache
+def _port_kinds() -> dict[str, dict[str, tuple[str | None, str | None]]]:
+    """Per component type, each port's kind (``flange``, ``signal input``, ``signal
+    output``, ``heat port``) and the Boolean parameter enabling it, if any; empty without
+    the compiled engine."""
+    if _catalogue() is None:
+        return {}
+    from stiction.model.catalogue import catalogue
+
+    return {name: {p.name: (p.kind, p.enabled_by) for p in info.ports} for name, info in catalogue().items()}
 
 
 def _catalogue() -> dict[str, dict[str, list[str]]] | None:

@@ -5,11 +5,19 @@ packages), ``import``/``extends`` clauses, declarations with modifiers, ``connec
 equations and annotations (parsed completely, so a malformed one is a syntax error, and
 kept only at class level, where ``experiment`` lives). Anything else of Modelica is refused
 at its position, saying what it is and what is supported.
+
+A construct refused but readable (another equation, a ``when`` block, an algorithm section, a
+conditional, replaceable or array component, a function) is reported and read past, so one
+run reports them all (``StoredDefinition.refused``; a refused declaration stays in the tree,
+marked, so nothing that uses it is reported again). A syntax error stops the reading: it is
+reported after those found before it.
 """
 
 from __future__ import annotations
 
-from stiction.expressions.lexer import ModelicaError, Pos, tokenize
+from typing import Any
+
+from stiction.expressions.lexer import ModelicaError, Pos, Tokens, tokenize
 from stiction.expressions.parser import ExpressionParser
 from stiction.modelica.ast import ClassDef, Connect, Declaration, Import, Modification, StoredDefinition
 
@@ -25,17 +33,79 @@ _UNSUPPORTED_PREFIXES = ("replaceable", "redeclare", "inner", "outer", "flow", "
 _TYPE_PREFIXES = ("parameter", "constant", "input", "output", "discrete")
 _CLASS_STARTS = frozenset((*_CLASS_KINDS, "encapsulated", "partial"))
 _SECTION_ENDS = frozenset(("end", "annotation", "public", "protected", "equation", "algorithm", "initial"))
+_BLOCKS = frozenset(("when", "if", "for", "while"))  # equations and statements up to `end when;` …
+_OPENING = {"(": 1, "[": 1, "{": 1, ")": -1, "]": -1, "}": -1}
+
+
+class _Lost(Exception):
+    """Reading past a refused construct found no end to it: stop with what was reported."""
 
 
 def parse(text: str, source: str = "<modelica>") -> StoredDefinition:
-    """Parse a whole ``.mo`` file; raises ModelicaError at the first problem."""
+    """Parse a whole ``.mo`` file. Refused constructs are collected in ``refused``; a syntax
+    error raises ModelicaError listing them and it."""
     parser = _Parser(tokenize(text, source))
-    return parser.guarded(parser.stored_definition)
+    try:
+        tree = parser.guarded(parser.stored_definition)
+    except ModelicaError as exc:
+        raise ModelicaError.of([*parser.refused, exc]) from None
+    except _Lost:
+        raise ModelicaError.of(parser.refused) from None
+    tree.refused = parser.refused
+    return tree
 
 
 class _Parser(ExpressionParser):
     """The file grammar (classes, elements, modifications, connect equations) on top of the
     token cursor and expressions of ``ExpressionParser``."""
+
+    def __init__(self, tokens: Tokens) -> None:
+        super().__init__(tokens)
+        self.refused: list[ModelicaError] = []
+
+    def refuse(self, message: str, i: int | None = None) -> None:
+        """Report a construct the parser reads past."""
+        self.refused.append(self.fail(message, i))
+
+    def skip_to(self, i: int, stop: frozenset[str]) -> int:
+        """The index of the first token of ``stop`` from ``i`` outside brackets (eof: _Lost)."""
+        texts, kinds, depth = self.texts, self.kinds, 0
+        while True:
+            text = texts[i]
+            if kinds[i] == "eof":
+                raise _Lost
+            if depth == 0 and text in stop:
+                return i
+            if kinds[i] == "op":
+                depth = max(0, depth + _OPENING.get(text, 0))
+            i += 1
+
+    def skip_statement(self) -> None:
+        """Past the equation or statement at the cursor and its ';': a `when`, `if`, `for` or
+        `while` block to its `end when;` (nested blocks too), anything else to its ';'."""
+        texts, i, blocks = self.texts, self.i, 0
+        while True:
+            if texts[i] in _BLOCKS:  # at the start of a statement: a block opens
+                blocks += 1
+            i = self.skip_to(i, frozenset((";", "then", "loop", "end")))
+            text = texts[i]
+            i += 1
+            if text == "end" and texts[i] in _BLOCKS:
+                blocks -= 1
+                i += 1
+            elif text == "end":
+                raise _Lost
+            if text == ";" and blocks == 0:
+                self.i = i
+                return
+
+    def skip_section(self) -> None:
+        """Past the statements of a refused section (`algorithm`, `initial equation`)."""
+        self.i += 2 if self.texts[self.i] == "initial" else 1
+        while self.texts[self.i] not in _SECTION_ENDS:
+            if self.kinds[self.i] == "eof":
+                return
+            self.skip_statement()
 
     # --- classes ----------------------------------------------------------------------
     def stored_definition(self) -> StoredDefinition:
@@ -44,27 +114,37 @@ class _Parser(ExpressionParser):
             if not self.at(";"):
                 within = self.name("a package name after 'within'")[0]
             self.expect(";", "after the within clause")
-        classes = []
+        classes: list[ClassDef] = []
         while self.kinds[self.i] != "eof":
             self.accept("final")
-            classes.append(self.class_definition())
-            self.expect(";", f"after 'end {classes[-1].name}'")
+            cls = self.class_definition()
+            if cls is not None:
+                classes.append(cls)
+            self.expect(";", f"after 'end {cls.name}'" if cls else "after the class")
+        if not classes and self.refused:
+            raise _Lost  # only refused classes: those errors are the answer
         if not classes:
             raise self.fail("no model in the text: expected 'model Name … end Name;'")
         return StoredDefinition(within, classes)
 
-    def class_definition(self) -> ClassDef:
+    def class_definition(self) -> ClassDef | None:
+        """A class, or None for one refused and read past (up to its closing ';')."""
         self.accept("encapsulated")
         self.accept("partial")
         if not self.at(*_CLASS_KINDS):
             if self.kinds[self.i] == "kw" and self.at("function", "record", "connector", "type"):
-                raise self.fail(f"unsupported class kind '{self.texts[self.i]}'; {SUPPORTED}")
+                self.refuse(f"unsupported class kind '{self.texts[self.i]}'; {SUPPORTED}")
+                self.i += 1
+                self.skip_class(self.texts[self.ident("the class's name")])
+                return None
             raise self.fail(f"syntax error: expected 'model', 'block' or 'package', found {self.found()}")
         kind = self.texts[self.take()]
         head = self.ident(f"the {kind}'s name")
         name = self.texts[head]
         if self.at("="):
-            raise self.fail(f"unsupported short class definition '{kind} {name} = …'; {SUPPORTED}")
+            self.refuse(f"unsupported short class definition '{kind} {name} = …'; {SUPPORTED}")
+            self.skip_class(name)
+            return None
         cls = ClassDef(kind, name, self.pos(head), description=self.string_comment())
         self.composition(cls)
         end = self.expect("end", f"or a declaration in {kind} '{name}'")
@@ -77,6 +157,19 @@ class _Parser(ExpressionParser):
             )
         return cls
 
+    def skip_class(self, name: str) -> None:
+        """Past a refused class up to its closing ';': a short one (`type T = Real;`) or a
+        long one to its `end name`."""
+        if self.at("="):
+            self.i = self.skip_to(self.i, frozenset((";",)))
+            return
+        texts, i = self.texts, self.i
+        while True:
+            i = self.skip_to(i, frozenset(("end",))) + 1
+            if texts[i] == name:
+                self.i = i + 1
+                return
+
     def composition(self, cls: ClassDef) -> None:
         texts = self.texts
         while True:
@@ -87,9 +180,11 @@ class _Parser(ExpressionParser):
                 self.i += 1
                 self.equations(cls)
             elif text == "initial" and self.peek() == "equation":
-                raise self.fail(f"unsupported 'initial equation' section; {SUPPORTED}")
+                self.refuse(f"unsupported 'initial equation' section; {SUPPORTED}")
+                self.skip_section()
             elif text == "algorithm" or (text == "initial" and self.peek() == "algorithm"):
-                raise self.fail(f"unsupported algorithm section; {SUPPORTED}")
+                self.refuse(f"unsupported algorithm section; {SUPPORTED}")
+                self.skip_section()
             elif text == "annotation":
                 cls.annotation.extend(self.annotation())
                 self.expect(";", "after the annotation")
@@ -106,11 +201,13 @@ class _Parser(ExpressionParser):
                 return
             if texts[start] != "connect":
                 what = texts[start] if kinds[start] == "kw" else "equation"
-                raise self.fail(
+                self.refuse(
                     f"unsupported {what} '{self.statement_text()}'; only connect(…) "
                     f"equations are supported ({SUPPORTED})",
                     start,
                 )
+                self.skip_statement()
+                continue
             self.i += 1
             self.expect("(", "after 'connect'")
             a = self.component_ref()
@@ -144,12 +241,28 @@ class _Parser(ExpressionParser):
             if self.at("annotation"):
                 self.skip_annotation()
         elif text in _CLASS_STARTS:
-            cls.classes.append(self.class_definition())
+            inner = self.class_definition()
+            if inner is not None:
+                cls.classes.append(inner)
         else:
             self.accept("final")
             if self.at(*_UNSUPPORTED_PREFIXES):
-                raise self.fail(f"unsupported '{self.texts[self.i]}' element; {SUPPORTED}")
-            cls.declarations.extend(self.component_clause())
+                self.refuse(f"unsupported '{self.texts[self.i]}' element; {SUPPORTED}")
+                while self.at(*_UNSUPPORTED_PREFIXES, "final"):
+                    self.i += 1
+                if self.at(*_CLASS_STARTS):  # `replaceable model M = …`, `redeclare model …`
+                    self.class_definition()
+                else:
+                    decls = self.component_clause()
+                    for decl in decls:
+                        decl.refused = True
+                    cls.declarations.extend(decls)
+                    if self.accept("constrainedby"):
+                        self.name("a class name after 'constrainedby'")
+                        if self.at("("):
+                            self.class_modification()
+            else:
+                cls.declarations.extend(self.component_clause())
         self.expect(";", "after the declaration")
 
     def import_clause(self) -> Import:
@@ -165,9 +278,8 @@ class _Parser(ExpressionParser):
         if self.accept("."):
             if self.accept("*"):
                 return Import(None, target, True, start)
-            raise self.fail(
-                "unsupported import form; use 'import A.B;', 'import X = A.B;' or 'import A.B.*;'"
-            )
+            self.refuse("unsupported import form; use 'import A.B;', 'import X = A.B;' or 'import A.B.*;'")
+            self.i = self.skip_to(self.i, frozenset((";",)))
         return Import(None, target, False, start)
 
     def component_clause(self) -> list[Declaration]:
@@ -176,26 +288,40 @@ class _Parser(ExpressionParser):
             prefix = prefix or self.texts[self.i]
             self.i += 1
         type_name, type_pos = self.name("a type or class name")
-        if self.texts[self.i] == "[":
-            raise self.fail(f"unsupported array type '{type_name}[…]'; {SUPPORTED}")
+        array = self.texts[self.i] == "["
+        if array:
+            self.refuse(f"unsupported array type '{type_name}[…]'; {SUPPORTED}")
+            self.skip_subscripts()
         decls = [self.declaration(type_name, type_pos, prefix)]
         while self.accept(","):
             decls.append(self.declaration(type_name, type_pos, prefix))
+        if array:
+            for decl in decls:
+                decl.refused = True
         return decls
+
+    def skip_subscripts(self) -> None:
+        """Past a refused array dimension `[…]`."""
+        self.i = self.skip_to(self.i + 1, frozenset(("]",))) + 1
 
     def declaration(self, type_name: str, type_pos: Pos, prefix: str) -> Declaration:
         head = self.ident("a component name")
         texts, name = self.texts, self.texts[head]
-        if texts[self.i] == "[":
-            raise self.fail(f"unsupported array component '{name}[…]'; {SUPPORTED}")
         decl = Declaration(type_name, type_pos, name, Pos.at(self.tokens, head), prefix)
+        if texts[self.i] == "[":
+            self.refuse(f"unsupported array component '{name}[…]'; {SUPPORTED}")
+            self.skip_subscripts()
+            decl.refused = True
         if texts[self.i] == "(":
             decl.args = self.class_modification()
         if texts[self.i] in ("=", ":="):
             self.i += 1
             decl.binding = self.expression()
         if texts[self.i] == "if":
-            raise self.fail(f"unsupported conditional component '{name} if …'; {SUPPORTED}")
+            self.refuse(f"unsupported conditional component '{name} if …'; {SUPPORTED}")
+            self.i += 1
+            self.expression()
+            decl.refused = True
         if self.kinds[self.i] == "string":
             decl.description = self.string_comment()
         if texts[self.i] == "annotation":
@@ -205,22 +331,26 @@ class _Parser(ExpressionParser):
     # --- modifications ----------------------------------------------------------------
     def class_modification(self) -> list[Modification]:
         self.expect("(")
-        args: list[Modification] = []
+        args: list[Any] = []  # None for a refused modifier
+        refused = len(self.refused)
         if self.texts[self.i] != ")":
             args.append(self.argument())
             while self.texts[self.i] == ",":
                 self.i += 1
                 args.append(self.argument())
         self.expect(")", "closing the modifier list")
-        return args
+        return args if len(self.refused) == refused else [a for a in args if a is not None]
 
-    def argument(self) -> Modification:
+    def argument(self) -> Modification | None:
+        """One modifier, or None for a refused one (read past)."""
         texts = self.texts
         while texts[self.i] in ("each", "final"):
             self.i += 1
         i = self.i
         if texts[i] in ("redeclare", "replaceable"):
-            raise self.fail(f"unsupported '{texts[i]}' modifier; {SUPPORTED}")
+            self.refuse(f"unsupported '{texts[i]}' modifier; {SUPPORTED}")
+            self.i = self.skip_to(i, frozenset((",", ")")))
+            return None
         if self.kinds[i] == "ident" and texts[i + 1] != ".":  # the common case, as name() reads it
             self.i = i + 1
             name, pos = texts[i], Pos.at(self.tokens, i)

@@ -266,3 +266,73 @@ end M;
         _at(text, "w_nominal=w_nominal", 1),
     ]
     assert all("parameter 'w_nominal': must be > 0, got 0" in message for _, _, message in error.errors)
+
+
+MIRROR = """model M
+  import Modelica.Mechanics.Rotational.Components;
+  import Modelica.Thermal.HeatTransfer.Components.HeatCapacitor;
+  Components.Inertia J1(J=1, w(start=1, fixed=true));
+  Components.Inertia J2(J=1);
+  Components.Inertia J3(J=1);
+  Components.Inertia J4(J=1);
+  Components.Brake b1(fn_max=1);
+  Components.Brake b2(fn_max=1);
+  HeatCapacitor d1(C=1);
+  HeatCapacitor d2(C=1);
+  Modelica.Blocks.Sources.Constant k1(k=1);
+  Modelica.Blocks.Sources.Constant k2(k=1);
+equation
+  connect(J1.flange_b, b1.flange_a);
+  connect(J4.flange_b, b2.flange_a);
+  connect(k1.y, b1.f_normalized);
+  connect(k1.y, b2.f_normalized);
+  {}
+end M;
+"""
+# two ports of each kind: flange, heat port, signal output, signal input (each input fed by k1)
+PORTS = [
+    "J2.flange_b",
+    "J3.flange_a",
+    "d1.port",
+    "d2.port",
+    "k1.y",
+    "k2.y",
+    "b1.f_normalized",
+    "b2.f_normalized",
+]
+
+
+def test_the_connection_check_is_the_engines() -> None:
+    """Every pair of ports of every kind: the import refuses a connect exactly when the
+    engine refuses the same model without positions, for the same reason."""
+    base = st.Model.from_modelica(MIRROR.replace("{}", ""))
+    base.check()
+    verdicts = []
+    for i, a in enumerate(PORTS):
+        for b in PORTS[i + 1 :]:
+            if {a, b} in ({"k1.y", "b1.f_normalized"}, {"k1.y", "b2.f_normalized"}):
+                continue  # connected already
+            text = MIRROR.replace("{}", f"connect({a}, {b});")
+            try:
+                st.Model.from_modelica(text)
+                ours = None
+            except st.ModelError as exc:
+                assert str(exc).startswith("<modelica>:{}:{}: ".format(*_at(text, f"connect({a}, {b})"))), (
+                    str(exc)
+                )
+                ours = str(exc).split("): ", 1)[1]
+            model = st.Model.from_modelica(MIRROR.replace("{}", ""))
+            model.connections.append((a, b))
+            try:
+                model.check()
+                engine = None
+            except st.ModelError as exc:
+                engine = str(exc).split(": ", 1)[1]
+            verdicts.append((a, b, ours is None, engine is None))
+            if ours is not None and engine is not None:
+                assert sorted(ours.split()) == sorted(engine.split()), (a, b, ours, engine)  # either order
+    assert [v for v in verdicts if v[2] != v[3]] == []
+    assert [(a, b) for a, b, ok, _ in verdicts if ok] == [
+        ("J2.flange_b", "J3.flange_a"),
+        ("d1.port", "d2.port"),
+    ]

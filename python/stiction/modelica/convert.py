@@ -420,13 +420,16 @@ class _Converter:
     def kinds_problem(self, a: str, ka: str, b: str, kb: str) -> str | None:
         """Why the engine would refuse to connect a signal port to another port (in its own
         words), or None."""
-        if ka == kb == "signal input":
+        if ka == "signal output" and kb == "signal input":  # the common case first
+            out, inp = a, b
+        elif ka == "signal input" and kb == "signal output":
+            out, inp = b, a
+        elif ka == kb == "signal input":
             return "connects two signal inputs; one end must be an output (y)"
-        if ka == kb == "signal output":
+        elif ka == kb == "signal output":
             return "connects two signal outputs"
-        if {ka, kb} != {"signal input", "signal output"}:
+        else:
             return f"cannot connect a {ka} ('{a}') to a {kb} ('{b}')"
-        out, inp = (a, b) if ka == "signal output" else (b, a)
         if self.fed.setdefault(inp, out) != out:
             return f"signal input '{inp}' is already connected to another output"
         return None

@@ -2,7 +2,9 @@
 
 ``lexer`` → ``parser`` (syntax tree in ``ast``) → ``names`` (MSL catalogue and lookup) →
 ``convert`` (parameters, modifiers, connections, experiment) → ``Model``; ``export`` goes the
-other way. Errors are ``ModelicaError`` (a ``ModelError``) starting with ``file:line:column``.
+other way. Errors are ``ModelicaError`` (a ``ModelError``) starting with ``file:line:column``;
+a file with several errors raises one listing them all, one a line (``errors``: each as
+``(line, column, message)``).
 """
 
 from __future__ import annotations
@@ -21,7 +23,8 @@ __all__ = ["ModelicaError", "read_modelica"]
 
 
 def read_modelica(source: str | os.PathLike[str], model: str | None = None) -> Model:
-    """A ``Model`` from a ``.mo`` file path or Modelica text; ``model`` picks one class."""
+    """A ``Model`` from a ``.mo`` file path or Modelica text; ``model`` picks one class.
+    Raises one ``ModelicaError`` listing every error of the file, sorted by place."""
     from stiction.modelica.convert import convert
     from stiction.modelica.parser import parse
 

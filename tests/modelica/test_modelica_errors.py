@@ -288,22 +288,22 @@ def test_reals_without_a_range_accept_any_finite_value() -> None:
     startTime are one check). This holds the engine to that: every such Real, at extreme
     finite values, passes its component's check."""
     from stiction.model.catalogue import catalogue
-    from stiction.modelica.convert import _batch_problem, _free_reals
+    from stiction.modelica.value_check import batch_problem, free_reals
 
     refused = []
-    for stype, keys in _free_reals().items():
+    for stype, keys in free_reals().items():
         info = catalogue()[stype]
         base = {p.name: 1.0 for p in info.parameters if p.required and p.kind == "Real"}
-        if _batch_problem([("c", stype, base)], ".") is not None:
+        if batch_problem([("c", stype, base)], ".") is not None:
             continue  # needs a file or table to exist at all (TimeTable)
         refused += [
             (stype, key, value)
             for key in keys
             for value in (-1e300, -1.0, 0.0, 1e300)
-            if _batch_problem([("c", stype, {**base, key: value})], ".") is not None
+            if batch_problem([("c", stype, {**base, key: value})], ".") is not None
         ]
     assert refused == []
-    assert "startTime" in _free_reals()["Step"] and "J" not in _free_reals()["Inertia"]
+    assert "startTime" in free_reals()["Step"] and "J" not in free_reals()["Inertia"]
 
 
 # Found by fuzzing (tests/properties/test_fuzz_modelica.py): each crashed with a Python exception before.

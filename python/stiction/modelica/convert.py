@@ -12,7 +12,6 @@ refused declaration) is not reported again where it is used.
 from __future__ import annotations
 
 import functools
-import math
 import re
 from typing import TYPE_CHECKING, Any
 
@@ -35,6 +34,7 @@ from stiction.modelica.names import (
 )
 from stiction.modelica.parser import SUPPORTED
 from stiction.modelica.timetable import COMBI_PARAMETERS, combi_time_table
+from stiction.modelica.value_check import always_valid, value_problems
 
 if TYPE_CHECKING:
     from stiction.model.model import Model
@@ -523,99 +523,19 @@ class _Converter:
                 if self.errors:
                     continue  # an expression over a refused parameter
                 raise
-            key = {k: v for k, v in params.items() if not _always_valid(comp.type, k, v)}
+            key = {k: v for k, v in params.items() if not always_valid(comp.type, k, v)}
             distinct.setdefault((comp.type, repr(key)), (name, comp.type, params))
-        for name, message in _problems(list(distinct.values()), str(self.model.base_dir)):
+        for name, message in value_problems(list(distinct.values()), str(self.model.base_dir)):
             param = re.search(r"parameter '(\w+)'", message)
             pos = self.positions.get((name, param.group(1))) if param else None
             self.errors.append(ModelicaError(pos or self.components[name][1].type_pos, message))
 
 
-_SIGNAL_INPUTS = ("f_normalized", "tau", "u", "u1", "u2", "Gc")
 _JOINED = ("flange", "heat port")  # kinds of port that connect to their own kind
 _NO_PORT = (None, None)
 # MSL's conditional connectors: the port exists when its flag is true (false by default). The
 # adaptors' w and a depend on two flags at once: the engine checks those.
 _CONDITIONAL = frozenset(("useSupport", "useHeatPort"))
-
-
-def _always_valid(stype: str, key: str, value: Any) -> bool:
-    """Whether the catalogue declares ``key`` a Real without a range, so any finite number
-    passes: 500 steps that differ only in ``startTime`` need one check, not 500."""
-    if type(value) is not float or not math.isfinite(value):
-        return False
-    return key in _free_reals().get(stype, ())
-
-
-# Reals without a declared range that the engine still checks against others: a pulse
-# starting long before the run would schedule millions of time events.
-_CHECKED_TOGETHER = frozenset({("Pulse", "startTime")})
-
-
-@functools.cache
-def _free_reals() -> dict[str, frozenset[str]]:
-    """Per component type, the Real parameters any finite value passes (tested against the
-    engine in test_modelica_errors.py)."""
-    from stiction.model.catalogue import catalogue
-
-    return {
-        name: frozenset(
-            p.name
-            for p in info.parameters
-            if p.kind == "Real" and p.range is None and (name, p.name) not in _CHECKED_TOGETHER
-        )
-        for name, info in catalogue().items()
-    }
-
-
-_BATCH = 32
-
-
-def _problems(items: list[tuple[str, str, dict[str, Any]]], base_dir: str) -> list[tuple[str, str]]:
-    """(component, the engine's complaint about its parameters) for each bad one (the engine
-    names one a check: a batch is checked again without it until it passes)."""
-    found = []
-    for start in range(0, len(items), _BATCH):
-        batch = items[start : start + _BATCH]
-        while batch:
-            message = _batch_problem(batch, base_dir)
-            if message is None:
-                break
-            hit = re.match(r"component 'c(\d+)'", message)
-            if hit and "parameter '" in message:
-                name = batch.pop(int(hit.group(1)))[0]
-                found.append((name, message.replace(hit.group(0), f"component '{name}'", 1)))
-                continue
-            for item in batch:  # a complaint about no parameter may hide one: check each alone
-                alone = _batch_problem([item], base_dir)
-                if alone is not None and "parameter '" in alone:
-                    found.append((item[0], alone.replace("component 'c0'", f"component '{item[0]}'", 1)))
-            break
-    return found
-
-
-def _batch_problem(items: list[tuple[str, str, dict[str, Any]]], base_dir: str) -> str | None:
-    """The engine's complaint about unconnected components ``c0, c1, …``, or None."""
-    from stiction.model.model import Model
-
-    try:
-        from stiction import _core
-    except ImportError:
-        return None
-    model = Model("check", base_dir=base_dir)
-    for k, (_, stype, params) in enumerate(items):
-        try:
-            model.components[f"c{k}"] = Component(stype, params)
-        except ModelError as exc:  # a value out of its range once its expression is evaluated
-            return str(exc).replace(f"{stype}: ", f"component 'c{k}' ({stype}): ", 1)
-        for port in _ports_of(stype) or []:
-            if port in _SIGNAL_INPUTS:
-                model.inputs[f"c{k}.{port}"] = 0.0
-    try:
-        _core.check(model.engine_toml(), base_dir, motion=False)  # nothing is connected here
-    except ModelError as exc:
-        return str(exc)
-    return None
 
 
 def _refers_to(expr: Any, names: set[str]) -> bool:
@@ -648,11 +568,6 @@ def _parameters_of(stype: str) -> list[str] | None:
         return list(COMBI_PARAMETERS)
     known = _catalogue()
     return None if known is None else known.get(stype, {}).get("parameters", [])
-
-
-def _ports_of(stype: str) -> list[str] | None:
-    known = _catalogue()
-    return None if known is None else known.get(stype, {}).get("ports", [])
 
 
 @functools.cache

@@ -169,6 +169,8 @@ fn alone(entry: &Entry, params: &[ParamInfo], ports: &Ports, heat_boundary: bool
             .collect(),
         base_dir: PathBuf::from("."),
         written: Vec::new(),
+        variables: Vec::new(),
+        parameters: Vec::new(),
     }
 }
 

@@ -126,10 +126,16 @@ impl CompiledModel {
         overrides: &[(&str, toml::Value)],
     ) -> ModelResult<(Self, Recompiled)> {
         let mut spec = (*self.spec).clone();
-        let changed = self.apply(&mut spec.experiment, overrides, |ci, parameter, value| {
-            let params = &mut spec.components[ci].params;
-            params.insert(parameter.to_string(), value.clone());
-        })?;
+        let mut numbers = std::mem::take(&mut spec.parameters);
+        let changed = self.apply(
+            (&mut spec.experiment, &mut numbers),
+            overrides,
+            |ci, parameter, value| {
+                let params = &mut spec.components[ci].params;
+                params.insert(parameter.to_string(), value.clone());
+            },
+        )?;
+        spec.parameters = numbers;
         let (components, topology, how) = self.recompile(&spec, &changed)?;
         let system = build(&spec, &topology, &components)?;
         let variant = Self {
@@ -148,20 +154,25 @@ impl CompiledModel {
             return Ok(self.system.clone());
         }
         let mut experiment = self.spec.experiment.clone();
+        let mut numbers = self.spec.parameters.clone();
         let mut edited: Vec<(usize, ComponentSpec)> = Vec::new();
-        let changed = self.apply(&mut experiment, overrides, |ci, parameter, value| {
-            let at = match edited.iter().position(|(k, _)| *k == ci) {
-                Some(at) => at,
-                None => {
-                    edited.push((ci, self.spec.components[ci].clone()));
-                    edited.len() - 1
-                }
-            };
-            edited[at]
-                .1
-                .params
-                .insert(parameter.to_string(), value.clone());
-        })?;
+        let changed = self.apply(
+            (&mut experiment, &mut numbers),
+            overrides,
+            |ci, parameter, value| {
+                let at = match edited.iter().position(|(k, _)| *k == ci) {
+                    Some(at) => at,
+                    None => {
+                        edited.push((ci, self.spec.components[ci].clone()));
+                        edited.len() - 1
+                    }
+                };
+                edited[at]
+                    .1
+                    .params
+                    .insert(parameter.to_string(), value.clone());
+            },
+        )?;
         debug_assert_eq!(changed.len(), edited.len());
         let (comps, same_ports) = self.recreate(edited.iter().map(|(ci, c)| (*ci, c)))?;
         if !same_ports {
@@ -172,15 +183,18 @@ impl CompiledModel {
             name: &self.spec.name,
             experiment: &experiment,
             written: &self.spec.written,
+            variables: &self.spec.variables,
+            parameters: &numbers,
         };
         Ok(Arc::new(build_with(&view, &self.topology, &comps)?))
     }
 
-    /// Applies overrides: experiment settings into `experiment`, parameters through `set`
-    /// (component index, parameter, value). Returns the changed components, sorted.
+    /// Applies overrides: experiment settings into `experiment`, the numbers derived
+    /// variables read (`[parameters]`) into `numbers`, parameters through `set` (component
+    /// index, parameter, value). Returns the changed components, sorted.
     fn apply(
         &self,
-        experiment: &mut Experiment,
+        (experiment, numbers): (&mut Experiment, &mut Vec<(String, f64)>),
         overrides: &[(&str, toml::Value)],
         mut set: impl FnMut(usize, &str, &toml::Value),
     ) -> ModelResult<Vec<usize>> {
@@ -192,7 +206,10 @@ impl CompiledModel {
                     set(ci, parameter, value);
                     changed.push(ci);
                 }
-                None => set_experiment(experiment, name, value)?,
+                None => match numbers.iter_mut().find(|(n, _)| n == name) {
+                    Some((_, number)) => *number = plain_number(name, value)?,
+                    None => set_experiment(experiment, name, value)?,
+                },
             }
         }
         experiment.validate()?;
@@ -243,6 +260,18 @@ impl CompiledModel {
                     self.topology.names.join(", ")
                 ),
             })
+    }
+}
+
+/// A `[parameters]` number's new value.
+fn plain_number(name: &str, value: &toml::Value) -> ModelResult<f64> {
+    match value {
+        toml::Value::Float(f) => Ok(*f),
+        toml::Value::Integer(i) => Ok(*i as f64),
+        toml::Value::Boolean(b) => Ok(f64::from(u8::from(*b))),
+        _ => Err(ModelError::File(format!(
+            "parameter '{name}' must be a number"
+        ))),
     }
 }
 

@@ -13,7 +13,7 @@ pub use topology::Topology;
 
 use crate::components::{self, Component};
 use crate::error::{ModelError, ModelResult};
-use crate::model::{Experiment, ModelSpec};
+use crate::model::{DerivedSpec, Experiment, ModelSpec};
 use crate::signals::{BlockElem, SignalGraph};
 use crate::system::flange::FlangeBuilder;
 use crate::system::outputs::EnergyVar;
@@ -86,6 +86,8 @@ pub fn build(
         name: &spec.name,
         experiment: &spec.experiment,
         written: &spec.written,
+        variables: &spec.variables,
+        parameters: &spec.parameters,
     };
     build_with(&view, topo, comps)
 }
@@ -96,6 +98,9 @@ pub struct SpecView<'a> {
     pub experiment: &'a Experiment,
     /// Component names in the order the model was written (empty: as built).
     pub written: &'a [String],
+    /// The derived variables, appended to the outputs, and the numbers they may read.
+    pub variables: &'a [DerivedSpec],
+    pub parameters: &'a [(String, f64)],
 }
 
 /// `build` from the name and experiment alone.
@@ -122,6 +127,7 @@ pub fn build_with(
     ] {
         b.sys.outputs.push((name.to_string(), Out::Energy(var)));
     }
+    crate::system::variables::append(&mut b.sys.outputs, spec.variables, spec.parameters)?;
     order_signals(&mut b.sys.signals)?;
     finish_thermal(&mut b)?;
     b.sys.flange_torques = b.flanges.finish(&topo.cut_roots);

@@ -2,9 +2,11 @@
 //! connections, read and validated into plain data before anything is assembled.
 
 mod decl;
+mod expr;
 mod params;
 mod spec;
 
 pub use decl::{parse_decl, ParamInfo, ParamKind};
+pub use expr::{BinOp, DerivedSpec, Expr, CONSTANTS};
 pub use params::{InitValue, Params};
 pub use spec::{ComponentSpec, Experiment, InputSpec, ModelSpec, PortRef};

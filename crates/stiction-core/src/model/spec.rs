@@ -2,6 +2,7 @@
 
 use std::path::PathBuf;
 
+use super::expr::DerivedSpec;
 use crate::error::{ModelError, ModelResult};
 
 /// One component as written: its instance name, its type and its raw parameter values.
@@ -217,6 +218,12 @@ pub struct ModelSpec {
     /// Component names in the order the model was written, when `components` was put in a
     /// canonical order (see `assembly::canonical`); empty otherwise.
     pub written: Vec<String>,
+    /// Derived variables (`[variables]`, `slip = "J1.w - J2.w"`), in the order written: result
+    /// variables computed from the others (`system::formula`).
+    pub variables: Vec<DerivedSpec>,
+    /// Named numbers the derived variables may read (`[parameters]`: the model's top-level
+    /// parameters, evaluated); a variant may set one by its name.
+    pub parameters: Vec<(String, f64)>,
 }
 
 impl ModelSpec {
@@ -232,6 +239,8 @@ impl ModelSpec {
             inputs: Vec::new(),
             base_dir: base_dir.into(),
             written: Vec::new(),
+            variables: Vec::new(),
+            parameters: Vec::new(),
         };
         let mut connect: Option<&toml::Value> = None;
         let mut inputs: Option<&toml::Value> = None;
@@ -264,9 +273,11 @@ impl ModelSpec {
                 "connect" => connect = Some(value),
                 "inputs" => inputs = Some(value),
                 "format" => check_format(value)?,
+                "variables" => spec.variables = read_variables(value)?,
+                "parameters" => spec.parameters = read_parameters(value)?,
                 other => {
                     return Err(ModelError::File(format!(
-                        "unknown top-level key '{other}' (expected format, name, experiment, components, connect, inputs)"
+                        "unknown top-level key '{other}' (expected format, name, experiment, components, connect, inputs, variables, parameters)"
                     )))
                 }
             }
@@ -331,6 +342,48 @@ fn read_inputs(value: &toml::Value) -> ModelResult<Vec<InputSpec>> {
                 })
             }
             _ => Err(bad()),
+        })
+        .collect()
+}
+
+/// `[variables]`: `name = "expression"`, each parsed; a name must be an identifier.
+fn read_variables(value: &toml::Value) -> ModelResult<Vec<DerivedSpec>> {
+    let bad = || {
+        ModelError::File(
+            "'variables' must be a table of expressions, e.g. dw = \"J1.w - J2.w\"".into(),
+        )
+    };
+    let table = value.as_table().ok_or_else(bad)?;
+    let mut out: Vec<DerivedSpec> = Vec::with_capacity(table.len());
+    for (name, text) in table {
+        if !is_identifier(name) {
+            return Err(ModelError::File(format!(
+                "variable '{name}': a variable's name is an identifier (letters, digits, _)"
+            )));
+        }
+        out.push(DerivedSpec::parse(name, text.as_str().ok_or_else(bad)?)?);
+    }
+    Ok(out)
+}
+
+/// `[parameters]`: numbers by name (the engine's text has them evaluated).
+fn read_parameters(value: &toml::Value) -> ModelResult<Vec<(String, f64)>> {
+    let table = value
+        .as_table()
+        .ok_or_else(|| ModelError::File("'parameters' must be a table".into()))?;
+    (table.iter())
+        .map(|(name, v)| {
+            let number = match v {
+                toml::Value::Float(f) => Some(*f),
+                toml::Value::Integer(i) => Some(*i as f64),
+                toml::Value::Boolean(b) => Some(f64::from(u8::from(*b))),
+                _ => None,
+            };
+            number.map(|x| (name.clone(), x)).ok_or_else(|| {
+                ModelError::File(format!(
+                    "parameter '{name}': the engine reads numbers (expressions are evaluated in Python)"
+                ))
+            })
         })
         .collect()
 }

@@ -140,5 +140,7 @@ pub(super) fn value(
             EnergyVar::Work => ws.energy[3],
         },
         Out::Const(c) => *c,
+        Out::Time => ws.t,
+        Out::Formula(f) => f.eval(|i| value(&f.leaves[i], sys, ws, disc, flange_tau)),
     }
 }

@@ -5,8 +5,10 @@
 mod builder;
 pub(crate) mod flange;
 mod follow;
+pub mod formula;
 pub mod law;
 pub mod outputs;
+pub mod variables;
 
 pub use crate::rel::{NodeRef, Rel};
 pub use builder::{Builder, PortInfo, PortKind};

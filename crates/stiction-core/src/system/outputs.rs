@@ -1,6 +1,9 @@
 //! Output variables as small expressions over one evaluated instant, so each component states
 //! what it reports under which MSL name, and the result module evaluates them row by row.
 
+use std::sync::Arc;
+
+use super::formula::Formula;
 use super::Rel;
 pub use crate::switching::element::SwitchVar;
 
@@ -37,4 +40,8 @@ pub enum Out {
     HeatCapacitorFlow(usize, f64),
     Energy(EnergyVar),
     Const(f64),
+    /// The time of the row.
+    Time,
+    /// A derived variable (`[variables]`): an expression over other outputs.
+    Formula(Arc<Formula<Out>>),
 }

@@ -42,6 +42,8 @@ enum Key {
     Const(u64),
     /// An expression `value` computes: its kind, index and parameter.
     Eval(u8, usize, u64),
+    /// A derived variable (by the address of its formula, which the system keeps).
+    Formula(usize),
 }
 
 #[derive(Clone)]
@@ -160,6 +162,13 @@ impl Layout {
             Out::HeatDerT(node) => self.eval(Key::Eval(1, *node, 0), out),
             Out::HeatLinkFlow(k, s) => self.link_flow(sys, *k, *s),
             Out::HeatCapacitorFlow(node, c) => self.eval(Key::Eval(3, *node, c.to_bits()), out),
+            Out::Time => self.time,
+            // its leaves' slots, then the expression over them, as `value` combines them
+            Out::Formula(f) => {
+                let slots: Box<[u32]> = f.leaves.iter().map(|leaf| self.out(sys, leaf)).collect();
+                let key = Key::Formula(std::sync::Arc::as_ptr(f) as usize);
+                self.derived(key, Op::formula(f.clone(), slots))
+            }
         }
     }
 

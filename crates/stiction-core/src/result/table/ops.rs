@@ -2,9 +2,11 @@
 //! fields of an element's values, and the derived values computed in it.
 
 use std::collections::HashMap;
+use std::sync::Arc;
 
 use crate::engine::eval::Workspace;
 use crate::switching::element::SwitchVar;
+use crate::system::formula::Formula;
 use crate::system::{Out, System};
 
 /// An element's continuous variables, in the order the frame holds its fields.
@@ -108,11 +110,25 @@ pub(super) enum Op {
     },
     /// `value` of an expression at the row's workspace
     Eval { dst: u32, out: Out },
+    /// A derived variable: its formula over the slots of its leaves
+    Formula {
+        dst: u32,
+        formula: Arc<Formula<Out>>,
+        slots: Box<[u32]>,
+    },
 }
 
 impl Op {
     pub(super) fn scale(x: u32, s: f64) -> Self {
         Op::Scale { dst: 0, x, s }
+    }
+
+    pub(super) fn formula(formula: Arc<Formula<Out>>, slots: Box<[u32]>) -> Self {
+        Op::Formula {
+            dst: 0,
+            formula,
+            slots,
+        }
     }
 
     pub(super) fn set_dst(&mut self, slot: u32) {
@@ -122,7 +138,8 @@ impl Op {
             | Op::Diff { dst, .. }
             | Op::Mul { dst, .. }
             | Op::Dot { dst, .. }
-            | Op::Eval { dst, .. } => *dst = slot,
+            | Op::Eval { dst, .. }
+            | Op::Formula { dst, .. } => *dst = slot,
         }
     }
 
@@ -133,6 +150,7 @@ impl Op {
             Op::Diff { a, b, .. } | Op::Mul { a, b, .. } => vec![*a, *b],
             Op::Dot { terms, .. } => terms.iter().map(|&(x, _)| x).collect(),
             Op::Eval { .. } => Vec::new(),
+            Op::Formula { slots, .. } => slots.to_vec(),
         }
     }
 }
@@ -148,6 +166,9 @@ pub(super) struct Program {
 /// A `Dot` op: its slot, terms and offset.
 type Dot = (u32, Box<[(u32, f64)]>, Option<f64>);
 
+/// A `Formula` op: its slot, the derived variable's formula and its leaves' slots.
+type FormulaOp = (u32, Arc<Formula<Out>>, Box<[u32]>);
+
 #[derive(Default, Clone)]
 struct Level {
     eval: Vec<(u32, Out)>,
@@ -156,6 +177,7 @@ struct Level {
     dot: Vec<Dot>,
     affine: Vec<(u32, u32, f64, f64)>,
     scale: Vec<(u32, u32, f64)>,
+    formula: Vec<FormulaOp>,
 }
 
 impl Program {
@@ -178,6 +200,11 @@ impl Program {
                 Op::Mul { dst, a, b } => (level.mul.push((dst, a, b)), dst).1,
                 Op::Dot { dst, terms, offset } => (level.dot.push((dst, terms, offset)), dst).1,
                 Op::Eval { dst, out } => (level.eval.push((dst, out)), dst).1,
+                Op::Formula {
+                    dst,
+                    formula,
+                    slots,
+                } => (level.formula.push((dst, formula, slots)), dst).1,
             };
             level_of.insert(dst, l);
         }
@@ -206,6 +233,10 @@ impl Program {
             }
             for &(dst, x, s) in &l.scale {
                 frame.set(dst, s * frame.get(x));
+            }
+            for (dst, formula, slots) in &l.formula {
+                let v = formula.eval(|i| frame.get(slots[i]));
+                frame.set(*dst, v);
             }
         }
     }

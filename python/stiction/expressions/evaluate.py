@@ -1,8 +1,10 @@
 """Evaluating and writing Modelica expressions.
 
-One evaluator serves parameters (scalars, at import) and derived variables (NumPy arrays over
-a result's rows): arithmetic and functions are NumPy's, so both work with the same code.
-Names are looked up through a callback, which raises ModelicaError for an unknown one.
+The evaluator of parameter expressions (scalars, when a model is read or a run starts);
+arithmetic and functions are NumPy's, so it takes arrays too. Names are looked up through a
+callback, which raises ModelicaError for an unknown one. Derived variables (a model's
+``[variables]``) are evaluated by the engine (``crates/stiction-core/src/system/formula.rs``),
+with the same functions (``FUNCTIONS``) and constants (``CONSTANTS``).
 """
 
 from __future__ import annotations

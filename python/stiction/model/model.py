@@ -31,6 +31,8 @@ if TYPE_CHECKING:
 __all__ = ["Model"]
 
 _IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+# a name in an expression: dotted ones (J1.w) are result variables, plain ones may be parameters
+_NAME = re.compile(r"(?<![\w.])[A-Za-z_]\w*(?![\w.])")
 
 
 def _did_you_mean(word: str, choices: list[str]) -> str:
@@ -66,6 +68,15 @@ def _meaning(value: Any, expressions: bool = False) -> Any:
     if isinstance(value, (list, tuple)):
         return [_meaning(v, expressions) for v in value]
     return value
+
+
+def numbers_read(variables: Mapping[str, str], values: Mapping[str, Any]) -> dict[str, float]:
+    """The top-level parameters the derived variables read by name, with their ``values``:
+    the engine text's ``[parameters]``, which a run or a sweep that varies one sets."""
+    if not variables:
+        return {}
+    names = {n for text in variables.values() for n in _NAME.findall(text)}
+    return {k: float(v) for k, v in values.items() if k in names and isinstance(v, (int, float, bool))}
 
 
 class Model:
@@ -297,8 +308,9 @@ class Model:
         )
 
     def engine_toml(self) -> str:
-        """The model-file text the engine reads: parameter expressions evaluated, derived
-        variables left out (they are computed from the result)."""
+        """The model-file text the engine reads: parameter expressions evaluated; derived
+        variables as written, with the values of the top-level parameters they read (the
+        engine computes them as result variables)."""
         return self._derived_of(values=False)[0]
 
     def _text_key(self) -> str | None:
@@ -307,7 +319,8 @@ class Model:
         (a run of a small model spent most of its Python time writing it, twice). None when a
         value's ``repr`` may not show all of it (an object, a summarized array)."""
         comps = [(n, c.type, c.params) for n, c in self.components.items()]
-        key = repr((self.name, self.experiment, comps, self.connections, self.inputs, self.parameters))
+        parts = (self.name, self.experiment, comps, self.connections, self.inputs, self.parameters)
+        key = repr((*parts, self.variables))
         return None if "<" in key or "..." in key else key
 
     def _text_and_values(self) -> tuple[str, dict[str, float]]:
@@ -338,6 +351,8 @@ class Model:
             ((n, c.type, resolve_params(n, c.params, values)) for n, c in self.components.items()),
             self.connections,
             self.inputs,
+            self.variables,
+            numbers_read(self.variables, values),
         )
 
     @classmethod

@@ -89,8 +89,6 @@ class Result:
         self._source = source
         self._data: np.ndarray | None = None
         self._columns: dict[str, np.ndarray] = {}
-        self._engine_table: np.ndarray | None = None  # the engine's table, once computed
-        self._extra: dict[str, np.ndarray] = {}  # derived variables of a lazy result
         if data is not None or source is None:
             table = np.asarray(data, dtype=np.float64)
             if table.ndim != 2 or table.shape[1] != len(self.names):
@@ -106,28 +104,11 @@ class Result:
         self.parameters: dict[str, float] = {}
 
     @classmethod
-    def from_core(
-        cls,
-        raw: Any,
-        name: str = "",
-        variables: Mapping[str, str] | None = None,
-        parameters: Mapping[str, Any] | None = None,
-        info: RunInfo | None = None,
-    ) -> Result:
-        """Wrap the engine's raw result; variables are computed when first read.
-
-        ``variables`` (name -> Modelica expression over result variables and the top-level
-        ``parameters``) add derived columns after the engine's; ``info`` answers
-        ``experiment`` and ``initialization``.
-        """
-        result = cls(raw.names, None, raw.events, raw.stats, name=name, source=raw, info=info)
-        if variables:
-            from stiction.results.derived import derived_columns
-
-            result._extra = derived_columns(result, variables, parameters)
-            result.names.extend(result._extra)
-            result._index_of = None
-        return result
+    def from_core(cls, raw: Any, name: str = "", info: RunInfo | None = None) -> Result:
+        """Wrap the engine's raw result; variables are computed when first read (the model's
+        derived variables too: the engine has them as result variables); ``info`` answers
+        ``experiment`` and ``initialization``."""
+        return cls(raw.names, None, raw.events, raw.stats, name=name, source=raw, info=info)
 
     @property
     def _index(self) -> dict[str, int]:
@@ -184,10 +165,7 @@ class Result:
     def data(self) -> np.ndarray:
         """All variables, one column per name (computed on first use)."""
         if self._data is None:
-            table = np.asarray(self._source.table(), dtype=np.float64)
-            if self._extra:
-                table = np.column_stack([table, *self._extra.values()])
-            self._data = table
+            self._data = np.asarray(self._source.table(), dtype=np.float64)
         return self._data
 
     @classmethod
@@ -211,20 +189,15 @@ class Result:
             column = self._index[name]
             if self._data is not None:
                 return self._data[:, column]
-            if name in self._extra:
-                return self._extra[name]
             if name in self._columns:
                 return self._columns[name]
-            if self._engine_table is None and not self._source.is_direct(name):
+            if not self._source.is_direct(name):
                 # the engine computes every variable for the first algebraic one: keep its
-                # table (not `self.data`, which derived columns, still being computed from
-                # these, extend), so that every later column is a view, not a copy each
+                # table, so that every later column is a view, not a copy each
                 try:
-                    self._engine_table = np.asarray(self._source.table(), dtype=np.float64)
+                    return self.data[:, column]
                 except UsageError:
                     pass  # every variable at once does not fit in memory: this one alone
-            if self._engine_table is not None:
-                return self._engine_table[:, column]
             # an angle, speed, mode or flag: read from the states, no table needed
             self._columns[name] = np.asarray(self._source.column(name), dtype=np.float64)
             return self._columns[name]

@@ -6,6 +6,7 @@ from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
 from stiction.model.components import si_overrides
+from stiction.model.model import numbers_read
 from stiction.model.parameters import evaluate_parameters, expand_parameters
 from stiction.model.runinfo import RunInfo
 from stiction.results.result import Result
@@ -35,14 +36,15 @@ def simulate(
     given |= {"Tolerance": Tolerance, "Solver": Solver}
     overrides = si_overrides(model.components, merge_overrides(params, given))  # "100 rpm"
     text, values = model._text_and_values()
-    top = evaluate_parameters(
-        {**model.parameters, **{k: overrides[k] for k in model.parameters if k in overrides}}
-    )
-    overrides = expand_parameters(model.parameters, model.components, overrides)
+    top = {k: overrides[k] for k in model.parameters if k in overrides}
+    expanded = expand_parameters(model.parameters, model.components, overrides)
+    if top and model.variables:  # the derived variables read this run's top-level values
+        expanded |= numbers_read(model.variables, evaluate_parameters({**model.parameters, **top}))
+    overrides = expanded
     core = model._compile(text)._core
     raw = (core.variant(overrides) if overrides else core).simulate(record_all=all_variables)
     experiment = {k: float(v) for k, v in given.items() if v is not None and k != "Solver"}
     info = RunInfo(text, str(model.base_dir), experiment, Solver, model.types())
-    result = Result.from_core(raw, name=model.name, variables=model.variables, parameters=top, info=info)
+    result = Result.from_core(raw, name=model.name, info=info)
     result.parameters = dict(values)
     return result

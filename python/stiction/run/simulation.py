@@ -36,7 +36,6 @@ class Simulation:
 
         overrides = {k: float(v) for k, v in experiment.items()}
         self._name = model.name
-        self._variables = dict(model.variables)
         self._parameters = evaluate_parameters(model.parameters)
         self._components = dict(model.components)  # their types: "2.5 kN" in set_parameter
         text, base = model.engine_toml(), str(model.base_dir)
@@ -129,8 +128,6 @@ class Simulation:
         return Result.from_core(
             self._core.result(),
             name=self._name,
-            variables=self._variables,
-            parameters=self._parameters,
             info=self._info,
         )
 

@@ -20,8 +20,8 @@ import numpy as np
 from stiction import _deps
 from stiction.errors import ModelError
 from stiction.model.components import si_overrides
-from stiction.model.model import Model
-from stiction.model.parameters import expand_parameters, is_table
+from stiction.model.model import Model, numbers_read
+from stiction.model.parameters import evaluate_parameters, expand_parameters, is_table
 from stiction.run.compiled import CompiledModel
 from stiction.sweeps.result import SweepResult, SweepTable
 from stiction.sweeps.store import PartStore
@@ -78,12 +78,19 @@ def _table_expressions(frame: pandas.DataFrame) -> bool:
 
 
 def _expanded(model: Model, columns: dict[str, list[Any]]) -> list[dict[str, Any]]:
-    """Variants of top-level parameters (``T2``) as the component values they imply."""
+    """Variants of top-level parameters (``T2``) as the component values they imply (and
+    the values the derived variables read, where they read one)."""
     names = list(columns)
-    return [
-        expand_parameters(model.parameters, model.components, dict(zip(names, row, strict=True)))
-        for row in zip(*columns.values(), strict=True)
-    ]
+    read = bool(model.variables) and any(n in model.parameters for n in names)
+    variants = []
+    for row in zip(*columns.values(), strict=True):
+        given = dict(zip(names, row, strict=True))
+        variant = expand_parameters(model.parameters, model.components, given)
+        if read:
+            top = {k: v for k, v in given.items() if k in model.parameters}
+            variant |= numbers_read(model.variables, evaluate_parameters({**model.parameters, **top}))
+        variants.append(variant)
+    return variants
 
 
 class _Batch:

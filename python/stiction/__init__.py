@@ -17,10 +17,12 @@ from stiction import _moved
 # not pay for NumPy, the component classes or the compiled engine before they are needed.
 from .errors import (
     ChatteringError,
+    EnergyWarning,
     EventIterationError,
     IntegratorError,
     LimitExceededError,
     ModelError,
+    NegativeFrictionError,
     NonFiniteStateError,
     SimulationCancelled,
     SimulationError,
@@ -108,6 +110,7 @@ __all__ = [
     "Convection",
     "Damper",
     "ElastoBacklash",
+    "EnergyWarning",
     "Event",
     "EventIterationError",
     "Feedback",
@@ -125,6 +128,7 @@ __all__ = [
     "LossyGear",
     "Model",
     "ModelError",
+    "NegativeFrictionError",
     "NonFiniteStateError",
     "OneWayClutch",
     "Product",

@@ -68,6 +68,10 @@ class RawResult:
     @property
     def stats(self) -> dict[str, float | int]:
         """steps, rejected_steps, rhs_evals, events, state_events, time_events, ..."""
+    @property
+    def delivering(self) -> list[str]:
+        """Switching elements whose loss power went negative beyond the event band at the end
+        of some step: the runs whose energy audit is checked."""
     def column(self, name: str) -> npt.NDArray[np.float64]:
         """One variable over all rows; KeyError for an unknown name."""
     def table(self) -> npt.NDArray[np.float64]:
@@ -75,6 +79,9 @@ class RawResult:
     def is_direct(self, name: str) -> bool:
         """Whether a variable is read from the states without evaluating the system (an angle,
         a speed, a mode, a flag); any other is a column of ``table()``."""
+    def held_rows(self, name: str) -> list[bool]:
+        """Per row, whether a locked element holds the speed variable (its own relative speed,
+        or a shaft it holds against ground): where ``first`` and ``time_of`` read it as 0."""
     def metric(self, text: str) -> float:
         """A metric of this run (``max(J1.w)``, ``time_of(clutch2.locked)``, ...), as a sweep computes it."""
     def audit(self) -> list[dict[str, Any]]:

@@ -13,18 +13,24 @@ them up by name), so ``except stiction.ModelError`` catches an error from either
         ├── StepLimitError                      more integration steps than any sane run needs
         ├── LimitExceededError                  a limit the user set (max_events, max_steps, timeout)
         ├── NonFiniteStateError                 the state became infinite or NaN
+        ├── NegativeFrictionError               a friction table extrapolated below 0 in the run
         ├── IntegratorError                     the ODE integrator failed
         └── SimulationCancelled                 the run was cancelled
+
+and one warning, ``EnergyWarning`` (a ``UserWarning``): a run whose energy audit finds a passive
+element that delivered energy.
 """
 
 from __future__ import annotations
 
 __all__ = [
     "ChatteringError",
+    "EnergyWarning",
     "EventIterationError",
     "IntegratorError",
     "LimitExceededError",
     "ModelError",
+    "NegativeFrictionError",
     "NonFiniteStateError",
     "SimulationCancelled",
     "SimulationError",
@@ -77,12 +83,25 @@ class NonFiniteStateError(SimulationError):
     """The state became infinite or NaN (overflow, or a mode without a solution)."""
 
 
+class NegativeFrictionError(SimulationError):
+    """A friction table, continued linearly past its last row as MSL does, gave a negative
+    coefficient (or torque) at the slip the run reached; the message names the element, the
+    slip speed and the table. ``extrapolation = "HoldLastPoint"`` holds the last row's value
+    instead."""
+
+
 class IntegratorError(SimulationError):
     """The ODE integrator failed (step size too small, nonlinear solver failures, …)."""
 
 
 class SimulationCancelled(SimulationError):
     """The run was cancelled (``Simulation.cancel`` from another thread)."""
+
+
+class EnergyWarning(UserWarning):
+    """The energy audit of a run found a passive element that delivered energy (its balance
+    does not close beyond the audit's bound): the result is physically wrong. The message names
+    the element and the energy; ``Result.audit()`` has the details."""
 
 
 for _cls in (
@@ -95,8 +114,10 @@ for _cls in (
     ChatteringError,
     StepLimitError,
     NonFiniteStateError,
+    NegativeFrictionError,
     IntegratorError,
     SimulationCancelled,
+    EnergyWarning,
 ):
     _cls.__module__ = "stiction"
 del _cls

@@ -143,13 +143,17 @@ def test_the_exception_hierarchy_is_public_and_catchable_by_name() -> None:
 
 def test_a_singular_mode_is_a_singular_system_error() -> None:
     # two shafts without inertia joined by a clutch: nothing determines their accelerations
+    # (each held by a spring only; a flange connected to nothing is refused before, by name)
     m = st.Model("massless")
     m.add("clutch", st.Clutch(fn_max=10.0))
     m.add("force", st.Constant(k=1.0))
     m.add("spring", st.Spring(c=1.0))
+    m.add("spring2", st.Spring(c=1.0))
     m.add("fixed", st.Fixed())
     m.connect("force.y", "clutch.f_normalized")
     m.connect("fixed.flange", "spring.flange_a")
     m.connect("spring.flange_b", "clutch.flange_a")
+    m.connect("clutch.flange_b", "spring2.flange_a")
+    m.connect("spring2.flange_b", "fixed.flange")
     with pytest.raises(st.SingularSystemError, match="singular system"):
         m.simulate(StopTime=0.1)

@@ -141,6 +141,18 @@ fn alone(entry: &Entry, params: &[ParamInfo], ports: &Ports, heat_boundary: bool
     };
     let mut components = vec![instance(entry, params)];
     let mut connections = Vec::new();
+    // a friction element's flanges must be connected: an inertia on each
+    for (k, flange) in ports.must_connect.iter().enumerate() {
+        let name = format!("inertia{k}");
+        let mut t = toml::Table::new();
+        t.insert("J".into(), 1.0.into());
+        components.push(ComponentSpec {
+            name: name.clone(),
+            type_name: "Inertia".into(),
+            params: t,
+        });
+        connections.push((port("x", flange), port(&name, "flange_a")));
+    }
     if heat_boundary {
         for (k, heat) in ports.heat.iter().enumerate() {
             let name = format!("boundary{k}");

@@ -63,6 +63,14 @@ pub enum SimError {
         "at t = {time}: the state became infinite or NaN (overflow, or a mode without a solution)"
     )]
     NonFiniteState { time: f64 },
+    /// A friction characteristic went below 0 during the run (a table extrapolated past its
+    /// last row): the friction would drive the motion and deliver energy.
+    #[error("at t = {time}: {message}")]
+    NegativeFriction {
+        time: f64,
+        element: String,
+        message: String,
+    },
     /// The ODE integrator itself failed (step size too small, nonlinear solver failures, …).
     #[error("at t = {time}: integrator: {message}")]
     Integrator { time: f64, message: String },
@@ -86,6 +94,7 @@ impl SimError {
             SimError::StepLimit { .. } => "StepLimitError",
             SimError::Limit { .. } => "LimitExceededError",
             SimError::NonFiniteState { .. } => "NonFiniteStateError",
+            SimError::NegativeFriction { .. } => "NegativeFrictionError",
             SimError::Integrator { .. } => "IntegratorError",
             SimError::Cancelled { .. } => "SimulationCancelled",
             SimError::Usage(_) => "UsageError",

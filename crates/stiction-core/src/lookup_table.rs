@@ -3,22 +3,19 @@
 //! Written by hand because it is ten lines and must reproduce MSL's extrapolation exactly.
 
 use crate::error::ModelResult;
-use crate::model::{parse_decl, Params};
+use crate::model::Params;
 
 #[derive(Debug, Clone)]
 pub struct Table1D {
     x: Vec<f64>,
     y: Vec<f64>,
+    /// CombiTable1D's `Extrapolation.HoldLastPoint`: the first/last row's value beyond the
+    /// rows (MSL's friction tables use `LastTwoPoints`, the default: linear through the first
+    /// or last two rows).
+    hold: bool,
 }
 
 impl Table1D {
-    /// Reads a `[:, 2]` table parameter (its declaration `"name [unit] description"`) and
-    /// checks that its abscissa strictly increases.
-    pub fn from_param(p: &Params, decl: &'static str, default: &[&[f64]]) -> ModelResult<Self> {
-        let rows = p.matrix(decl, 2, default)?;
-        Self::from_rows(p, parse_decl(decl).0, &rows, 1)
-    }
-
     /// Builds a table from `rows[:, 0]` against `rows[:, column]`.
     pub fn from_rows(
         p: &Params,
@@ -30,6 +27,7 @@ impl Table1D {
         Ok(Self {
             x: rows.iter().map(|r| r[0]).collect(),
             y: rows.iter().map(|r| r[column]).collect(),
+            hold: false,
         })
     }
 
@@ -38,7 +36,34 @@ impl Table1D {
         Self {
             x: rows.iter().map(|r| r[0]).collect(),
             y: rows.iter().map(|r| r[1]).collect(),
+            hold: false,
         }
+    }
+
+    /// The table holding its first and last rows' values beyond them (`HoldLastPoint`).
+    pub fn holding(mut self) -> Self {
+        self.hold = true;
+        self
+    }
+
+    /// Where, beyond its last row, the table's linear extrapolation reaches 0 from a
+    /// nonnegative last value: the smallest `u` past the last row with `eval(u) < 0` is just
+    /// above it. Infinite when it never does (a constant, rising or held table).
+    pub fn zero_beyond_last(&self) -> f64 {
+        let n = self.x.len();
+        if n < 2 || self.hold {
+            return f64::INFINITY;
+        }
+        let (x0, x1, y0, y1) = (self.x[n - 2], self.x[n - 1], self.y[n - 2], self.y[n - 1]);
+        if y1 >= y0 {
+            return f64::INFINITY;
+        }
+        x1 + y1 * (x1 - x0) / (y0 - y1)
+    }
+
+    /// The last row `(x, y)`.
+    pub fn last_row(&self) -> (f64, f64) {
+        (self.x[self.x.len() - 1], self.y[self.y.len() - 1])
     }
 
     /// The first column must be strictly increasing (CombiTable1D's rule).
@@ -69,6 +94,11 @@ impl Table1D {
     /// `eval(u)` of a table of two rows or more.
     #[inline(never)]
     fn interpolate(&self, u: f64) -> f64 {
+        let u = if self.hold {
+            u.clamp(self.x[0], self.x[self.x.len() - 1])
+        } else {
+            u
+        };
         let i = self.interval(u);
         let (x, y) = (&self.x[i..i + 2], &self.y[i..i + 2]);
         y[0] + (y[1] - y[0]) * (u - x[0]) / (x[1] - x[0])
@@ -114,7 +144,24 @@ mod tests {
         Table1D {
             x: rows.iter().map(|r| r.0).collect(),
             y: rows.iter().map(|r| r.1).collect(),
+            hold: false,
         }
+    }
+
+    #[test]
+    fn holding_tables_keep_their_end_values() {
+        let t = table(&[(0.0, 0.35), (100.0, 0.3)]);
+        assert!((t.eval(700.0) - 0.0).abs() < 1e-15);
+        assert!((t.zero_beyond_last() - 700.0).abs() < 1e-9);
+        let held = t.clone().holding();
+        assert_eq!(held.eval(700.0), 0.3);
+        assert_eq!(held.eval(-5.0), 0.35);
+        assert_eq!(held.eval(50.0), t.eval(50.0));
+        assert_eq!(held.zero_beyond_last(), f64::INFINITY);
+        assert_eq!(
+            table(&[(0.0, 0.3), (1.0, 0.4)]).zero_beyond_last(),
+            f64::INFINITY
+        );
     }
 
     #[test]

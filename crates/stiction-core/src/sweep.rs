@@ -36,7 +36,7 @@ impl Plan {
         let elements: Vec<String> = sys.switching.iter().map(|e| e.name().to_string()).collect();
         let metrics = metrics
             .iter()
-            .map(|m| Metric::parse(m, &names, &elements))
+            .map(|m| Metric::parse(m, &names, &elements).map(|m| m.for_system(&sys)))
             .collect::<ModelResult<Vec<_>>>()?;
         for name in outputs {
             if !names.contains(name) {
@@ -228,7 +228,7 @@ impl Observer for Shared {
         };
         for (acc, column) in w.accumulators.iter_mut().zip(&w.metric_column) {
             if let Some(c) = column {
-                acc.row(row.t, values[*c]);
+                acc.row_in(row.t, values[*c], row.disc);
             }
         }
         if let Some(k) = w.grid.point(row.t) {

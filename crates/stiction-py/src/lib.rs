@@ -128,6 +128,13 @@ impl RawResult {
             .collect()
     }
 
+    /// Switching elements whose loss power went negative beyond the event band at the end of
+    /// some step: the runs whose energy audit Python checks (and warns about).
+    #[getter]
+    fn delivering(&self) -> Vec<String> {
+        self.result.delivering.clone()
+    }
+
     #[getter]
     fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let s = &self.result.stats;
@@ -166,6 +173,13 @@ impl RawResult {
     /// unknown name.
     fn is_direct(&self, name: &str) -> PyResult<bool> {
         (self.result.is_direct(name)).ok_or_else(|| PyKeyError::new_err(name.to_string()))
+    }
+
+    /// Per row, whether a locked element holds the speed variable `name` (its own relative
+    /// speed, or a shaft it holds against ground): the rows where `first` and `time_of` read
+    /// that speed as 0. All false for any other variable.
+    fn held_rows(&self, name: &str) -> Vec<bool> {
+        self.result.held_rows(name)
     }
 
     /// A metric of this run (`max(J1.w)`, `time_of(clutch2.locked)`, …), as a sweep computes it.

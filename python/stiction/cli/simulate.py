@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 from typing import Any
 
@@ -16,7 +17,7 @@ from stiction.cli.options import (
     model_option,
     output_option,
 )
-from stiction.errors import ModelError
+from stiction.errors import EnergyWarning, ModelError
 
 
 @click.command()
@@ -59,9 +60,16 @@ def simulate(
     # a file of every variable: computed while the run goes on
     record = "all" if output is not None and not outputs else "states"
     try:
-        result = model.simulate(record=record, **experiment)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", EnergyWarning)
+            result = model.simulate(record=record, **experiment)
     except ModelError as exc:
         raise in_file(model_file, exc) from None
+    for w in caught:  # a run whose energy balance does not close: one line each, on stderr
+        if issubclass(w.category, EnergyWarning):
+            click.echo(f"warning: {w.message}", err=True)
+        else:
+            warnings.showwarning(w.message, w.category, w.filename, w.lineno)
     if output is not None:
         chosen = [n.strip() for n in outputs.split(",") if n.strip()] if outputs else None
         result.save(output, chosen)

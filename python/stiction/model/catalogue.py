@@ -75,6 +75,24 @@ def _range_test(text: str) -> Callable[[float], bool] | None:
     return None
 
 
+def _table_violation(text: str, table: Any) -> str | None:
+    """A table's range ``coefficients >= 0`` (what its values are, a comparison, a bound) on
+    every column but the first (the abscissa); the engine's words, None for other ranges."""
+    compared = re.fullmatch(r"(\w+) (>=|<=|!=|>|<) (\S+)", text)
+    if compared is None or not isinstance(table, (list, tuple)):
+        return None
+    what, op, bound = compared.group(1), _COMPARE[compared.group(2)], float(compared.group(3))
+    for row in table:
+        if not isinstance(row, (list, tuple)):
+            return None
+        for cell in row[1:]:
+            if isinstance(cell, bool) or not isinstance(cell, (int, float)) or op(float(cell), bound):
+                continue
+            shown = ", ".join(show_value(c) for c in row)
+            return f"{what} must be {compared.group(2)} {compared.group(3)}, got {show_value(cell)} in row [{shown}]"
+    return None
+
+
 @dataclass(frozen=True)
 class Parameter:
     """One parameter: its MSL name, kind, default, unit, valid range and description."""
@@ -102,9 +120,13 @@ class Parameter:
         return _ANNOTATIONS[self.kind]
 
     def violation(self, value: Any) -> str | None:
-        """Why a plain number is outside this parameter's range (``must be > 0, got -1.2``),
-        the engine's words; None when it is inside, or not a plain number, or the range is one
-        only the engine reads (a table's columns): the engine checks those when it reads them."""
+        """Why a plain number is outside this parameter's range (``must be > 0, got -1.2``), or
+        a table's number outside its range (``coefficients >= 0``: every column but the first),
+        the engine's words; None when it is inside, or not a plain number (a table's expression
+        cell), or the range is one only the engine reads (``eta_mf1, eta_mf2 in (0, 1]``): the
+        engine checks those when it reads them."""
+        if self.range is not None and self.kind.startswith("table"):
+            return _table_violation(self.range, value)
         if self.range is None or isinstance(value, bool) or not isinstance(value, (int, float)):
             return None
         inside = _range_test(self.range)

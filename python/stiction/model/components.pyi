@@ -788,8 +788,10 @@ class Brake(_Factory):
 
     Parameters
     ----------
-    mu_pos : table [:, 2] [rad/s, 1], default [[0, 0.5]]
-        Positive sliding friction coefficient: rows [w, mu] for w >= 0
+    mu_pos : table [:, 2] [rad/s, 1], default [[0, 0.5]], coefficients >= 0
+        Positive sliding friction coefficient: rows [w, mu] for w >= 0, linear between rows; beyond the last row as `extrapolation` says (MSL: linearly through the last two rows)
+    extrapolation : choice, default 'LastTwoPoints'
+        How the friction table continues beyond its rows: LastTwoPoints (MSL's CombiTable1D: linearly through the first or last two rows; a run whose slip reaches a speed where that value falls below 0 stops there with an error) or HoldLastPoint (the first or last row's value)
     peak : Real [1], default 1, >= 1
         Peak for maximum friction torque at w = 0: tau0_max = peak*tau0
     cgeo : Real [1], default 1, >= 0
@@ -843,6 +845,7 @@ class Brake(_Factory):
         self,
         *,
         mu_pos: Sequence[Sequence[float | str]] = ...,
+        extrapolation: Literal["LastTwoPoints", "HoldLastPoint"] = ...,
         peak: float = ...,
         cgeo: float = ...,
         fn_max: float = ...,
@@ -858,8 +861,10 @@ class Clutch(_Factory):
 
     Parameters
     ----------
-    mu_pos : table [:, 2] [rad/s, 1], default [[0, 0.5]]
-        Positive sliding friction coefficient: rows [w, mu] for w >= 0
+    mu_pos : table [:, 2] [rad/s, 1], default [[0, 0.5]], coefficients >= 0
+        Positive sliding friction coefficient: rows [w, mu] for w >= 0, linear between rows; beyond the last row as `extrapolation` says (MSL: linearly through the last two rows)
+    extrapolation : choice, default 'LastTwoPoints'
+        How the friction table continues beyond its rows: LastTwoPoints (MSL's CombiTable1D: linearly through the first or last two rows; a run whose slip reaches a speed where that value falls below 0 stops there with an error) or HoldLastPoint (the first or last row's value)
     peak : Real [1], default 1, >= 1
         Peak for maximum friction torque at w = 0: tau0_max = peak*tau0
     cgeo : Real [1], default 1, >= 0
@@ -912,6 +917,7 @@ class Clutch(_Factory):
         self,
         *,
         mu_pos: Sequence[Sequence[float | str]] = ...,
+        extrapolation: Literal["LastTwoPoints", "HoldLastPoint"] = ...,
         peak: float = ...,
         cgeo: float = ...,
         fn_max: float = ...,
@@ -928,8 +934,10 @@ class BearingFriction(_Factory):
 
     Parameters
     ----------
-    tau_pos : table [:, 2] [rad/s, N.m], default [[0, 1]]
-        Positive sliding friction torque: rows [w, tau] for w >= 0
+    tau_pos : table [:, 2] [rad/s, N.m], default [[0, 1]], torques >= 0
+        Positive sliding friction torque: rows [w, tau] for w >= 0, linear between rows; beyond the last row as `extrapolation` says (MSL: linearly through the last two rows)
+    extrapolation : choice, default 'LastTwoPoints'
+        How the friction table continues beyond its rows: LastTwoPoints (MSL's CombiTable1D: linearly through the first or last two rows; a run whose slip reaches a speed where that value falls below 0 stops there with an error) or HoldLastPoint (the first or last row's value)
     peak : Real [1], default 1, >= 1
         Peak for maximum friction torque at w = 0: tau0_max = peak*tau0
     w_small : Real [rad/s], default 1e+10, > 0
@@ -974,6 +982,7 @@ class BearingFriction(_Factory):
         self,
         *,
         tau_pos: Sequence[Sequence[float | str]] = ...,
+        extrapolation: Literal["LastTwoPoints", "HoldLastPoint"] = ...,
         peak: float = ...,
         w_small: float = ...,
         useHeatPort: bool = ...,
@@ -987,8 +996,10 @@ class OneWayClutch(_Factory):
 
     Parameters
     ----------
-    mu_pos : table [:, 2] [rad/s, 1], default [[0, 0.5]]
-        Positive sliding friction coefficient: rows [w, mu] for w >= 0
+    mu_pos : table [:, 2] [rad/s, 1], default [[0, 0.5]], coefficients >= 0
+        Positive sliding friction coefficient: rows [w, mu] for w >= 0, linear between rows; beyond the last row as `extrapolation` says (MSL: linearly through the last two rows)
+    extrapolation : choice, default 'LastTwoPoints'
+        How the friction table continues beyond its rows: LastTwoPoints (MSL's CombiTable1D: linearly through the first or last two rows; a run whose slip reaches a speed where that value falls below 0 stops there with an error) or HoldLastPoint (the first or last row's value)
     peak : Real [1], default 1, >= 1
         Peak for maximum friction torque at w = 0: tau0_max = peak*tau0
     cgeo : Real [1], default 1, >= 0
@@ -1044,6 +1055,7 @@ class OneWayClutch(_Factory):
         self,
         *,
         mu_pos: Sequence[Sequence[float | str]] = ...,
+        extrapolation: Literal["LastTwoPoints", "HoldLastPoint"] = ...,
         peak: float = ...,
         cgeo: float = ...,
         fn_max: float = ...,
@@ -1065,7 +1077,7 @@ class LossyGear(_Factory):
     ratio : Real [1], default 1, != 0
         Transmission ratio flange_a.phi/flange_b.phi
     lossTable : table [:, 5] [rad/s, 1, 1, N.m, N.m], default [[0, 1, 1, 0, 0]], eta_mf1, eta_mf2 in (0, 1]
-        Rows [abs(w_a), eta_mf1, eta_mf2, tau_bf1, tau_bf2]
+        Rows [abs(w_a), eta_mf1, eta_mf2, tau_bf1, tau_bf2], linear between rows and beyond them linearly through the first or last two rows (MSL's CombiTable1D, LastTwoPoints): give rows up to the speeds the run reaches
     useSupport : Boolean, default false
         true: enable the support connector (else the housing is fixed at angle 0)
     useHeatPort : Boolean, default false
@@ -1400,9 +1412,9 @@ class TimeTable(_Factory):
     file : String, required
         CSV file of rows time, y (relative to the model file); instead of table
     table : table [:, 2] [s, 1], default [[0, 0]]
-        Rows [time, y]; a time given twice is a jump
+        Rows [time, y]; a time given twice is a jump; linear between rows, beyond the last row as `extrapolation` says
     extrapolation : choice, default 'LastTwoPoints'
-        Beyond the last point: LastTwoPoints or HoldLastPoint
+        Beyond the last point: LastTwoPoints (linearly through the last two points) or HoldLastPoint (the last point's value)
     offset : Real [1], default 0
         Offset of the output signal y
     startTime : Real [s], default 0

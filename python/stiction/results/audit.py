@@ -21,16 +21,21 @@ within round-off.
 
 from __future__ import annotations
 
+import sys
+import warnings
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 from stiction import _deps
+from stiction.errors import EnergyWarning
 
 if TYPE_CHECKING:
     import pandas
 
-__all__ = ["ElementBalance", "EnergyAudit"]
+    from stiction.results.result import Result
+
+__all__ = ["ElementBalance", "EnergyAudit", "warn_if_delivering"]
 
 # Round-off: 1e-9 of the model's largest power. And a stuck element's relative speed stays
 # inside the ±1e-10 rad/s event band (the relations switch there), so its held torque may show
@@ -141,3 +146,29 @@ class EnergyAudit:
             first = failures[0].split(" ", 1)[0]
             return "\n".join([f"energy audit DOES NOT CLOSE: {first} fails", *(f"  {f}" for f in failures)])
         return f"energy audit closes: largest residual {worst.component}, {worst.residual:.3g} W of {self.scale:.3g} W"
+
+
+def warn_if_delivering(result: Result, suspects: Iterable[str]) -> None:
+    """Warn (``EnergyWarning``) for each passive element the energy audit finds delivering
+    energy, naming it and the energy. ``suspects`` are the elements whose loss power the engine
+    saw below the event band at the end of some step (``RawResult.delivering``): a run without
+    any is not audited, so a normal run pays nothing."""
+    if not list(suspects):
+        return
+    audit = result.audit()
+    for e in sorted(audit.delivering(), key=lambda e: e.dissipated):
+        warnings.warn(
+            f"energy audit: {e.component} delivered {-e.dissipated:.3g} J over the run, though it is "
+            "a passive element (its balance does not close): the result is not physical; "
+            "see Result.audit()",
+            EnergyWarning,
+            stacklevel=_caller_level(),
+        )
+
+
+def _caller_level() -> int:
+    """The ``stacklevel`` of the first frame outside the stiction package (the user's call)."""
+    frame, level = sys._getframe(1), 1
+    while frame is not None and str(frame.f_globals.get("__name__", "")).startswith("stiction"):
+        frame, level = frame.f_back, level + 1  # type: ignore[assignment]
+    return level

@@ -9,7 +9,9 @@ from __future__ import annotations
 import difflib
 import fnmatch
 import math
+import operator
 import os
+import re
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NamedTuple
@@ -33,6 +35,16 @@ if TYPE_CHECKING:
 __all__ = ["MODE_NAMES", "Event", "Result", "mode_name"]
 
 # Signal kinds worth showing first in a summary, most telling first.
+# ``first("J.w <= 0")``: a variable, a comparison and a number, as ``time_of`` takes them
+_COMPARISON = re.compile(r"\s*(\S+?)\s*(<=|>=|==|!=|<|>)\s*(\S+)\s*")
+_OPS: dict[str, Callable[[Any, float], Any]] = {
+    "<=": operator.le,
+    ">=": operator.ge,
+    "==": operator.eq,
+    "!=": operator.ne,
+    "<": operator.lt,
+    ">": operator.gt,
+}
 _MAIN_SUFFIXES = ("w", "w_rel", "mode", "tau", "phi", "phi_rel", "T", "y")
 
 
@@ -108,7 +120,13 @@ class Result:
         """Wrap the engine's raw result; variables are computed when first read (the model's
         derived variables too: the engine has them as result variables); ``info`` answers
         ``experiment`` and ``initialization``."""
-        return cls(raw.names, None, raw.events, raw.stats, name=name, source=raw, info=info)
+        result = cls(raw.names, None, raw.events, raw.stats, name=name, source=raw, info=info)
+        suspects = getattr(raw, "delivering", ())
+        if suspects:  # the engine saw a loss power below the event band: audit the run
+            from stiction.results.audit import warn_if_delivering
+
+            warn_if_delivering(result, suspects)
+        return result
 
     @property
     def _index(self) -> dict[str, int]:
@@ -248,15 +266,44 @@ class Result:
     def first(self, name: str, condition: Callable[[np.ndarray], np.ndarray] | None = None) -> float | None:
         """The first time a signal is true (nonzero), or meets ``condition``; None if never.
 
-        ``r.first("clutch2.locked")``; ``r.first("J.w", lambda w: w < 1.0)``.
+        ``r.first("clutch2.locked")``; ``r.first("J.w", lambda w: w < 1.0)``; or a comparison
+        written out, as ``time_of`` in metrics takes it: ``r.first("J.w <= 0")``.
+
+        A speed a locked element holds — its own relative speed (``brake.w``, ``clutch.w_rel``)
+        or a shaft it holds against ground (``J.w`` behind a locked brake) — reads 0 here while
+        it is locked: a lock leaves the slip where the event band stopped it (about ±1e-10
+        rad/s), so ``J.w <= 0`` would otherwise miss a lock from below and ``J.w > 0`` see one
+        from above as moving. The columns themselves keep the integrated values. (A result
+        read from a file has no modes to read: its values are taken as they are.)
         """
-        hit = np.asarray(condition(self[name]) if condition else self[name] != 0.0, dtype=bool)
+        if condition is None and name not in self:
+            compared = _COMPARISON.fullmatch(name)
+            if compared is not None and compared.group(1) in self:
+                name, op, bound = compared.group(1), _OPS[compared.group(2)], float(compared.group(3))
+                condition = lambda v: op(v, bound)
+        values = self._held_as_zero(name)
+        hit = np.asarray(condition(values) if condition else values != 0.0, dtype=bool)
         rows = np.flatnonzero(hit)
         return float(self.time[rows[0]]) if rows.size else None
 
+    def _held_as_zero(self, name: str) -> np.ndarray:
+        """The column, 0 on the rows where a locked element holds it (a speed; see ``first``)."""
+        values = self[name]
+        if self._source is None or len(values) != len(self.time):
+            return values
+        held = np.asarray(self._source.held_rows(name), dtype=bool)
+        return np.where(held, 0.0, values) if held.any() else values
+
     def lock_times(self, component: str) -> list[float]:
-        """The instants a friction element becomes locked (its ``locked`` rises; t0 counts)."""
-        locked = self[f"{component}.locked"] != 0.0
+        """The instants a friction element becomes locked (its ``locked`` rises; t0 counts).
+
+        For a shaft (``"J"``, an Inertia, without a ``locked`` of its own): the instants a
+        locked element starts holding it against ground (a brake on it locks), read from the
+        modes, not from its speed (see ``first``)."""
+        if f"{component}.locked" not in self and f"{component}.w" in self and self._source is not None:
+            locked = np.asarray(self._source.held_rows(f"{component}.w"), dtype=bool)
+        else:
+            locked = self[f"{component}.locked"] != 0.0
         rises = np.flatnonzero(locked[1:] & ~locked[:-1]) + 1
         times = [float(self.time[i]) for i in rises]
         return ([float(self.time[0])] if locked.size and locked[0] else []) + times

@@ -76,6 +76,7 @@ impl Topology {
         let mut topo = Self::declare(spec, comps);
         let mut joins = topo.connect(spec)?;
         topo.mechanical_nodes(&mut joins.mech)?;
+        topo.check_connected(&mut joins.mech)?;
         topo.signal_slots(&joins.signal_source);
         topo.model_inputs(spec)?;
         topo.heat_nodes(&mut joins.heat);
@@ -263,6 +264,51 @@ impl Topology {
                     self.node_ports[node].push(label);
                     NodeRef::Node(node)
                 }
+            });
+        }
+        Ok(())
+    }
+
+    /// Every port a component says must be connected (`Ports::must_connect`, a friction
+    /// element's flanges) shares its rigid set with another component's port. A Brake whose
+    /// shaft nothing else touches has no inertia there, and once it slips nothing determines
+    /// its motion: said here, by port, not as a singular system in the middle of a run.
+    fn check_connected(&self, sets: &mut Sets) -> ModelResult<()> {
+        // per rigid set: the first component with a port in it, and whether there are others
+        let mut owners: HashMap<usize, (usize, bool)> = HashMap::new();
+        for (i, p) in self.ports.iter().enumerate() {
+            if p.kind != PortKind::Mechanical {
+                continue;
+            }
+            let entry = owners.entry(sets.find(i)).or_insert((p.component, false));
+            entry.1 |= entry.0 != p.component;
+        }
+        for (ci, decl) in self.port_decls.iter().enumerate() {
+            let alone: Vec<String> = (decl.must_connect.iter())
+                .filter(|p| !owners[&sets.find(self.index[&(ci, **p)])].1)
+                .map(|p| format!("{}.{p}", self.names[ci]))
+                .collect();
+            if alone.is_empty() {
+                continue;
+            }
+            let (ports, verb) = match alone.len() {
+                1 => (alone[0].clone(), "is"),
+                _ => (alone.join(" and "), "are"),
+            };
+            return Err(ModelError::Component {
+                component: self.names[ci].clone(),
+                message: format!(
+                    "{ports} {verb} not connected: a {} acts on the shafts connected to its \
+                     flanges, and alone a flange's shaft has no inertia, so nothing determines \
+                     its motion once it slips (MSL refuses it too); connect {} to the shaft it \
+                     acts on",
+                    self.types[ci],
+                    if alone.len() == 1 {
+                        "it".to_string()
+                    } else {
+                        "one of them".to_string()
+                    },
+                ),
             });
         }
         Ok(())

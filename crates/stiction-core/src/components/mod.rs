@@ -34,6 +34,10 @@ pub struct Ports {
     pub signal_in: Vec<&'static str>,
     pub signal_out: Vec<&'static str>,
     pub heat: Vec<&'static str>,
+    /// Mechanical ports that must reach something outside the component (a friction
+    /// element's): alone, such a port's shaft has no inertia and nothing determines its
+    /// motion once the element slips, so the assembly refuses it by name.
+    pub must_connect: Vec<&'static str>,
 }
 
 impl Ports {

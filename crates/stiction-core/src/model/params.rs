@@ -148,6 +148,40 @@ impl<'a> Params<'a> {
         Ok(value)
     }
 
+    /// Every value of a table (each column but the first, its abscissa) at least `min`; the
+    /// catalogue's range reads `"{what} >= {min}"` (`coefficients >= 0`), which Python's
+    /// construct-time check reads the same way.
+    pub fn table_at_least(
+        &self,
+        name: &str,
+        rows: &[Vec<f64>],
+        min: f64,
+        what: &str,
+    ) -> ModelResult<()> {
+        self.range(name, &format!("{what} >= {min}"));
+        if self.schema() {
+            return Ok(());
+        }
+        for row in rows {
+            if let Some(v) = row[1..].iter().find(|&&v| v < min) {
+                let cells: Vec<String> = row.iter().map(|c| c.to_string()).collect();
+                return Err(self.error(
+                    name,
+                    format!(
+                        "{what} must be >= {min}, got {v} in row [{}]",
+                        cells.join(", ")
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Whether the constructor runs in catalogue mode (nothing is range-checked).
+    pub fn in_catalogue(&self) -> bool {
+        self.schema()
+    }
+
     pub fn positive(&self, name: &str, value: f64) -> ModelResult<f64> {
         self.range(name, "> 0");
         if value <= 0.0 && !self.schema() {

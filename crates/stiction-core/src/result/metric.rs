@@ -6,7 +6,11 @@
 //! to the last bit.
 
 use super::SimResult;
+use crate::engine::eval::DiscreteState;
 use crate::error::{ModelError, ModelResult};
+use crate::rel::Rel;
+use crate::system::outputs::SwitchVar;
+use crate::system::{Out, System};
 
 /// A comparison in `time_of(x op value)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -54,6 +58,9 @@ pub struct Metric {
     pub kind: MetricKind,
     /// The output variable it reads (none for `events`).
     pub variable: Option<String>,
+    /// `time_of` over a speed: the switching elements whose lock holds it (`held_by`), so
+    /// that it reads 0 while one of them is locked. Empty until `for_system`.
+    pub held: Vec<usize>,
 }
 
 impl Metric {
@@ -118,8 +125,48 @@ impl Metric {
             text: trimmed.to_string(),
             kind,
             variable: var,
+            held: Vec::new(),
         })
     }
+
+    /// The metric over `sys`: a `time_of` condition on a speed that a locked element holds
+    /// reads that speed as 0 while the element is locked (`held_by`).
+    pub fn for_system(mut self, sys: &System) -> Self {
+        if let (MetricKind::TimeOf(..), Some(name)) = (&self.kind, &self.variable) {
+            self.held = held_by(sys, name);
+        }
+        self
+    }
+}
+
+/// The switching elements whose lock holds the speed variable `name`: its own relative speed
+/// (`brake.w`, `clutch.w_rel`), or a speed the element's locked motion is (up to sign) — a
+/// shaft a brake holds against its grounded support (`J.w`). A locked element keeps `a = 0`
+/// and its slip where the event band left it (|w| ≈ 1e-10 rad/s, not 0), so "when does it
+/// stop" reads such a speed as 0 while one of them is locked. Empty for any other variable.
+pub fn held_by(sys: &System, name: &str) -> Vec<usize> {
+    let Some((_, out)) = sys.outputs.iter().find(|(n, _)| n == name) else {
+        return Vec::new();
+    };
+    match out {
+        Out::Switch(k, SwitchVar::W) => vec![*k],
+        Out::Speed(rel) => (sys.switching.iter().enumerate())
+            .filter(|(_, e)| same_motion(e.motion(), rel))
+            .map(|(k, _)| k)
+            .collect(),
+        _ => Vec::new(),
+    }
+}
+
+/// Whether two rows are one motion up to its sign (the offsets, angles only, aside).
+fn same_motion(a: &Rel, b: &Rel) -> bool {
+    let sign = match (a.terms.first(), b.terms.first()) {
+        (Some(x), Some(y)) if x.0 == y.0 && x.1 != 0.0 => y.1 / x.1,
+        _ => return false,
+    };
+    (sign == 1.0 || sign == -1.0)
+        && a.terms.len() == b.terms.len()
+        && (a.terms.iter().zip(&b.terms)).all(|(x, y)| x.0 == y.0 && x.1 * sign == y.1)
 }
 
 const FUNCTIONS: &str = "final, max, min, integral, mean, time_of, events";
@@ -150,6 +197,10 @@ fn condition(arg: &str) -> Result<(&str, Cmp, f64), String> {
 #[derive(Debug, Clone)]
 pub struct Accumulator {
     kind: MetricKind,
+    held: Vec<usize>,
+    /// `time_of` over a held speed: a row meeting the condition while not held, kept until the
+    /// next row shows whether it was the left row of a lock (the same instant, held).
+    pending: Option<f64>,
     first_t: f64,
     last: Option<(f64, f64)>,
     acc: f64,
@@ -166,6 +217,8 @@ impl Accumulator {
         };
         Self {
             kind: metric.kind.clone(),
+            held: metric.held.clone(),
+            pending: None,
             first_t: f64::NAN,
             last: None,
             acc,
@@ -196,6 +249,36 @@ impl Accumulator {
         self.last = Some((t, v));
     }
 
+    /// The metric's variable at the next row, in the discrete state `disc`: a speed held by a
+    /// locked element reads 0 (`Metric::held`), and so does the row just before its lock at
+    /// the same instant (the event's left row, the slip already past the event band).
+    #[inline]
+    pub fn row_in(&mut self, t: f64, v: f64, disc: &DiscreteState) {
+        let MetricKind::TimeOf(cmp, value) = self.kind else {
+            return self.row(t, v);
+        };
+        if self.held.is_empty() {
+            return self.row(t, v);
+        }
+        let held = (self.held.iter()).any(|&k| disc.switching.get(k).is_some_and(|s| s.locked));
+        if let Some(tp) = self.pending.take() {
+            if !(held && t == tp) {
+                self.acc = tp;
+            }
+        }
+        if self.acc.is_nan() && cmp.holds(if held { 0.0 } else { v }, value) {
+            if held {
+                self.acc = t;
+            } else {
+                self.pending = Some(t);
+            }
+        }
+        if self.last.is_none() {
+            self.first_t = t;
+        }
+        self.last = Some((t, v));
+    }
+
     /// A mode change of `component` after initialization.
     pub fn event(&mut self, component: &str) {
         if let MetricKind::Events(ref which) = self.kind {
@@ -213,12 +296,38 @@ impl Accumulator {
                 _ => f64::NAN,
             },
             MetricKind::Events(_) => self.count as f64,
+            MetricKind::TimeOf(..) if self.acc.is_nan() => self.pending.unwrap_or(f64::NAN),
             _ => self.acc,
         }
     }
 }
 
 impl SimResult {
+    fn disc_at(&self, r: usize) -> &DiscreteState {
+        &self.discs[self.trajectory.disc[r] as usize]
+    }
+
+    /// Per row, whether a locked element holds the speed variable `name` (`held_by`), or is
+    /// about to at the same instant (the left row of its lock): the rows where "when does it
+    /// stop" reads it as 0, as `time_of` does. All false for any other variable.
+    pub fn held_rows(&self, name: &str) -> Vec<bool> {
+        let held = held_by(&self.system, name);
+        let t = &self.trajectory.t;
+        let mut rows: Vec<bool> = (0..t.len())
+            .map(|r| {
+                let disc = self.disc_at(r);
+                (held.iter()).any(|&k| disc.switching.get(k).is_some_and(|s| s.locked))
+            })
+            .collect();
+        // the left row of a lock, at the same instant: its slip is already past the band
+        for r in (0..t.len().saturating_sub(1)).rev() {
+            if rows[r + 1] && t[r + 1] == t[r] {
+                rows[r] = true;
+            }
+        }
+        rows
+    }
+
     /// A metric of this run (see the module): the value a sweep computes while the run goes.
     pub fn metric(&self, text: &str) -> ModelResult<f64> {
         let elements: Vec<String> = self
@@ -227,12 +336,14 @@ impl SimResult {
             .iter()
             .map(|e| e.name().to_string())
             .collect();
-        let metric = Metric::parse(text, &self.names, &elements)?;
+        let metric = Metric::parse(text, &self.names, &elements)?.for_system(&self.system);
         let mut acc = Accumulator::new(&metric);
         if let Some(name) = &metric.variable {
             let t = self.column("time").unwrap_or_default();
             let v = self.column(name).unwrap_or_default();
-            t.iter().zip(&v).for_each(|(&t, &v)| acc.row(t, v));
+            for (r, (&t, &v)) in t.iter().zip(&v).enumerate() {
+                acc.row_in(t, v, self.disc_at(r));
+            }
         }
         for e in self.events.iter().filter(|e| e.cause != "initialization") {
             acc.event(&e.component);

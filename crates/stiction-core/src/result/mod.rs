@@ -147,6 +147,11 @@ pub struct SimResult {
     ready: Mutex<Option<Vec<f64>>>,
     /// The most values `table` may hold (`MAX_TABLE_VALUES` unless a test lowers it).
     table_limit: f64,
+    /// Switching elements whose loss power went below `−|tau|·slip_bound` (the audit's bound
+    /// on a relative speed: event band plus integrator error) at the end of some step: a run to
+    /// audit (Python warns when the audit finds a passive one delivering energy). Empty for a
+    /// run that never saw it.
+    pub delivering: Vec<String>,
 }
 
 impl SimResult {
@@ -170,6 +175,7 @@ impl SimResult {
             table: OnceLock::new(),
             ready: Mutex::new(None),
             table_limit: MAX_TABLE_VALUES,
+            delivering: Vec::new(),
         }
     }
 

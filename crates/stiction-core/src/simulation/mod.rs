@@ -12,6 +12,7 @@ pub(crate) mod chatter;
 mod dense;
 mod event;
 mod grid;
+mod guard;
 mod initial_state;
 mod integrator;
 mod locate;
@@ -300,6 +301,19 @@ impl Simulation {
             )));
         }
         let t = t.min(exp.stop_time);
+        // A pause within round-off of the next time event (or of StopTime) is taken at it, the
+        // event handled, as a pause exactly there is: `t += 0.01` reaches 0.09999999999999999
+        // before a Ramp's start at 0.1, and an input or parameter event a hair before the
+        // integrator's stop could not restart it (issue 29).
+        let (events, next) = (&self.stepper.sys.time_events, self.stepper.next_te);
+        let at = (events.get(next..).unwrap_or_default().iter().copied())
+            .find(|&te| te >= t)
+            .unwrap_or(exp.stop_time);
+        let t = if t < at && crate::signals::same_instant(t, at) {
+            at
+        } else {
+            t
+        };
         loop {
             let Simulation { cell, stepper, .. } = &mut *self;
             let switch = cell.with_dependent_mut(|_, integ| {
@@ -467,6 +481,7 @@ impl Simulation {
         self.cell
             .with_dependent_mut(|_, integ| with_solver!(integ, s => all.add(s.get_statistics())));
         let st = self.stepper;
+        let delivering = st.guard.delivering(&st.sys);
         let mut stats = st.stats;
         stats.steps = all.steps;
         stats.rejected_steps = all.rejected;
@@ -476,6 +491,9 @@ impl Simulation {
         stats.jacobian_evals = st.phase.borrow().jacobians;
         stats.factorizations = st.cache.factorizations;
         stats.wall_ms = self.started.elapsed().as_secs_f64() * 1e3;
-        SimResult::new(st.sys, st.trajectory, st.discs, st.log, stats).with_earlier_systems(earlier)
+        let mut result = SimResult::new(st.sys, st.trajectory, st.discs, st.log, stats)
+            .with_earlier_systems(earlier);
+        result.delivering = delivering;
+        result
     }
 }

@@ -96,6 +96,10 @@ impl Stepper {
         // the end first, while the workspace may still hold the integrator's evaluation there
         self.x.copy_from_slice(solver.state().y.inner().as_slice());
         self.evaluate_end(t_now);
+        {
+            let phase = self.phase.borrow();
+            self.guard.watch(&self.sys, &phase.disc, &phase.ws);
+        }
         self.keep_sample(SAMPLES);
         self.take_sample(solver, MIDDLE)?;
         self.probed = false;
@@ -291,6 +295,54 @@ fn stays_below(z: [f64; 3], dz: [f64; 3], h: f64) -> bool {
     let reach = (dz.iter().filter(|r| !r.is_nan())).fold(0.0f64, |m, r| m.max(r.abs() * h));
     // an infinite rate makes the reach infinite: not quiet
     (hi == lo && hi <= 0.0 && reach == 0.0) || hi + QUIET * (hi - lo).max(reach) < 0.0
+}
+
+/// A friction characteristic gone negative inside a step (`guard.rs`).
+impl Stepper {
+    /// The error of element `k`'s characteristic turning negative inside the step
+    /// `(t_prev, t_now]`: its instant located by bisection on the step's dense output.
+    pub(super) fn negative_characteristic<'a, S>(
+        &mut self,
+        solver: &S,
+        t_prev: f64,
+        t_now: f64,
+        k: usize,
+    ) -> SimError
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let (mut lo, mut hi) = (t_prev, t_now);
+        loop {
+            let mid = 0.5 * (lo + hi);
+            if mid <= lo || mid >= hi || hi - lo <= 4.0 * f64::EPSILON * hi.abs().max(1.0) {
+                break;
+            }
+            if self.message_at(solver, mid, k).is_some() {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        let name = self.sys.switching[k].name().to_string();
+        let message = (self.message_at(solver, hi, k))
+            .unwrap_or_else(|| format!("'{name}': its friction characteristic turned negative"));
+        SimError::NegativeFriction {
+            time: hi,
+            element: name,
+            message,
+        }
+    }
+
+    fn message_at<'a, S>(&mut self, solver: &S, t: f64, k: usize) -> Option<String>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        self.load(solver, t).ok()?;
+        self.evaluate_here(t, false);
+        let phase = self.phase.borrow();
+        let (st, v) = (&phase.disc.switching[k], &phase.ws.elements[k]);
+        self.sys.switching[k].negative_characteristic(st, v)
+    }
 }
 
 #[cfg(test)]

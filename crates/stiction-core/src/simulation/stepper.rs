@@ -14,6 +14,7 @@ use diffsol::{OdeSolverMethod, OdeSolverStopReason, VectorCommon};
 use super::auto::StiffnessWatch;
 use super::chatter::ChatterWatch;
 use super::dense::StepPoly;
+use super::guard::Guard;
 use super::integrator::{integrator_error, Eqn, StepBudget, V};
 use super::samples::StepSamples;
 use super::{Observer, Phase};
@@ -130,6 +131,8 @@ pub(super) struct Stepper {
     pub(super) max_step: f64,
     /// Whether the system has prescribed motions (rows then project their speeds).
     pub(super) prescribes: bool,
+    /// What every step's end is checked for besides crossings (`guard.rs`).
+    pub(super) guard: Guard,
 }
 
 impl Stepper {
@@ -142,6 +145,7 @@ impl Stepper {
         let nz = indicator_count(&sys);
         let max_step = max_step(&sys);
         let sys_prescribes = sys.prescribes();
+        let guard = Guard::new(&sys);
         let t0 = sys.experiment.start_time;
         let chatter = ChatterWatch::new(&sys.experiment);
         let grid_last = sys.experiment.grid_len();
@@ -198,6 +202,7 @@ impl Stepper {
             stop_at_events: false,
             max_step,
             prescribes: sys_prescribes,
+            guard,
         }
     }
 
@@ -344,7 +349,14 @@ impl Stepper {
         let mut candidates = std::mem::take(&mut self.candidates);
         let found = self.scan_step(solver, self.t_prev, t_now, &mut candidates);
         self.candidates = candidates;
-        let located = match found? {
+        let found = found?;
+        if found.is_none() {
+            if let Some(k) = self.guard.negative {
+                return Err(self.negative_characteristic(solver, self.t_prev, t_now, k));
+            }
+            self.guard.keep();
+        }
+        let located = match found {
             Some((t_e, i)) => Some((
                 t_e,
                 indicator_label(&self.sys, &self.phase.borrow().disc, i),

@@ -253,6 +253,7 @@ impl Stepper {
         phase.f0_t = f64::NAN;
         phase.sys = sys.clone();
         drop(phase);
+        self.guard.renew(&sys);
         self.sys = sys;
     }
 }

@@ -196,6 +196,18 @@ pub trait SwitchingElement: Send + Sync {
     fn check_start(&self, _w: f64) -> Result<(), String> {
         Ok(())
     }
+    /// Whether its characteristic can turn negative during a run (a friction table whose
+    /// linear extrapolation past its last row reaches 0): the run then checks
+    /// `negative_characteristic` at the end of every step. False by default.
+    fn may_turn_negative(&self) -> bool {
+        false
+    }
+    /// At these values, why the element's characteristic is negative where its physics
+    /// forbids it (a friction coefficient extrapolated below 0 at the slip reached): the
+    /// message, naming the element, the slip speed and the table; None while it is not.
+    fn negative_characteristic(&self, _st: &SwitchState, _v: &ElementValues) -> Option<String> {
+        None
+    }
 
     // ---- its rows in the linear system
     /// The relative motion it locks (and whose speed it watches). `forces` sets its values'

@@ -23,6 +23,11 @@ pub struct FrictionElem {
     pub w_small: f64,
     /// `mu0 = T(0)`.
     pub mu0: f64,
+    /// The table parameter's name (`mu_pos`, a BearingFriction's `tau_pos`), for messages.
+    pub table_name: &'static str,
+    /// The table argument past which `mu_pos` extrapolates below 0 (infinite if it never
+    /// does: a constant, rising or held table).
+    pub negative_beyond: f64,
     /// Signal slot of `f_normalized`; None for BearingFriction (fn ≡ 1, cgeo ≡ 1: the table is
     /// the friction torque itself and the element is never free).
     pub input: Option<usize>,
@@ -169,6 +174,49 @@ impl SwitchingElement for FrictionElem {
             ));
         }
         Ok(())
+    }
+
+    fn may_turn_negative(&self) -> bool {
+        self.negative_beyond.is_finite()
+    }
+
+    /// Sliding (or starting), engaged, at a slip where its table is below 0: the friction
+    /// would drive the motion and deliver energy (MSL extrapolates on, silently).
+    fn negative_characteristic(&self, st: &SwitchState, v: &ElementValues) -> Option<String> {
+        if st.locked || st.free {
+            return None;
+        }
+        let (sf, sb) = (st.pre.start_forward, st.pre.start_backward);
+        let u = if self.one_way.is_some() {
+            v.w
+        } else {
+            logic::table_signs(sf, sb, st.pre.mode, self.clutch_quirk).0 * v.w
+        };
+        if u <= self.negative_beyond {
+            return None;
+        }
+        let value = self.mu_pos.eval(u);
+        if value >= 0.0 {
+            return None;
+        }
+        let (x, y) = self.mu_pos.last_row();
+        let what = if self.input.is_some() {
+            "coefficient"
+        } else {
+            "torque"
+        };
+        Some(format!(
+            "'{}' slips at {} rad/s, past {} rad/s where its table {} falls below 0 ({what} \
+             {value:.3e}): beyond its last row [{x}, {y}] the table goes on linearly through its \
+             last two rows (MSL's extrapolation), and a negative {what} would drive the motion; \
+             extend {} to the speeds the run reaches, or set extrapolation = \"HoldLastPoint\" \
+             to hold the last row's value",
+            self.name,
+            v.w.abs(),
+            self.negative_beyond,
+            self.table_name,
+            self.table_name,
+        ))
     }
 
     fn motion(&self) -> &Rel {

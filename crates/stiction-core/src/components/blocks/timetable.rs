@@ -88,7 +88,8 @@ pub fn time_table(p: &Params) -> ModelResult<Box<dyn Component>> {
             parse_csv(&text).map_err(|m| p.error("file", format!("'{}': {m}", path.display())))?
         }
         None => p.matrix(
-            "table [s, 1] Rows [time, y]; a time given twice is a jump",
+            "table [s, 1] Rows [time, y]; a time given twice is a jump; linear between rows, \
+             beyond the last row as `extrapolation` says",
             2,
             &[&[0.0, 0.0]],
         )?,
@@ -111,7 +112,8 @@ pub fn time_table(p: &Params) -> ModelResult<Box<dyn Component>> {
         }
     }
     let extrapolation = p.choice(
-        "extrapolation Beyond the last point: LastTwoPoints or HoldLastPoint",
+        "extrapolation Beyond the last point: LastTwoPoints (linearly through the last two \
+         points) or HoldLastPoint (the last point's value)",
         &["LastTwoPoints", "HoldLastPoint"],
         "LastTwoPoints",
     )?;

@@ -118,7 +118,9 @@ impl Component for LossyGear {
 fn lossy_gear(p: &Params) -> ModelResult<Box<dyn Component>> {
     let ratio = gear_ratio(p)?;
     let table = p.matrix(
-        "lossTable [rad/s, 1, 1, N.m, N.m] Rows [abs(w_a), eta_mf1, eta_mf2, tau_bf1, tau_bf2]",
+        "lossTable [rad/s, 1, 1, N.m, N.m] Rows [abs(w_a), eta_mf1, eta_mf2, tau_bf1, tau_bf2], \
+         linear between rows and beyond them linearly through the first or last two rows \
+         (MSL's CombiTable1D, LastTwoPoints): give rows up to the speeds the run reaches",
         5,
         &[&[0.0, 1.0, 1.0, 0.0, 0.0]],
     )?;

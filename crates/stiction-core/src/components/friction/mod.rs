@@ -28,10 +28,13 @@ const CGEO: &str =
 const FN_MAX: &str = "fn_max [N] Maximum normal force (at f_normalized = 1)";
 
 fn read_params(p: &Params) -> ModelResult<FrictionParams> {
-    let mu_pos = Table1D::from_param(
+    let mu_pos = friction_table(
         p,
-        "mu_pos [rad/s, 1] Positive sliding friction coefficient: rows [w, mu] for w >= 0",
+        "mu_pos [rad/s, 1] Positive sliding friction coefficient: rows [w, mu] for w >= 0, \
+         linear between rows; beyond the last row as `extrapolation` says (MSL: linearly \
+         through the last two rows)",
         &[&[0.0, 0.5]],
+        "coefficients",
     )?;
     let peak = p.at_least("peak", p.real(PEAK, 1.0)?, 1.0)?;
     Ok(FrictionParams {
@@ -42,6 +45,49 @@ fn read_params(p: &Params) -> ModelResult<FrictionParams> {
         w_small: p.positive("w_small", p.real(W_SMALL, 1.0e10)?)?,
         use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
     })
+}
+
+/// The declaration of a friction table's `extrapolation`.
+const EXTRAPOLATION: &str = "extrapolation How the friction table continues beyond its rows: \
+     LastTwoPoints (MSL's CombiTable1D: linearly through the first or last two rows; a run whose \
+     slip reaches a speed where that value falls below 0 stops there with an error) or \
+     HoldLastPoint (the first or last row's value)";
+
+/// A friction characteristic (`mu_pos`, `tau_pos`): its values (`what`) never negative — a
+/// negative coefficient would make the friction drive the motion —, its abscissa increasing,
+/// and its value at w = 0 (`mu0`, extrapolated if the first row is not at 0) not negative
+/// either; then `extrapolation`.
+fn friction_table(
+    p: &Params,
+    decl: &'static str,
+    default: &[&[f64]],
+    what: &str,
+) -> ModelResult<Table1D> {
+    let rows = p.matrix(decl, 2, default)?;
+    let name = crate::model::parse_decl(decl).0;
+    p.table_at_least(name, &rows, 0.0, what)?;
+    let table = Table1D::from_rows(p, name, &rows, 1)?;
+    let extrapolation = p.choice(
+        EXTRAPOLATION,
+        &["LastTwoPoints", "HoldLastPoint"],
+        "LastTwoPoints",
+    )?;
+    let table = if extrapolation == "HoldLastPoint" {
+        table.holding()
+    } else {
+        table
+    };
+    let at_rest = table.eval(0.0);
+    if at_rest < 0.0 && !p.in_catalogue() {
+        return Err(p.error(
+            name,
+            format!(
+                "{what} must be >= 0, but the table extrapolates to {at_rest} at w = 0 \
+                 (linearly through its first two rows); add a row at w = 0"
+            ),
+        ));
+    }
+    Ok(table)
 }
 
 /// Outputs every friction element reports (MSL names), plus its heat port.
@@ -108,8 +154,10 @@ struct Brake {
 
 impl Component for Brake {
     fn ports(&self) -> Ports {
+        let mech = with_support(&["flange_a", "flange_b"], self.use_support);
         Ports {
-            mech: with_support(&["flange_a", "flange_b"], self.use_support),
+            must_connect: mech.clone(),
+            mech,
             joins: vec![("flange_a", "flange_b")],
             signal_in: if self.bearing {
                 vec![]
@@ -199,6 +247,12 @@ fn add_elem(b: &mut Builder, p: &FrictionParams, rel: Rel, kind: Kind) -> ModelR
         name: b.name().to_string(),
         rel,
         mu0,
+        table_name: if kind == Kind::Bearing {
+            "tau_pos"
+        } else {
+            "mu_pos"
+        },
+        negative_beyond: p.mu_pos.zero_beyond_last(),
         mu_pos: p.mu_pos.clone(),
         peak,
         cgeo: p.cgeo,
@@ -225,10 +279,13 @@ fn brake(p: &Params) -> ModelResult<Box<dyn Component>> {
 /// BearingFriction (spec §5.4): `tau_pos` is the sliding torque itself; never free.
 fn bearing_friction(p: &Params) -> ModelResult<Box<dyn Component>> {
     let params = FrictionParams {
-        mu_pos: Table1D::from_param(
+        mu_pos: friction_table(
             p,
-            "tau_pos [rad/s, N.m] Positive sliding friction torque: rows [w, tau] for w >= 0",
+            "tau_pos [rad/s, N.m] Positive sliding friction torque: rows [w, tau] for w >= 0, \
+             linear between rows; beyond the last row as `extrapolation` says (MSL: linearly \
+             through the last two rows)",
             &[&[0.0, 1.0]],
+            "torques",
         )?,
         peak: p.at_least("peak", p.real(PEAK, 1.0)?, 1.0)?,
         cgeo: 1.0,
@@ -257,6 +314,7 @@ impl Component for Clutch {
     fn ports(&self) -> Ports {
         Ports {
             mech: vec!["flange_a", "flange_b"],
+            must_connect: vec!["flange_a", "flange_b"],
             signal_in: vec!["f_normalized"],
             heat: heat_port(self.p.use_heat_port),
             ..Ports::default()

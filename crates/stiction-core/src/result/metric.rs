@@ -392,6 +392,51 @@ mod tests {
     }
 
     #[test]
+    fn a_held_speed_reads_zero_while_locked_and_on_the_left_row_of_its_lock() {
+        use crate::switching::element::SwitchState;
+        use crate::switching::logic::Discrete;
+        let disc = |locked: bool| DiscreteState {
+            switching: vec![SwitchState {
+                pre: Discrete::INITIAL,
+                locked,
+                free: false,
+                rel: Default::default(),
+            }],
+            relations: Vec::new(),
+            inputs: Vec::new(),
+        };
+        let (sliding, locked) = (disc(false), disc(true));
+        // sliding forward to a lock at t = 1 (its left row already 1e-10 past zero), then held
+        let rows = [
+            (0.0, 5.0, &sliding),
+            (1.0, -1e-10, &sliding),
+            (1.0, -1e-10, &locked),
+            (2.0, -1e-10, &locked),
+        ];
+        let run = |text: &str, held: Vec<usize>| {
+            let mut m = metric(text);
+            m.held = held;
+            let mut acc = Accumulator::new(&m);
+            rows.iter().for_each(|&(t, v, d)| acc.row_in(t, v, d));
+            acc.value()
+        };
+        assert!(run("time_of(J1.w < 0)", vec![0]).is_nan()); // it never turned backward
+        assert_eq!(run("time_of(J1.w == 0)", vec![0]), 1.0);
+        assert_eq!(run("time_of(J1.w < 0)", vec![]), 1.0); // the speed alone
+        assert!(run("time_of(J1.w == 0)", vec![]).is_nan());
+        assert_eq!(run("time_of(J1.w > 1)", vec![0]), 0.0);
+        // a row meeting the condition, not followed by a lock at its instant, counts
+        let mut m = metric("time_of(J1.w < 0)");
+        m.held = vec![0];
+        let mut acc = Accumulator::new(&m);
+        acc.row_in(0.0, 5.0, &sliding);
+        acc.row_in(1.0, -1e-3, &sliding);
+        assert_eq!(acc.value(), 1.0); // the last row: held back, then taken
+        acc.row_in(2.0, -1e-3, &sliding);
+        assert_eq!(acc.value(), 1.0);
+    }
+
+    #[test]
     fn bad_metrics_say_what_is_wrong() {
         let err = |text: &str| {
             Metric::parse(text, &names(), &["clutch1".to_string()])

@@ -24,7 +24,7 @@ MOVED = {
     "compiled": "run.compiled",
     "components": "model.components",
     "csvio": "results.io.csv",
-    "derived": "results.derived",
+    "derived": "modelica.derived",
     "fmu_xml": "fmu.description",
     "modelfile": "model.modelfile",
     "parameters": "model.parameters",

@@ -1,7 +1,7 @@
 //! The banded, incremental per-mode solve that large drivetrains take (`engine::ModeSolver`
 //! above `BAND_FROM` unknowns) against the dense LU as the oracle, on whole runs of the
 //! generated chain and ladder of 100 elements (`tests/data`, written by `stiction.testing`;
-//! `tests/test_scaling.py` checks they are still what it generates): the same events at the
+//! `tests/run/test_scaling.py` checks they are still what it generates): the same events at the
 //! same instants to round-off, the same trajectory to round-off.
 
 use std::sync::Arc;

@@ -478,7 +478,7 @@ class _Converter:
     def variable(self, decl: Declaration) -> None:
         """A derived variable: its binding over result variables and top-level parameters
         (kept by name, so a sweep of a parameter changes it too)."""
-        from stiction.results.derived import check_expression
+        from stiction.modelica.derived import check_expression
 
         assert decl.binding is not None
         if self.reported and _refers_to(decl.binding, self.reported):

@@ -27,6 +27,33 @@ CONSTANTS: dict[str, float] = {
     "Modelica.Constants.eps": 2.220446049250313e-16,
     "Modelica.Constants.small": 1e-60,
     "Modelica.Constants.T_zero": -273.15,
+    "Modelica.Constants.inf": 1e60,  # ModelicaServices.Machine.inf
+    "Modelica.Constants.D2R": math.pi / 180,
+    "Modelica.Constants.R2D": 180 / math.pi,
+    "Modelica.Constants.gamma": 0.57721566490153286060,
+    # constants of nature as MSL 4.x states them (CODATA 2018)
+    "Modelica.Constants.c": 299792458.0,
+    "Modelica.Constants.G": 6.67430e-11,
+    "Modelica.Constants.F": 9.648533212e4,
+    "Modelica.Constants.h": 6.62607015e-34,
+    "Modelica.Constants.k": 1.380649e-23,
+    "Modelica.Constants.q": 1.602176634e-19,
+    "Modelica.Constants.R": 8.314462618,
+    "Modelica.Constants.sigma": 5.670374419e-8,
+    "Modelica.Constants.N_A": 6.02214076e23,
+    "Modelica.Constants.mu_0": 1.25663706212e-6,
+    "Modelica.Constants.epsilon_0": 1 / (1.25663706212e-6 * 299792458.0**2),
+    # conductor materials' temperature coefficients (Modelica.Electrical.Machines.Thermal)
+    **{
+        f"Modelica.Electrical.Machines.Thermal.Constants.alpha20{name}": value
+        for name, value in (
+            ("Zero", 0.0),
+            ("Aluminium", 4.0e-3),
+            ("Brass", 1.1e-3),
+            ("Bronze", 0.8e-3),
+            ("Copper", 3.92e-3),
+        )
+    },
 }
 _RPM = 2 * math.pi / 60
 FUNCTIONS: dict[str, Callable[..., Any]] = {

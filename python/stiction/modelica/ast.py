@@ -70,6 +70,7 @@ class ClassDef:
     description: str = ""
     imports: list[Import] = field(default_factory=list)
     extends: list[tuple[str, Pos]] = field(default_factory=list)
+    extends_args: list[list[Modification]] = field(default_factory=list)  # `extends B(p=1)`
     declarations: list[Declaration] = field(default_factory=list)
     connects: list[Connect] = field(default_factory=list)
     classes: list[ClassDef] = field(default_factory=list)

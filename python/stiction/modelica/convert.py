@@ -22,7 +22,10 @@ from stiction.expressions.lexer import ModelicaError, Pos
 from stiction.model.components import START_VARIABLES, Component, component_types
 from stiction.model.modelfile import DECLARATION_KEYS
 from stiction.model.parameters import is_expr, resolve_params
-from stiction.modelica.ast import ClassDef, Connect, Declaration, Modification, StoredDefinition
+from stiction.modelica.ast import ClassDef, Declaration, Modification, StoredDefinition
+from stiction.modelica.connections import ConnectionSets
+from stiction.modelica.connections import Reported as _Reported
+from stiction.modelica.flatten import display, flatten, rewrite, uses_classes
 from stiction.modelica.names import (
     MSL_CLASSES,
     PARAMETER_RENAMES,
@@ -86,16 +89,34 @@ def convert(tree: StoredDefinition, wanted: str | None, source: str, base_dir: s
     local = {c.name: f"{enclosing}.{c.name}" if enclosing else c.name for c in _all_classes(tree.classes)}
     imports = [imp for c in chain for imp in c.imports]
     scope = Scope(enclosing, imports, local)
-    converter = _Converter(cls, scope, base_dir)
+    classes = _class_table(tree, local)
+    flat_errors: list[ModelicaError] = []
+    connectors: dict[str, tuple[str, Pos]] = {}
+    if uses_classes(cls, scope, classes):  # users' classes: flattened to MSL components
+        qualified = f"{enclosing}.{cls.name}" if enclosing else cls.name
+        flat = flatten(qualified, classes)
+        cls, connectors, flat_errors = flat.cls, flat.connectors, flat.errors
+    converter = _Converter(cls, scope, base_dir, connectors)
     model = converter.run()
-    errors = [*tree.refused, *converter.errors]
+    errors = [*tree.refused, *flat_errors, *converter.errors]
     if errors:
         raise ModelicaError.of(errors)
     return model
 
 
-class _Reported(Exception):
-    """A name whose own error is reported already: what uses it is not checked again."""
+def _class_table(tree: StoredDefinition, local: dict[str, str]) -> dict[str, tuple[ClassDef, Scope]]:
+    """Every class of the file by qualified name, with the scope its names resolve in."""
+    table: dict[str, tuple[ClassDef, Scope]] = {}
+
+    def walk(classes: list[ClassDef], prefix: str, outer: list[ClassDef]) -> None:
+        for cls in classes:
+            qualified = f"{prefix}.{cls.name}" if prefix else cls.name
+            chain = [*outer, cls]
+            table[qualified] = (cls, Scope(prefix, [i for c in chain for i in c.imports], local))
+            walk(cls.classes, qualified, chain)
+
+    walk(tree.classes, tree.within, [])
+    return table
 
 
 def _all_classes(classes: list[ClassDef]) -> list[ClassDef]:
@@ -106,12 +127,14 @@ def _all_classes(classes: list[ClassDef]) -> list[ClassDef]:
     return out
 
 
-class _Converter:
+class _Converter(ConnectionSets):
     """One model's conversion. Each step raises ModelicaError at the construct it refuses
     (or _Reported for a name already refused); ``run`` collects them in ``errors`` and goes on
     with the next declaration, modifier, connection or variable."""
 
-    def __init__(self, cls: ClassDef, scope: Scope, base_dir: str) -> None:
+    def __init__(
+        self, cls: ClassDef, scope: Scope, base_dir: str, connectors: dict[str, tuple[str, Pos]] | None = None
+    ) -> None:
         from stiction.model.model import Model
 
         self.cls = cls
@@ -123,8 +146,9 @@ class _Converter:
         self.components: dict[str, tuple[str, Declaration]] = {}
         self.variables: list[Declaration] = []
         self.positions: dict[tuple[str, str], Pos] = {}  # (component, parameter) -> modifier
-        self.connected: set[frozenset[str]] = set()
-        self.fed: dict[str, str] = {}  # signal input -> the output connected to it
+        self.connectors = connectors or {}  # a user class's interface: flat name -> kind, place
+        self.init_connections()
+        self.inlining: list[str] = []  # cross references being put in (a cycle is refused)
         self.errors: list[ModelicaError] = []
         self.reported: set[str] = set()  # declarations with an error: their uses are not checked
         self.unchecked: set[str] = set()  # components with a refused value: not the engine's to check
@@ -163,6 +187,7 @@ class _Converter:
             self.component(name, stype, decl)
         for conn in self.cls.connects:
             self.connect(conn)
+        self.finish_connections()
         for decl in self.variables:
             try:
                 self.variable(decl)
@@ -292,7 +317,16 @@ class _Converter:
             if ref.name in self.reported:
                 raise _Reported
             return self.parameter(ref.name)
-        full = self.scope.resolve(ref.name, ref.pos, "name") if "." in ref.name else ref.name
+        head = ref.name.rpartition(".")[0]
+        if head in self.components:  # `offset=-torqueLoad.tau_constant`
+            return self.expression(self.cross(ref))
+        full = ref.name
+        if "." in ref.name or ref.name in self.scope.aliases or self.scope.wildcards:
+            try:  # `import Modelica.Constants.pi;` then `pi`
+                full = self.scope.resolve(ref.name, ref.pos, "name")
+            except ModelicaError:
+                if "." in ref.name:
+                    raise
         if full in CONSTANTS:
             return CONSTANTS[full]
         if is_enumeration(full):
@@ -301,6 +335,55 @@ class _Converter:
         raise ModelicaError(
             ref.pos, f"'{ref.name}' is {what}; parameter values may use parameters and constants"
         )
+
+    def cross(self, ref: Ref) -> Any:
+        """What ``comp.param`` of another component stands for: its modifier's expression
+        (names in it put in too) or the parameter's default."""
+        comp, _, key = ref.name.rpartition(".")
+        if ref.subscripts:
+            raise ModelicaError(ref.pos, f"subscripted name '{display(ref.name)}[…]' is not supported here")
+        stype, decl = self.components[comp]
+        if comp in self.reported:
+            raise _Reported
+        name = PARAMETER_RENAMES.get(stype, {})
+        for mod in decl.args:
+            if name.get(mod.name, mod.name) == key and mod.value is not None:
+                if ref.name in self.inlining:
+                    cycle = " -> ".join(display(n) for n in [*self.inlining, ref.name])
+                    raise ModelicaError(ref.pos, f"cyclic reference between components: {cycle}")
+                self.inlining.append(ref.name)
+                try:
+                    return self.inline(mod.value)
+                finally:
+                    self.inlining.pop()
+        known = _catalogue() or {}
+        info = known.get(stype, {})
+        if key not in info.get("parameters", []) and known:
+            raise ModelicaError(
+                ref.pos,
+                f"'{display(ref.name)}': {MSL_CLASSES.get(stype, stype)} '{display(comp)}' has no "
+                f"parameter '{key}' (parameters: {', '.join(info.get('parameters', []))})",
+            )
+        default = _default(stype, key)
+        if default is None:
+            raise ModelicaError(
+                ref.pos,
+                f"'{display(ref.name)}' has no value: '{display(comp)}' does not set '{key}' and "
+                "it has no default",
+            )
+        return Literal(default, ref.pos)
+
+    def inline(self, expr: Any) -> Any:
+        """``expr`` with each reference to another component's parameter replaced by what it
+        stands for, so the result keeps expressions over the model's parameters."""
+        if type(expr) is Literal:
+            return expr
+
+        def other(ref: Ref) -> Any:
+            head = ref.name.rpartition(".")[0]
+            return self.cross(ref) if head in self.components else None
+
+        return rewrite(expr, other)
 
     # --- components -----------------------------------------------------------------------
     def component(self, name: str, stype: str, decl: Declaration) -> None:
@@ -355,6 +438,8 @@ class _Converter:
                 f"unknown modifier '{mod.name}' of {MSL_CLASSES.get(stype, stype)} '{comp}' "
                 f"(parameters: {', '.join(allowed)})",
             )
+        if mod.value is not None:
+            mod.value = self.inline(mod.value)
         if mod.args is None or (mod.value is not None and key not in START_VARIABLES):
             if mod.value is None:
                 raise ModelicaError(mod.pos, f"modifier '{mod.name}' of '{comp}' has no value")
@@ -379,6 +464,7 @@ class _Converter:
             if sub.name not in _ATTRIBUTES or sub.value is None:
                 raise ModelicaError(sub.pos, f"unknown attribute '{sub.name}' of '{comp}.{mod.name}'")
             if sub.name in ("start", "fixed"):
+                sub.value = self.inline(sub.value)
                 value = _real(python_value(self.expression(sub.value)), mod.name)
                 kept = self.kept(sub.value, value)  # `start = w0` stays an expression over w0
                 attrs[sub.name] = {"expr": kept} if isinstance(kept, str) and kept != value else value
@@ -387,92 +473,6 @@ class _Converter:
         ):
             return attrs["start"]  # the model file's short form of a fixed start value
         return attrs
-
-    def connect(self, conn: Connect) -> None:
-        """A connection, checked as the engine checks it (each end a port of its component,
-        the kinds matching, a signal input fed once), refused at its ``connect``."""
-        ends = []
-        for ref in (conn.a, conn.b):
-            try:
-                ends.append(self.port(ref))
-            except ModelicaError as exc:
-                self.errors.append(exc)
-            except _Reported:
-                pass
-        if len(ends) < 2:
-            return
-        (a, ka), (b, kb) = ends
-        key = frozenset((a, b))
-        if a == b:
-            problem: str | None = "a port cannot be connected to itself"
-        elif key in self.connected:
-            problem = "already connected"
-        elif ka == kb and ka in _JOINED or ka is None or kb is None:  # the common case first
-            problem = None
-        else:
-            problem = self.kinds_problem(a, ka, b, kb)
-        if problem is not None:
-            self.errors.append(ModelicaError(conn.pos, f"connect({a}, {b}): {problem}"))
-            return
-        self.connected.add(key)
-        self.model.connections.append((a, b))  # ports checked above (Model.connect is O(n) per call)
-
-    def kinds_problem(self, a: str, ka: str, b: str, kb: str) -> str | None:
-        """Why the engine would refuse to connect a signal port to another port (in its own
-        words), or None."""
-        if ka == "signal output" and kb == "signal input":  # the common case first
-            out, inp = a, b
-        elif ka == "signal input" and kb == "signal output":
-            out, inp = b, a
-        elif ka == kb == "signal input":
-            return "connects two signal inputs; one end must be an output (y)"
-        elif ka == kb == "signal output":
-            return "connects two signal outputs"
-        else:
-            return f"cannot connect a {ka} ('{a}') to a {kb} ('{b}')"
-        if self.fed.setdefault(inp, out) != out:
-            return f"signal input '{inp}' is already connected to another output"
-        return None
-
-    def port(self, ref: Ref) -> tuple[str, str | None]:
-        """The port a connect names and its kind (None without the engine's catalogue)."""
-        comp, _, port = ref.name.partition(".")
-        if comp in self.reported:
-            raise _Reported
-        component = self.model.components.get(comp)
-        if component is None:
-            raise ModelicaError(ref.pos, f"connect to '{ref.name}': no component '{comp}' in the model")
-        ports = _port_kinds().get(component.type)
-        kind, flag = ports.get(port, _NO_PORT) if ports is not None else (None, None)
-        if ports is not None and kind is None or not port or "." in port:
-            raise ModelicaError(
-                ref.pos,
-                f"connect to '{ref.name}': {component.type} '{comp}' has no port "
-                f"'{port}' (ports: {', '.join(ports or [])})",
-            )
-        if flag in _CONDITIONAL and not self.enabled(comp, component, flag):
-            raise ModelicaError(
-                ref.pos,
-                f"connect to '{ref.name}': {component.type} '{comp}' has no port '{port}' "
-                f"(set {flag} = true to enable it)",
-            )
-        if ref.subscripts and not (self.components[comp][0] == "CombiTimeTable" and _is_one(ref)):
-            raise ModelicaError(ref.pos, f"connect to '{ref.name}[…]': array connectors are not supported")
-        return ref.name, kind
-
-    def enabled(self, comp: str, component: Component, flag: str) -> bool:
-        """Whether the Boolean ``flag`` of a component (a value or an expression over the
-        top-level parameters) is true; a value that cannot be told counts as true."""
-        value = component.params.get(flag)
-        if value is None:
-            return comp in self.unchecked  # false by default, unless its modifier was refused
-        if type(value) is bool:
-            return value
-        try:
-            value = resolve_params(comp, {flag: value}, self.values)[flag]
-        except ModelError:
-            return True
-        return value is not False
 
     # --- variables, experiment ----------------------------------------------------------
     def variable(self, decl: Declaration) -> None:
@@ -531,13 +531,6 @@ class _Converter:
             self.errors.append(ModelicaError(pos or self.components[name][1].type_pos, message))
 
 
-_JOINED = ("flange", "heat port")  # kinds of port that connect to their own kind
-_NO_PORT = (None, None)
-# MSL's conditional connectors: the port exists when its flag is true (false by default). The
-# adaptors' w and a depend on two flags at once: the engine checks those.
-_CONDITIONAL = frozenset(("useSupport", "useHeatPort"))
-
-
 def _refers_to(expr: Any, names: set[str]) -> bool:
     """Whether an expression mentions one of ``names``."""
     if isinstance(expr, Ref):
@@ -557,17 +550,24 @@ def _real(value: Any, key: str) -> Any:
     return value
 
 
-def _is_one(ref: Ref) -> bool:
-    return (
-        len(ref.subscripts) == 1 and isinstance(ref.subscripts[0], Literal) and ref.subscripts[0].value == 1
-    )
-
-
 def _parameters_of(stype: str) -> list[str] | None:
     if stype == "CombiTimeTable":
         return list(COMBI_PARAMETERS)
     known = _catalogue()
     return None if known is None else known.get(stype, {}).get("parameters", [])
+
+
+def _default(stype: str, key: str) -> bool | int | float | str | None:
+    """A scalar default of parameter ``key`` of ``stype`` from the catalogue, or None."""
+    if _catalogue() is None:
+        return None
+    from stiction.model.catalogue import catalogue
+
+    info = catalogue().get(stype)
+    for p in info.parameters if info is not None else []:
+        if p.name == key and not p.required and isinstance(p.default, (bool, int, float, str)):
+            return p.default
+    return None
 
 
 @functools.cache

@@ -9,10 +9,12 @@ used and 4.x renamed are mapped as MSL's conversion script maps them.
 
 from __future__ import annotations
 
+from stiction.expressions.evaluate import CONSTANTS
 from stiction.expressions.lexer import ModelicaError, Pos
 from stiction.modelica.ast import Import
 
 __all__ = [
+    "CONNECTOR_KINDS",
     "MSL_CLASSES",
     "PARAMETER_RENAMES",
     "TYPE_OF",
@@ -81,16 +83,29 @@ PARAMETER_RENAMES: dict[str, dict[str, str]] = {
     "Clutch": {"mue_pos": "mu_pos"},
     "OneWayClutch": {"mue_pos": "mu_pos"},
 }
+# The connectors a user's class declares as its interface: MSL class -> kind of port
+CONNECTOR_KINDS: dict[str, str] = {
+    f"{_ROT}.Interfaces.Flange_a": "flange",
+    f"{_ROT}.Interfaces.Flange_b": "flange",
+    f"{_ROT}.Interfaces.Support": "flange",
+    "Modelica.Blocks.Interfaces.RealInput": "signal input",
+    "Modelica.Blocks.Interfaces.RealOutput": "signal output",
+    f"{_HEAT}.Interfaces.HeatPort_a": "heat port",
+    f"{_HEAT}.Interfaces.HeatPort_b": "heat port",
+}
 _UNIT_PACKAGES = ("Modelica.Units.SI.", "Modelica.Units.NonSI.")
 _ENUMERATIONS = ("Regularization", "Smoothness", "Extrapolation", "TimeEvents", "StateSelect", "Init")
 _PACKAGES = frozenset(
     ".".join(name.split(".")[:i])
     for name in [
         *TYPE_OF,
+        *CONNECTOR_KINDS,
+        *CONSTANTS,
         "Modelica.Units.SI.X",
         "Modelica.Units.NonSI.X",
         "Modelica.Icons.X",
         "Modelica.Constants.X",
+        "Modelica.Electrical.Machines.Thermal.Constants.X",
         "Modelica.Math.X",
         "Modelica.Units.Conversions.X",
         f"{_ROT}.Types.X",
@@ -125,7 +140,14 @@ def _renamed(name: str) -> str:
 
 
 def _known(name: str) -> bool:
-    return name in TYPE_OF or name in _PACKAGES or is_unit_type(name) or is_enumeration(name)
+    return (
+        name in TYPE_OF
+        or name in CONNECTOR_KINDS
+        or name in CONSTANTS
+        or name in _PACKAGES
+        or is_unit_type(name)
+        or is_enumeration(name)
+    )
 
 
 class Scope:

@@ -236,8 +236,7 @@ class _Parser(ExpressionParser):
         elif text == "extends":
             self.i += 1
             cls.extends.append(self.name("a class name after 'extends'"))
-            if self.at("("):
-                self.class_modification()
+            cls.extends_args.append(self.class_modification() if self.at("(") else [])
             if self.at("annotation"):
                 self.skip_annotation()
         elif text in _CLASS_STARTS:

@@ -1,5 +1,6 @@
 within Modelica.Mechanics.Rotational.Examples;
 model Friction "Drive train with clutch and brake"
+  import Modelica.Constants.pi;
   extends Modelica.Icons.Example;
   parameter SI.Time startTime=0.5 "Start time of step";
   output SI.Torque tMotor=torque.tau "Driving torque";
@@ -11,8 +12,13 @@ model Friction "Drive train with clutch and brake"
     annotation (Placement(transformation(extent={{-45,-10},{-25,10}})));
   Rotational.Components.Inertia inertia3(
     J=1,
-    phi(start=0, fixed=true),
-    w(start=100, fixed=true))
+    phi(
+      start=0,
+      fixed=true,
+      displayUnit="deg"),
+    w(start=100,
+      fixed=true,
+      displayUnit="rad/s"))
     annotation (Placement(transformation(extent={{-15,-10},{5,10}})));
   Rotational.Components.Clutch clutch(fn_max=160)
     annotation (Placement(transformation(extent={{15,-10},{35,10}})));
@@ -39,7 +45,7 @@ model Friction "Drive train with clutch and brake"
     offset=1,
     startTime=startTime)
     annotation (Placement(transformation(extent={{-160,-30},{-140,-10}})));
-  Modelica.Blocks.Sources.Sine sine(amplitude=200, f=50/Modelica.Constants.pi)
+  Modelica.Blocks.Sources.Sine sine(amplitude=200, f=50/pi)
     annotation (Placement(transformation(extent={{-160,10},{-140,30}})));
   Modelica.Blocks.Math.Product product
     annotation (Placement(transformation(extent={{-120,-10},{-100,10}})));

@@ -21,7 +21,7 @@ model OneWayClutchDisengaged "Drive train with disengaged one-way clutch"
     annotation (Placement(transformation(extent={{-70,-10},{-50,10}})));
   Rotational.Sources.ConstantTorque torqueLoad(tau_constant=-0.3)
     annotation (Placement(transformation(extent={{70,-10},{50,10}})));
-  Modelica.Blocks.Sources.Sine signalTorque(amplitude=10, offset=0.3, f=2)
+  Modelica.Blocks.Sources.Sine signalTorque(amplitude=10, offset=-torqueLoad.tau_constant, f=2)
     annotation (Placement(transformation(extent={{-100,-10},{-80,10}})));
   Modelica.Blocks.Sources.Constant signalEngagement(k=0)
     annotation (Placement(transformation(extent={{-40,30},{-20,50}})));

@@ -50,7 +50,7 @@ equation
   connect(idealPlanetary.carrier, load.flange_a) annotation (Line(points={{-10,4},{-14,4},{-14,20},{34,20},{34,0},{40,0}}));
   connect(quadraticSpeedDependentTorque.flange, load.flange_b) annotation (Line(points={{70,0},{60,0}}));
   connect(ramp.y, clutch.f_normalized) annotation (Line(points={{-19,60},{-16,60},{-16,-14},{0,-14},{0,-19}}, color={0,0,127}));
-  connect(ramp.y, feedback.u2) annotation (Line(points={{-19,60},{30,60},{30,48}}, color={0,0,127}));
+  connect(feedback.u2, clutch.f_normalized) annotation (Line(points={{30,48},{30,20},{0,20},{0,-19}}, color={0,0,127}));
   connect(const1.y, feedback.u1) annotation (Line(points={{11,40},{22,40}}, color={0,0,127}));
   connect(feedback.y, brake.f_normalized) annotation (Line(points={{39,40},{50,40},{50,-10},{40,-10},{40,-19}}, color={0,0,127}));
   annotation (experiment(StopTime=5, Interval=0.005, Tolerance=1e-06), Documentation(info="<html>

@@ -9,14 +9,14 @@ from typing import Any
 
 import numpy as np
 import pytest
-from paths import REPO
+from paths import AWAITING_COMPONENTS, REPO
 
 import stiction as st
 
 EXAMPLES = REPO / "examples" / "msl"
 SOURCES = [
     *sorted(EXAMPLES.glob("*.toml")),
-    *sorted(EXAMPLES.glob("*.mo")),
+    *sorted(p for p in EXAMPLES.glob("*.mo") if p.stem not in AWAITING_COMPONENTS),
     REPO / "examples" / "braked_flywheel.toml",
 ]
 

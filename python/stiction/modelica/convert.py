@@ -233,8 +233,8 @@ class _Converter(ConnectionSets):
         else:
             raise ModelicaError(
                 decl.type_pos,
-                f"component '{decl.name}' of class '{decl.type_name}': only MSL components can be "
-                "instantiated (models of the same file cannot be composed)",
+                f"component '{display(decl.name)}' of class '{decl.type_name}': only MSL components and "
+                "models/blocks of this file can be instantiated (not a package)",
             )
 
     def parameter(self, name: str) -> Any:

@@ -18,7 +18,7 @@ import numpy as np
 from stiction.expressions.ast import Array, BinOp, Call, Expr, IfExpr, Literal, Matrix, Ref, Unary
 from stiction.expressions.lexer import ModelicaError, Pos
 
-__all__ = ["CONSTANTS", "FUNCTIONS", "evaluate", "python_value", "unparse"]
+__all__ = ["CONSTANTS", "FUNCTIONS", "MSL_CONSTANTS", "evaluate", "python_value", "unparse"]
 
 CONSTANTS: dict[str, float] = {
     "Modelica.Constants.pi": math.pi,
@@ -27,6 +27,11 @@ CONSTANTS: dict[str, float] = {
     "Modelica.Constants.eps": 2.220446049250313e-16,
     "Modelica.Constants.small": 1e-60,
     "Modelica.Constants.T_zero": -273.15,
+}
+# The rest of MSL's constants, for parameter values only (the engine's derived variables know
+# CONSTANTS; a derived variable using one of these is refused by name).
+MSL_CONSTANTS: dict[str, float] = {
+    **CONSTANTS,
     "Modelica.Constants.inf": 1e60,  # ModelicaServices.Machine.inf
     "Modelica.Constants.D2R": math.pi / 180,
     "Modelica.Constants.R2D": 180 / math.pi,

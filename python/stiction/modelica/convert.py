@@ -17,7 +17,8 @@ from typing import TYPE_CHECKING, Any
 
 from stiction.errors import ModelError
 from stiction.expressions.ast import Literal, Ref
-from stiction.expressions.evaluate import CONSTANTS, evaluate, python_value, unparse
+from stiction.expressions.evaluate import MSL_CONSTANTS as CONSTANTS
+from stiction.expressions.evaluate import evaluate, python_value, unparse
 from stiction.expressions.lexer import ModelicaError, Pos
 from stiction.model.components import START_VARIABLES, Component, component_types
 from stiction.model.modelfile import DECLARATION_KEYS

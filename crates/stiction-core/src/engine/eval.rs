@@ -7,7 +7,7 @@ use nalgebra::{DMatrix, DVector};
 
 use super::kkt::ModeMatrix;
 use super::massless::Massless;
-use crate::signals::Mechanics;
+use crate::signals::{Mechanics, StagePart};
 use crate::switching::element::{
     angle_and_speed, ElementValues, Kinematics, ModeKey, Solved, SwitchState,
 };
@@ -171,7 +171,7 @@ pub fn kinematics(
         c.prescribe(&ws.signals, &mut ws.phi, &mut ws.w);
     }
     sys.follow(&mut ws.phi, &mut ws.w);
-    state_signals(sys, ws);
+    measure(&sys.signals.state, ws);
     for (k, law) in sys.laws.iter().enumerate() {
         (ws.law_phi[k], ws.law_w[k]) = angle_and_speed(&law.rel, &ws.phi, &ws.w);
     }
@@ -196,11 +196,12 @@ fn update_signals(sys: &System, disc: &DiscreteState, t: f64, horizon: f64, ws: 
     ws.signals_at = Some(at);
 }
 
-/// The sensors of angles and speeds and the blocks after them, at the angles and speeds in
-/// `ws` (nothing without such sensors).
+/// The sensors of one stage (`signals::Stage`) and the blocks after them, at the values in
+/// `ws`: angles and speeds after `kinematics` has set them, accelerations and cut torques after
+/// the solve. Nothing for an empty stage (every model without sensors).
 #[inline]
-fn state_signals(sys: &System, ws: &mut Workspace) {
-    if sys.signals.state.is_empty() {
+fn measure(part: &StagePart, ws: &mut Workspace) {
+    if part.is_empty() {
         return;
     }
     let m = Mechanics {
@@ -209,26 +210,7 @@ fn state_signals(sys: &System, ws: &mut Workspace) {
         a: &ws.a,
         constraint_tau: &ws.constraint_tau,
     };
-    sys.signals
-        .eval_state(ws.t, ws.horizon, &m, &mut ws.signals);
-}
-
-/// The sensors of accelerations, cut torques and powers and the blocks after them, once the
-/// solve is done (nothing without such sensors). The assembly checks that no force law,
-/// switching element or prescribed motion reads them.
-#[inline]
-fn solved_signals(sys: &System, ws: &mut Workspace) {
-    if sys.signals.solved.is_empty() {
-        return;
-    }
-    let m = Mechanics {
-        phi: &ws.phi,
-        w: &ws.w,
-        a: &ws.a,
-        constraint_tau: &ws.constraint_tau,
-    };
-    sys.signals
-        .eval_solved(ws.t, ws.horizon, &m, &mut ws.signals);
+    part.eval(ws.t, ws.horizon, &m, &mut ws.signals);
 }
 
 /// Writes the algebraic speeds of the shafts without inertia in mode `mm`, and the angles and
@@ -265,7 +247,8 @@ pub fn evaluate(
     ws.rhs_evals += 1;
     kinematics(sys, disc, t, x, horizon, ws);
     accelerations(sys, mm, disc, ws);
-    solved_signals(sys, ws);
+    // the assembly checks that no force law, switching element or prescribed motion reads these
+    measure(&sys.signals.solved, ws);
     heat_and_energy(sys, disc, x, ws);
 }
 
@@ -444,7 +427,7 @@ fn measured_slope(
 /// in `ws` changed (a SpeedSensor on a shaft without inertia driving a brake: the solve for the
 /// speed sees the brake's torque at each trial speed).
 fn refresh(sys: &System, disc: &DiscreteState, ws: &mut Workspace, f: &mut [f64]) {
-    state_signals(sys, ws);
+    measure(&sys.signals.state, ws);
     for (k, law) in sys.laws.iter().enumerate() {
         ws.law_w[k] = law.rel.dot(&ws.w);
     }

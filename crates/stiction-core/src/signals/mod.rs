@@ -100,7 +100,7 @@ impl StagePart {
         self.sensors.is_empty() && self.blocks.is_empty()
     }
 
-    fn eval(&self, t: f64, horizon: f64, m: &Mechanics, values: &mut [f64]) {
+    pub fn eval(&self, t: f64, horizon: f64, m: &Mechanics, values: &mut [f64]) {
         for s in &self.sensors {
             values[s.slot] = match &s.measure {
                 Measure::Angle(rel) => rel.angle(m.phi),
@@ -126,18 +126,6 @@ impl SignalGraph {
     /// The blocks of `Stage::Time`.
     pub fn eval(&self, t: f64, horizon: f64, values: &mut [f64]) {
         eval_blocks(&self.blocks, t, horizon, values);
-    }
-
-    /// The sensors of angles and speeds and their blocks (`m.a` and `m.constraint_tau` unread).
-    #[inline]
-    pub fn eval_state(&self, t: f64, horizon: f64, m: &Mechanics, values: &mut [f64]) {
-        self.state.eval(t, horizon, m, values);
-    }
-
-    /// The sensors of accelerations and cut torques and their blocks.
-    #[inline]
-    pub fn eval_solved(&self, t: f64, horizon: f64, m: &Mechanics, values: &mut [f64]) {
-        self.solved.eval(t, horizon, m, values);
     }
 }
 

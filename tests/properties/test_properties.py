@@ -87,9 +87,18 @@ def _add_outside_torques(draw: Any, m: st.Model, n: int) -> None:
     """Up to two brakes, a bearing friction and a sine torque on drawn inertias."""
     for k in draw(hs.sets(hs.integers(0, n - 1), max_size=2)):
         m.add(f"brake{k}", st.Brake(fn_max=draw(hs.floats(1.0, 200.0)), peak=draw(hs.floats(1.0, 1.5))))
-        block, params = _force(draw)
-        m.add(f"press{k}", getattr(st, block)(**params))
         m.connect(f"J{k}.flange_a", f"brake{k}.flange_a")
+        if draw(hs.booleans()):  # pressed in proportion to the measured speed squared
+            m.add(f"speed{k}", st.SpeedSensor())
+            m.add(f"square{k}", st.Product())
+            m.add(f"press{k}", st.Gain(k=draw(hs.floats(1e-3, 1e-2))))
+            m.connect(f"J{k}.flange_b", f"speed{k}.flange")
+            m.connect(f"speed{k}.w", f"square{k}.u1")
+            m.connect(f"speed{k}.w", f"square{k}.u2")
+            m.connect(f"square{k}.y", f"press{k}.u")
+        else:
+            block, params = _force(draw)
+            m.add(f"press{k}", getattr(st, block)(**params))
         m.connect(f"press{k}.y", f"brake{k}.f_normalized")
     if draw(hs.booleans()):
         k = draw(hs.integers(0, n - 1))
@@ -102,7 +111,13 @@ def _add_outside_torques(draw: Any, m: st.Model, n: int) -> None:
     m.add("drive", st.Torque())
     m.add("torque", st.Sine(amplitude=draw(hs.floats(0.0, 50.0)), f=draw(hs.floats(0.1, 10.0))))
     m.connect("torque.y", "drive.tau")
-    m.connect("drive.flange", f"J{draw(hs.integers(0, n - 1))}.flange_a")
+    driven = f"J{draw(hs.integers(0, n - 1))}.flange_a"
+    if draw(hs.booleans()):  # measured on its way in: the sensor carries the drive's torque
+        m.add("meter", st.MultiSensor())
+        m.connect("drive.flange", "meter.flange_a")
+        m.connect("meter.flange_b", driven)
+    else:
+        m.connect("drive.flange", driven)
 
 
 def _coupling(draw: Any, kind: str) -> st.Component:
@@ -197,6 +212,12 @@ def test_random_drivetrains_keep_their_invariants(model: st.Model) -> None:
     assert audit.ok(), str(audit)
     again = model.simulate()
     np.testing.assert_array_equal(r.data, again.data)
+    if "meter" in model.components:  # the cut torque is the drive's, the power its work rate
+        tau = -r["drive.flange.tau"]
+        np.testing.assert_allclose(r["meter.tau"], tau, rtol=1e-9, atol=1e-9 * max(1.0, np.abs(tau).max()))
+        np.testing.assert_allclose(r["meter.power"], r["meter.tau"] * r["meter.w"], rtol=1e-12, atol=1e-12)
+    for k in (c[len("speed") :] for c in model.components if c.startswith("speed")):
+        np.testing.assert_array_equal(r[f"speed{k}.w"], r[f"J{k}.w"])
 
 
 @FEWER

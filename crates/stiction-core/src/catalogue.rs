@@ -195,7 +195,7 @@ pub fn variable_unit(name: &str) -> &'static str {
         "a" | "a_rel" | "a_a" | "a_b" => "rad/s2",
         "tau" | "tau_c" | "tau_d" | "sa" | "tau0" | "tau0_max" | "tauLoss" | "tau_eta"
         | "tau_bf1" | "tau_bf2" | "tau_bf_a" | "tauLossMax_p" | "tauLossMin_m" => "N.m",
-        "lossPower" | "Q_flow" => "W",
+        "lossPower" | "Q_flow" | "power" => "W",
         "T" => "K",
         "dT" => "K",
         "der_T" => "K/s",

@@ -28,7 +28,9 @@ class _Factory(Component):
 
 __all__ = [
     "FACTORIES",
+    "AccSensor",
     "Add",
+    "AngleSensor",
     "AngleToTorqueAdaptor",
     "BearingFriction",
     "Brake",
@@ -51,14 +53,20 @@ __all__ = [
     "InverseSpeedDependentTorque",
     "LinearSpeedDependentTorque",
     "LossyGear",
+    "MultiSensor",
     "OneWayClutch",
     "ParamValue",
+    "PowerSensor",
     "Product",
     "Pulse",
     "QuadraticSpeedDependentTorque",
     "Ramp",
+    "RelAccSensor",
+    "RelAngleSensor",
+    "RelSpeedSensor",
     "SignTorque",
     "Sine",
+    "SpeedSensor",
     "Spring",
     "SpringDamper",
     "StartValue",
@@ -66,6 +74,7 @@ __all__ = [
     "ThermalConductor",
     "TimeTable",
     "Torque",
+    "TorqueSensor",
     "TorqueStep",
     "TorqueToAngleAdaptor",
     "component_types",
@@ -710,6 +719,199 @@ class ConstantSpeed(_Factory):
         phi: float | StartValue = ...,
         useSupport: bool = ...,
     ) -> None: ...
+
+class AngleSensor(_Factory):
+    """Ideal sensor to measure the absolute flange angle.
+
+    MSL class: ``Modelica.Mechanics.Rotational.Sensors.AngleSensor``
+
+    Ports
+    -----
+    - flange: flange
+    - phi: signal output
+
+    Variables
+    ---------
+    - flange.phi [rad] (displayUnit deg)
+    - flange.tau [N.m]
+    - phi [rad] (displayUnit deg)
+    """
+
+    def __init__(self) -> None: ...
+
+class SpeedSensor(_Factory):
+    """Ideal sensor to measure the absolute flange angular velocity.
+
+    MSL class: ``Modelica.Mechanics.Rotational.Sensors.SpeedSensor``
+
+    Ports
+    -----
+    - flange: flange
+    - w: signal output
+
+    Variables
+    ---------
+    - flange.phi [rad] (displayUnit deg)
+    - flange.tau [N.m]
+    - w [rad/s]
+    """
+
+    def __init__(self) -> None: ...
+
+class AccSensor(_Factory):
+    """Ideal sensor to measure the absolute flange angular acceleration.
+
+    MSL class: ``Modelica.Mechanics.Rotational.Sensors.AccSensor``
+
+    Ports
+    -----
+    - flange: flange
+    - a: signal output
+
+    Variables
+    ---------
+    - flange.phi [rad] (displayUnit deg)
+    - flange.tau [N.m]
+    - a [rad/s2]
+    """
+
+    def __init__(self) -> None: ...
+
+class RelAngleSensor(_Factory):
+    """Ideal sensor to measure the relative angle between two flanges.
+
+    MSL class: ``Modelica.Mechanics.Rotational.Sensors.RelAngleSensor``
+
+    Ports
+    -----
+    - flange_a: flange
+    - flange_b: flange
+    - phi_rel: signal output
+
+    Variables
+    ---------
+    - flange_a.phi [rad] (displayUnit deg)
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad] (displayUnit deg)
+    - flange_b.tau [N.m]
+    - phi_rel [rad] (displayUnit deg)
+    """
+
+    def __init__(self) -> None: ...
+
+class RelSpeedSensor(_Factory):
+    """Ideal sensor to measure the relative angular velocity between two flanges.
+
+    MSL class: ``Modelica.Mechanics.Rotational.Sensors.RelSpeedSensor``
+
+    Ports
+    -----
+    - flange_a: flange
+    - flange_b: flange
+    - w_rel: signal output
+
+    Variables
+    ---------
+    - flange_a.phi [rad] (displayUnit deg)
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad] (displayUnit deg)
+    - flange_b.tau [N.m]
+    - w_rel [rad/s]
+    """
+
+    def __init__(self) -> None: ...
+
+class RelAccSensor(_Factory):
+    """Ideal sensor to measure the relative angular acceleration between two flanges.
+
+    MSL class: ``Modelica.Mechanics.Rotational.Sensors.RelAccSensor``
+
+    Ports
+    -----
+    - flange_a: flange
+    - flange_b: flange
+    - a_rel: signal output
+
+    Variables
+    ---------
+    - flange_a.phi [rad] (displayUnit deg)
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad] (displayUnit deg)
+    - flange_b.tau [N.m]
+    - a_rel [rad/s2]
+    """
+
+    def __init__(self) -> None: ...
+
+class TorqueSensor(_Factory):
+    """Ideal sensor to measure the torque between two flanges (= flange_a.tau).
+
+    MSL class: ``Modelica.Mechanics.Rotational.Sensors.TorqueSensor``
+
+    Ports
+    -----
+    - flange_a: flange
+    - flange_b: flange
+    - tau: signal output
+
+    Variables
+    ---------
+    - flange_a.phi [rad] (displayUnit deg)
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad] (displayUnit deg)
+    - flange_b.tau [N.m]
+    - tau [N.m]
+    """
+
+    def __init__(self) -> None: ...
+
+class PowerSensor(_Factory):
+    """Ideal sensor to measure the power between two flanges (= flange_a.tau*der(flange_a.phi)).
+
+    MSL class: ``Modelica.Mechanics.Rotational.Sensors.PowerSensor``
+
+    Ports
+    -----
+    - flange_a: flange
+    - flange_b: flange
+    - power: signal output
+
+    Variables
+    ---------
+    - flange_a.phi [rad] (displayUnit deg)
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad] (displayUnit deg)
+    - flange_b.tau [N.m]
+    - power [W]
+    """
+
+    def __init__(self) -> None: ...
+
+class MultiSensor(_Factory):
+    """Ideal sensor to measure the absolute angular velocity, torque and power between two flanges.
+
+    MSL class: ``Modelica.Mechanics.Rotational.Sensors.MultiSensor``
+
+    Ports
+    -----
+    - flange_a: flange
+    - flange_b: flange
+    - power: signal output
+    - w: signal output
+    - tau: signal output
+
+    Variables
+    ---------
+    - flange_a.phi [rad] (displayUnit deg)
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad] (displayUnit deg)
+    - flange_b.tau [N.m]
+    - power [W]
+    - w [rad/s]
+    - tau [N.m]
+    """
+
+    def __init__(self) -> None: ...
 
 class TorqueToAngleAdaptor(_Factory):
     """Signal adaptor for a Rotational flange with angle, speed, and acceleration as outputs and torque as input (especially useful for FMUs).

@@ -62,6 +62,20 @@ MSL_CLASSES: dict[str, str] = {
             "ConstantSpeed",
         ]
     },
+    **{
+        t: f"{_ROT}.Sensors.{t}"
+        for t in [
+            "AngleSensor",
+            "SpeedSensor",
+            "AccSensor",
+            "RelAngleSensor",
+            "RelSpeedSensor",
+            "RelAccSensor",
+            "TorqueSensor",
+            "PowerSensor",
+            "MultiSensor",
+        ]
+    },
     **{t: f"Modelica.Blocks.Sources.{t}" for t in ["Constant", "Step", "Ramp", "Sine", "Pulse", "TimeTable"]},
     **{t: f"Modelica.Blocks.Math.{t}" for t in ["Product", "Feedback", "Add", "Gain"]},
     **{t: f"{_HEAT}.Components.{t}" for t in ["HeatCapacitor", "ThermalConductor", "Convection"]},

@@ -4,6 +4,7 @@
 //! compiled model (`compiled`) keeps the first two and repeats only what parameters change.
 
 mod compiled;
+mod signals;
 mod topology;
 
 use std::sync::Arc;
@@ -14,7 +15,7 @@ pub use topology::Topology;
 use crate::components::{self, Component};
 use crate::error::{ModelError, ModelResult};
 use crate::model::{DerivedSpec, Experiment, ModelSpec};
-use crate::signals::{BlockElem, SignalGraph};
+use crate::signals::SignalGraph;
 use crate::system::flange::FlangeBuilder;
 use crate::system::outputs::EnergyVar;
 use crate::system::{Builder, Out, System};
@@ -128,7 +129,7 @@ pub fn build_with(
         b.sys.outputs.push((name.to_string(), Out::Energy(var)));
     }
     crate::system::variables::append(&mut b.sys.outputs, spec.variables, spec.parameters)?;
-    order_signals(&mut b.sys.signals)?;
+    signals::stage(&mut b)?;
     finish_thermal(&mut b)?;
     b.sys.flange_torques = b.flanges.finish(&topo.cut_roots);
     b.sys.followers = b.sys.gear_followers();
@@ -184,7 +185,7 @@ fn builder(spec: &SpecView, topo: &Topology) -> Builder {
             switching: Vec::new(),
             signals: SignalGraph {
                 slots: topo.slots,
-                blocks: Vec::new(),
+                ..SignalGraph::default()
             },
             thermal: ThermalNet {
                 nodes: heat_nodes,
@@ -203,6 +204,8 @@ fn builder(spec: &SpecView, topo: &Topology) -> Builder {
         flanges: FlangeBuilder::default(),
         fixed_temperature: vec![None; heat_nodes],
         capacitors: Vec::new(),
+        signal_reads: Vec::new(),
+        block_owners: Vec::new(),
     }
 }
 
@@ -246,38 +249,6 @@ fn merge_time_events(mut events: Vec<f64>, start: f64, stop: f64) -> Vec<f64> {
         }
     }
     merged
-}
-
-/// Orders blocks so that every block comes after the blocks it reads; a loop is an error.
-fn order_signals(graph: &mut SignalGraph) -> ModelResult<()> {
-    let mut pending: Vec<BlockElem> = std::mem::take(&mut graph.blocks);
-    // A slot no block writes (a model input) is ready from the start.
-    let mut ready = vec![true; graph.slots];
-    for block in &pending {
-        ready[block.output] = false;
-    }
-    let mut ordered = Vec::with_capacity(pending.len());
-    while !pending.is_empty() {
-        let before = pending.len();
-        let mut k = 0;
-        while k < pending.len() {
-            if pending[k].inputs.iter().all(|&s| ready[s]) {
-                let block = pending.remove(k);
-                ready[block.output] = true;
-                ordered.push(block);
-            } else {
-                k += 1;
-            }
-        }
-        if pending.len() == before {
-            return Err(ModelError::Component {
-                component: pending[0].owner.clone(),
-                message: "its inputs form an algebraic loop of signal blocks".into(),
-            });
-        }
-    }
-    graph.blocks = ordered;
-    Ok(())
 }
 
 /// Decides what holds each heat node's temperature.

@@ -43,7 +43,8 @@ impl Component for TorqueToAngle {
     fn build(&self, b: &mut Builder) -> ModelResult<()> {
         let nf = b.node("flange")?;
         let rel = Rel::of(&[(nf, 1.0)]);
-        let law = b.add_law(rel.clone(), Box::new(InputTorque(b.signal_in("tau")?)));
+        let tau = b.signal_in("tau")?;
+        let law = b.add_law(rel.clone(), Box::new(InputTorque(tau)));
         b.output("tau", Out::LawTau(law, 1.0));
         b.output("phi", Out::Angle(rel.clone()));
         // MSL: w = 0 and a = 0 when their connectors are disabled; they are not reported then
@@ -77,9 +78,10 @@ impl AngleToTorque {
 }
 
 /// An enabled input that nothing drives: name the parameter that enabled it.
-fn conditional_input(b: &Builder, port: &str, parameter: &str) -> ModelResult<usize> {
+fn conditional_input(b: &mut Builder, port: &str, parameter: &str) -> ModelResult<usize> {
+    let name = b.name().to_string();
     b.signal_in(port).map_err(|_| ModelError::Component {
-        component: b.name().to_string(),
+        component: name,
         message: format!(
             "parameter '{parameter}' = true enables input '{port}', which is not connected \
              (connect a signal or declare it a model input, or set {parameter} = false)"

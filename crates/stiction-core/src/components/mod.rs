@@ -11,6 +11,7 @@ pub mod friction;
 pub mod gears;
 pub mod heat;
 pub mod inertia;
+pub mod sensors;
 pub mod sources;
 
 #[cfg(test)]
@@ -154,6 +155,7 @@ pub fn registry() -> Vec<Entry> {
     r.extend(compliant::REGISTRY);
     r.extend(gears::REGISTRY);
     r.extend(sources::REGISTRY);
+    r.extend(sensors::REGISTRY);
     r.extend(adaptors::REGISTRY);
     r.extend(friction::REGISTRY);
     r.extend(friction::lossy_gear::REGISTRY);

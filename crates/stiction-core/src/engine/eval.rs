@@ -7,6 +7,7 @@ use nalgebra::{DMatrix, DVector};
 
 use super::kkt::ModeMatrix;
 use super::massless::Massless;
+use crate::signals::{Mechanics, StagePart};
 use crate::switching::element::{
     angle_and_speed, ElementValues, Kinematics, ModeKey, Solved, SwitchState,
 };
@@ -170,6 +171,7 @@ pub fn kinematics(
         c.prescribe(&ws.signals, &mut ws.phi, &mut ws.w);
     }
     sys.follow(&mut ws.phi, &mut ws.w);
+    measure(&sys.signals.state, ws);
     for (k, law) in sys.laws.iter().enumerate() {
         (ws.law_phi[k], ws.law_w[k]) = angle_and_speed(&law.rel, &ws.phi, &ws.w);
     }
@@ -192,6 +194,23 @@ fn update_signals(sys: &System, disc: &DiscreteState, t: f64, horizon: f64, ws: 
     }
     sys.signals.eval(t, horizon, &mut ws.signals);
     ws.signals_at = Some(at);
+}
+
+/// The sensors of one stage (`signals::Stage`) and the blocks after them, at the values in
+/// `ws`: angles and speeds after `kinematics` has set them, accelerations and cut torques after
+/// the solve. Nothing for an empty stage (every model without sensors).
+#[inline]
+fn measure(part: &StagePart, ws: &mut Workspace) {
+    if part.is_empty() {
+        return;
+    }
+    let m = Mechanics {
+        phi: &ws.phi,
+        w: &ws.w,
+        a: &ws.a,
+        constraint_tau: &ws.constraint_tau,
+    };
+    part.eval(ws.t, ws.horizon, &m, &mut ws.signals);
 }
 
 /// Writes the algebraic speeds of the shafts without inertia in mode `mm`, and the angles and
@@ -228,6 +247,8 @@ pub fn evaluate(
     ws.rhs_evals += 1;
     kinematics(sys, disc, t, x, horizon, ws);
     accelerations(sys, mm, disc, ws);
+    // the assembly checks that no force law, switching element or prescribed motion reads these
+    measure(&sys.signals.solved, ws);
     heat_and_energy(sys, disc, x, ws);
 }
 
@@ -402,8 +423,11 @@ fn measured_slope(
     m
 }
 
-/// The laws' relative speeds and the forces after the speeds in `ws` changed.
+/// The laws' relative speeds, the signals measured from speeds and the forces after the speeds
+/// in `ws` changed (a SpeedSensor on a shaft without inertia driving a brake: the solve for the
+/// speed sees the brake's torque at each trial speed).
 fn refresh(sys: &System, disc: &DiscreteState, ws: &mut Workspace, f: &mut [f64]) {
+    measure(&sys.signals.state, ws);
     for (k, law) in sys.laws.iter().enumerate() {
         ws.law_w[k] = law.rel.dot(&ws.w);
     }

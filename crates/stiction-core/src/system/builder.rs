@@ -8,7 +8,7 @@ use super::flange::FlangeBuilder;
 use super::{Constraint, ForceLaw, InitEq, LawElem, NodeRef, Out, Prescribed, Rel, System};
 use crate::error::{ModelError, ModelResult};
 use crate::model::InitValue;
-use crate::signals::{Block, BlockElem};
+use crate::signals::{Block, BlockElem, Measure, Sensor, Stage};
 use crate::switching::element::SwitchingElement;
 use crate::thermal::{Capacity, Link};
 
@@ -52,6 +52,11 @@ pub struct Builder {
     pub(crate) flanges: FlangeBuilder,
     pub(crate) fixed_temperature: Vec<Option<f64>>,
     pub(crate) capacitors: Vec<Capacity>,
+    /// Every signal input read, as (component, port, slot): the assembly checks what reaches
+    /// a mechanical component's input (`assembly::signals`).
+    pub(crate) signal_reads: Vec<(usize, String, usize)>,
+    /// The components that added blocks (their inputs feed only other signals).
+    pub(crate) block_owners: Vec<usize>,
 }
 
 impl Builder {
@@ -145,14 +150,16 @@ impl Builder {
         self.sys.switching.len() - 1
     }
 
-    pub fn signal_in(&self, port: &str) -> ModelResult<usize> {
+    pub fn signal_in(&mut self, port: &str) -> ModelResult<usize> {
         let i = self.port_index(port)?;
-        self.signal_slot[i].ok_or_else(|| ModelError::Component {
+        let slot = self.signal_slot[i].ok_or_else(|| ModelError::Component {
             component: self.name().to_string(),
             message: format!(
                 "port '{port}': signal input is not connected (connect a signal source to it)"
             ),
-        })
+        })?;
+        self.signal_reads.push((self.comp, port.to_string(), slot));
+        Ok(slot)
     }
 
     pub fn signal_out(&self, port: &str) -> ModelResult<usize> {
@@ -161,12 +168,31 @@ impl Builder {
     }
 
     pub fn add_block(&mut self, block: Box<dyn Block>, inputs: Vec<usize>, output: usize) {
+        self.block_owners.push(self.comp);
         self.sys.signals.blocks.push(BlockElem {
             owner: self.name().to_string(),
             block,
             inputs,
             output,
         });
+    }
+
+    /// A sensor writing what it measures into its output `port`, reported as a variable
+    /// `component.port`.
+    pub fn add_sensor(&mut self, port: &'static str, measure: Measure) -> ModelResult<()> {
+        let slot = self.signal_out(port)?;
+        self.output(port, Out::Signal(slot));
+        let part = match measure.stage() {
+            Stage::Solved => &mut self.sys.signals.solved,
+            _ => &mut self.sys.signals.state,
+        };
+        part.sensors.push(Sensor {
+            owner: self.names[self.comp].clone(),
+            port,
+            measure,
+            slot,
+        });
+        Ok(())
     }
 
     pub fn heat_node(&self, port: &str) -> ModelResult<usize> {

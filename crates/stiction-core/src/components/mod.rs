@@ -11,6 +11,7 @@ pub mod friction;
 pub mod gears;
 pub mod heat;
 pub mod inertia;
+pub mod motion;
 pub mod sources;
 
 #[cfg(test)]
@@ -155,6 +156,7 @@ pub fn registry() -> Vec<Entry> {
     r.extend(gears::REGISTRY);
     r.extend(sources::REGISTRY);
     r.extend(adaptors::REGISTRY);
+    r.extend(motion::REGISTRY);
     r.extend(friction::REGISTRY);
     r.extend(friction::lossy_gear::REGISTRY);
     r.extend(blocks::REGISTRY);

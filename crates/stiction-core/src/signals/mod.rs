@@ -1,6 +1,10 @@
 //! The signal graph at run time: causal blocks (Modelica.Blocks) evaluated in dependency order,
 //! each a function of time and its inputs only. The block components are in `components`.
 
+pub mod derivatives;
+
+pub use derivatives::{Derivative, Jet};
+
 /// A block's output as a function of time and its inputs. `horizon` is the first time event not
 /// handled yet: Modelica freezes `time >= t0` between events, so a switch at or after the horizon
 /// has not happened, even where the integrator evaluates a little beyond it.
@@ -10,6 +14,11 @@ pub trait Block: Send + Sync {
     /// that change only at time events or follow their inputs).
     fn time_scale(&self) -> f64 {
         f64::INFINITY
+    }
+    /// The output and its first two time derivatives from the inputs' (`derivatives`); `None`
+    /// for a block whose output has no known derivative, at any time.
+    fn jet(&self, _t: f64, _horizon: f64, _u: &[Jet]) -> Option<Jet> {
+        None
     }
 }
 
@@ -25,6 +34,8 @@ pub struct SignalGraph {
     pub slots: usize,
     /// In evaluation order (inputs before the blocks that read them).
     pub blocks: Vec<BlockElem>,
+    /// Time derivatives of slots that motion sources follow exactly (usually none).
+    pub derivatives: Vec<Derivative>,
 }
 
 impl SignalGraph {
@@ -40,6 +51,9 @@ impl SignalGraph {
                 u[k] = values[slot];
             }
             values[b.output] = b.block.eval(t, horizon, &u[..b.inputs.len()]);
+        }
+        if !self.derivatives.is_empty() {
+            self.eval_derivatives(t, horizon, values);
         }
     }
 }

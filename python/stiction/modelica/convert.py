@@ -443,6 +443,9 @@ class _Converter:
         if component is None:
             raise ModelicaError(ref.pos, f"connect to '{ref.name}': no component '{comp}' in the model")
         ports = _port_kinds().get(component.type)
+        element = _element(ref, port)
+        if ports is not None and element in ports:  # an array connector's element: Move's u[1]
+            return f"{comp}.{element}", ports[element][0]
         kind, flag = ports.get(port, _NO_PORT) if ports is not None else (None, None)
         if ports is not None and kind is None or not port or "." in port:
             raise ModelicaError(
@@ -555,6 +558,13 @@ def _real(value: Any, key: str) -> Any:
     if type(value) is int and key not in INTEGER_PARAMETERS:
         return float(value)
     return value
+
+
+def _element(ref: Ref, port: str) -> str | None:
+    """``u[1]`` for a connect to ``move.u[1]`` (one literal index), else None."""
+    if len(ref.subscripts) == 1 and isinstance(ref.subscripts[0], Literal):
+        return f"{port}[{ref.subscripts[0].value}]"
+    return None
 
 
 def _is_one(ref: Ref) -> bool:

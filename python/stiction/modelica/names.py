@@ -58,6 +58,10 @@ MSL_CLASSES: dict[str, str] = {
             "SignTorque",
             "InverseSpeedDependentTorque",
             "ConstantSpeed",
+            "Speed",
+            "Position",
+            "Accelerate",
+            "Move",
         ]
     },
     **{t: f"Modelica.Blocks.Sources.{t}" for t in ["Constant", "Step", "Ramp", "Sine", "Pulse", "TimeTable"]},

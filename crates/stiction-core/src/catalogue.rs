@@ -100,8 +100,11 @@ fn instance(entry: &Entry, params: &[ParamInfo]) -> ComponentSpec {
     let mut table = toml::Table::new();
     for p in params {
         match p.kind {
+            // every conditional port enabled; but `exact = true` (a prescribed motion that
+            // follows its input exactly) needs the input's derivative, which a model input
+            // lacks: the variables are the same names either way
             ParamKind::Boolean => {
-                table.insert(p.name.clone(), true.into());
+                table.insert(p.name.clone(), (p.name != "exact").into());
             }
             ParamKind::Real if p.required => {
                 table.insert(p.name.clone(), 1.0.into());
@@ -190,9 +193,10 @@ fn alone(entry: &Entry, params: &[ParamInfo], ports: &Ports, heat_boundary: bool
 pub fn variable_unit(name: &str) -> &'static str {
     let last = name.rsplit('.').next().unwrap_or(name);
     match last {
-        "phi" | "phi_rel" | "phi_a" | "phi_b" => "rad",
-        "w" | "w_rel" | "w_a" | "w_b" => "rad/s",
-        "a" | "a_rel" | "a_a" | "a_b" => "rad/s2",
+        // a prescribed motion's inputs (`Move`'s u = {phi, w, a})
+        "phi" | "phi_rel" | "phi_a" | "phi_b" | "phi_ref" | "u[1]" => "rad",
+        "w" | "w_rel" | "w_a" | "w_b" | "w_ref" | "u[2]" => "rad/s",
+        "a" | "a_rel" | "a_a" | "a_b" | "a_ref" | "u[3]" => "rad/s2",
         "tau" | "tau_c" | "tau_d" | "sa" | "tau0" | "tau0_max" | "tauLoss" | "tau_eta"
         | "tau_bf1" | "tau_bf2" | "tau_bf_a" | "tauLossMax_p" | "tauLossMin_m" => "N.m",
         "lossPower" | "Q_flow" | "power" => "W",

@@ -29,6 +29,7 @@ class _Factory(Component):
 __all__ = [
     "FACTORIES",
     "AccSensor",
+    "Accelerate",
     "Add",
     "AngleSensor",
     "AngleToTorqueAdaptor",
@@ -53,9 +54,11 @@ __all__ = [
     "InverseSpeedDependentTorque",
     "LinearSpeedDependentTorque",
     "LossyGear",
+    "Move",
     "MultiSensor",
     "OneWayClutch",
     "ParamValue",
+    "Position",
     "PowerSensor",
     "Product",
     "Pulse",
@@ -66,6 +69,7 @@ __all__ = [
     "RelSpeedSensor",
     "SignTorque",
     "Sine",
+    "Speed",
     "SpeedSensor",
     "Spring",
     "SpringDamper",
@@ -981,6 +985,168 @@ class AngleToTorqueAdaptor(_Factory):
         *,
         use_w: bool = ...,
         use_a: bool = ...,
+    ) -> None: ...
+
+class Speed(_Factory):
+    """Forced movement of a flange according to a reference angular velocity signal.
+
+    MSL class: ``Modelica.Mechanics.Rotational.Sources.Speed``
+
+    Parameters
+    ----------
+    exact : Boolean, default false
+        true: follow the input signal exactly (needs its time derivatives), false: filter it
+    f_crit : Real [Hz], default 50, > 0
+        If exact=false, critical frequency of filter to filter input signal
+    phi : start value [rad] (displayUnit deg), start (a guess unless given) 0
+        Rotation angle of flange with respect to support (start value)
+    useSupport : Boolean, default false
+        true: enable the support connector (else the housing is fixed at angle 0)
+
+    Ports
+    -----
+    - flange: flange
+    - support: flange (if useSupport = true)
+    - w_ref: signal input
+
+    Variables
+    ---------
+    - phi [rad] (displayUnit deg)
+    - w [rad/s]
+    - a [rad/s2]
+    - w_ref [rad/s]
+    - flange.phi [rad] (displayUnit deg)
+    - flange.tau [N.m]
+    - support.phi [rad] (displayUnit deg)
+    - support.tau [N.m]
+    """
+
+    def __init__(
+        self,
+        *,
+        exact: bool = ...,
+        f_crit: float = ...,
+        phi: float | StartValue = ...,
+        useSupport: bool = ...,
+    ) -> None: ...
+
+class Position(_Factory):
+    """Forced movement of a flange according to a reference angle signal.
+
+    MSL class: ``Modelica.Mechanics.Rotational.Sources.Position``
+
+    Parameters
+    ----------
+    exact : Boolean, default false
+        true: follow the input signal exactly (needs its time derivatives), false: filter it
+    f_crit : Real [Hz], default 50, > 0
+        If exact=false, critical frequency of filter to filter input signal
+    w : start value [rad/s], start (a guess unless given) 0
+        Angular velocity of flange with respect to support (start value)
+    useSupport : Boolean, default false
+        true: enable the support connector (else the housing is fixed at angle 0)
+
+    Ports
+    -----
+    - flange: flange
+    - support: flange (if useSupport = true)
+    - phi_ref: signal input
+
+    Variables
+    ---------
+    - phi [rad] (displayUnit deg)
+    - w [rad/s]
+    - a [rad/s2]
+    - phi_ref [rad] (displayUnit deg)
+    - flange.phi [rad] (displayUnit deg)
+    - flange.tau [N.m]
+    - support.phi [rad] (displayUnit deg)
+    - support.tau [N.m]
+    """
+
+    def __init__(
+        self,
+        *,
+        exact: bool = ...,
+        f_crit: float = ...,
+        w: float | StartValue = ...,
+        useSupport: bool = ...,
+    ) -> None: ...
+
+class Accelerate(_Factory):
+    """Forced movement of a flange according to an acceleration signal.
+
+    MSL class: ``Modelica.Mechanics.Rotational.Sources.Accelerate``
+
+    Parameters
+    ----------
+    phi : start value [rad] (displayUnit deg), start (a guess unless given) 0
+        Rotation angle of flange with respect to support (start value)
+    w : start value [rad/s], start (a guess unless given) 0
+        Angular velocity of flange with respect to support (start value)
+    useSupport : Boolean, default false
+        true: enable the support connector (else the housing is fixed at angle 0)
+
+    Ports
+    -----
+    - flange: flange
+    - support: flange (if useSupport = true)
+    - a_ref: signal input
+
+    Variables
+    ---------
+    - phi [rad] (displayUnit deg)
+    - w [rad/s]
+    - a [rad/s2]
+    - a_ref [rad/s2]
+    - flange.phi [rad] (displayUnit deg)
+    - flange.tau [N.m]
+    - support.phi [rad] (displayUnit deg)
+    - support.tau [N.m]
+    """
+
+    def __init__(
+        self,
+        *,
+        phi: float | StartValue = ...,
+        w: float | StartValue = ...,
+        useSupport: bool = ...,
+    ) -> None: ...
+
+class Move(_Factory):
+    """Forced movement of a flange according to an angle, speed and angular acceleration signal.
+
+    MSL class: ``Modelica.Mechanics.Rotational.Sources.Move``
+
+    Parameters
+    ----------
+    useSupport : Boolean, default false
+        true: enable the support connector (else the housing is fixed at angle 0)
+
+    Ports
+    -----
+    - flange: flange
+    - support: flange (if useSupport = true)
+    - u[1]: signal input
+    - u[2]: signal input
+    - u[3]: signal input
+
+    Variables
+    ---------
+    - phi [rad] (displayUnit deg)
+    - u[1] [rad] (displayUnit deg)
+    - u[2] [rad/s]
+    - u[3] [rad/s2]
+    - flange.phi [rad] (displayUnit deg)
+    - flange.tau [N.m]
+    - support.phi [rad] (displayUnit deg)
+    - support.tau [N.m]
+    """
+
+    def __init__(
+        self,
+        *,
+        useSupport: bool = ...,
     ) -> None: ...
 
 class Brake(_Factory):

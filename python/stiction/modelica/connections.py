@@ -196,6 +196,9 @@ class ConnectionSets:
                 ref.pos, f"connect to '{display(ref.name)}': no component '{display(comp)}' in the model"
             )
         ports = _port_kinds().get(component.type)
+        element = _element(ref, port)
+        if ports is not None and element in ports:  # an array connector's element: Move's u[1]
+            return f"{comp}.{element}", ports[element][0]
         kind, flag = ports.get(port, _NO_PORT) if ports is not None else (None, None)
         if ports is not None and kind is None or not port or "." in port:
             raise ModelicaError(
@@ -234,6 +237,13 @@ def _index(first: tuple[int, Pos]) -> int:
 
 class Reported(Exception):
     """A name whose own error is reported already: what uses it is not checked again."""
+
+
+def _element(ref: Ref, port: str) -> str | None:
+    """``u[1]`` for a connect to ``move.u[1]`` (one literal index), else None."""
+    if len(ref.subscripts) == 1 and isinstance(ref.subscripts[0], Literal):
+        return f"{port}[{ref.subscripts[0].value}]"
+    return None
 
 
 def _is_one(ref: Ref) -> bool:

@@ -60,6 +60,10 @@ MSL_CLASSES: dict[str, str] = {
             "SignTorque",
             "InverseSpeedDependentTorque",
             "ConstantSpeed",
+            "Speed",
+            "Position",
+            "Accelerate",
+            "Move",
         ]
     },
     **{

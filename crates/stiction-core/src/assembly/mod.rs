@@ -130,6 +130,7 @@ pub fn build_with(
     }
     crate::system::variables::append(&mut b.sys.outputs, spec.variables, spec.parameters)?;
     signals::stage(&mut b)?;
+    derivatives_known(&b.sys)?;
     finish_thermal(&mut b)?;
     b.sys.flange_torques = b.flanges.finish(&topo.cut_roots);
     b.sys.followers = b.sys.gear_followers();
@@ -249,6 +250,27 @@ fn merge_time_events(mut events: Vec<f64>, start: f64, stop: f64) -> Vec<f64> {
         }
     }
     merged
+}
+
+/// Refuses a source that follows an input exactly (`exact = true`) when the input's time
+/// derivative is not known: MSL asks the tool to differentiate it, which a model input or a
+/// measured signal does not allow.
+fn derivatives_known(sys: &System) -> ModelResult<()> {
+    let inputs: Vec<(usize, String)> = (sys.inputs.iter())
+        .map(|i| (i.slot, i.name.clone()))
+        .collect();
+    match sys.signals.underivable(&inputs) {
+        None => Ok(()),
+        Some((d, why)) => Err(ModelError::Component {
+            component: d.owner.clone(),
+            message: format!(
+                "exact = true follows input '{}' exactly and needs its time derivative, but the \
+                 input comes from {why}; set exact = false (the filter, f_crit), or drive it \
+                 with Modelica.Blocks sources and math blocks",
+                d.port
+            ),
+        }),
+    }
 }
 
 /// Decides what holds each heat node's temperature.

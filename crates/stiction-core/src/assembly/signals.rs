@@ -59,12 +59,13 @@ fn check_consumers(b: &Builder, stage: &[Stage], origin: &[Option<String>]) -> M
     }
     for c in &b.sys.constraints {
         let Some(p) = &c.prescribed else { continue };
-        let slots = [Some(p.phi), p.w, p.a];
-        if let Some(slot) = slots
-            .into_iter()
-            .flatten()
-            .find(|&s| stage[s] > Stage::Time)
-        {
+        // held values are set before the sensors read the shafts; an acceleration is read
+        // after the angle and speed sensors (a filter may follow a measured speed)
+        let (held, accel) = p.slots();
+        let late = |s: &usize, after: Stage| stage[*s] > after;
+        let loop_slot = (held.iter().flatten().find(|s| late(s, Stage::Time)))
+            .or_else(|| accel.iter().find(|s| late(s, Stage::State)));
+        if let Some(&slot) = loop_slot {
             let sensor = origin[slot].as_deref().unwrap_or("a sensor");
             return Err(ModelError::Component {
                 component: c.owner.clone(),

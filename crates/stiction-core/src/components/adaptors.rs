@@ -7,7 +7,9 @@
 use super::{Component, Entry, Ports};
 use crate::error::{ModelError, ModelResult};
 use crate::model::{InitValue, Params};
-use crate::system::{Builder, EnergyRole, ForceLaw, LawCtx, NodeRef, Out, Prescribed, Rel};
+use crate::system::{
+    Accel, Builder, EnergyRole, ForceLaw, Held, LawCtx, NodeRef, Out, Prescribed, Rel,
+};
 
 const TTA_USE_W: &str = "use_w true: enable the output connector w (angular velocity)";
 const TTA_USE_A: &str = "use_a true: enable the output connector a (angular acceleration)";
@@ -78,7 +80,7 @@ impl AngleToTorque {
 }
 
 /// An enabled input that nothing drives: name the parameter that enabled it.
-fn conditional_input(b: &mut Builder, port: &str, parameter: &str) -> ModelResult<usize> {
+pub(super) fn conditional_input(b: &mut Builder, port: &str, parameter: &str) -> ModelResult<usize> {
     let name = b.name().to_string();
     b.signal_in(port).map_err(|_| ModelError::Component {
         component: name,
@@ -115,14 +117,16 @@ impl Component for AngleToTorque {
         let w_parameter = if self.use_a { "use_a" } else { "use_w" };
         let prescribed = Prescribed {
             node,
-            phi: b.signal_in("phi")?,
-            w: match self.has_w() {
-                true => Some(conditional_input(b, "w", w_parameter)?),
-                false => None,
+            held: Held::Angle {
+                phi: b.signal_in("phi")?,
+                w: match self.has_w() {
+                    true => Some(conditional_input(b, "w", w_parameter)?),
+                    false => None,
+                },
             },
-            a: match self.use_a {
-                true => Some(conditional_input(b, "a", "use_a")?),
-                false => None,
+            accel: match self.use_a {
+                true => Accel::Signal(conditional_input(b, "a", "use_a")?),
+                false => Accel::Zero,
             },
         };
         let rel = Rel::of(&[(nf, 1.0)]);

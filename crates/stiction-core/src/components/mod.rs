@@ -12,6 +12,7 @@ pub mod gears;
 pub mod heat;
 pub mod inertia;
 pub mod sensors;
+pub mod motion;
 pub mod sources;
 
 #[cfg(test)]
@@ -157,6 +158,7 @@ pub fn registry() -> Vec<Entry> {
     r.extend(sources::REGISTRY);
     r.extend(sensors::REGISTRY);
     r.extend(adaptors::REGISTRY);
+    r.extend(motion::REGISTRY);
     r.extend(friction::REGISTRY);
     r.extend(friction::lossy_gear::REGISTRY);
     r.extend(blocks::REGISTRY);

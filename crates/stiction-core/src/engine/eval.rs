@@ -263,7 +263,7 @@ fn accelerations(sys: &System, mm: &ModeMatrix, disc: &DiscreteState, ws: &mut W
     forces(sys, disc, ws, &mut rhs[..n]);
     // the permanent constraints are G's first rows; a prescribed motion's holds its acceleration
     for (k, c) in sys.constraints.iter().enumerate() {
-        rhs[n + k] = c.accel(&ws.signals);
+        rhs[n + k] = c.accel(&ws.signals, &ws.phi, &ws.w);
     }
     if let Some(ml) = &mm.massless {
         massless_speeds(sys, ml, disc, ws, &mut rhs[..n]);

@@ -301,11 +301,26 @@ impl<'a> Params<'a> {
 
     /// A start value: a bare number is a fixed start value, `{ start = …, fixed = … }` says both.
     pub fn init(&self, decl: &'static str, default_start: f64) -> ModelResult<InitValue> {
+        self.init_with(decl, default_start, false)
+    }
+
+    /// A start value that MSL declares fixed (`phi(start = 0, fixed = true)`): fixed unless
+    /// the model says `fixed = false`.
+    pub fn init_fixed(&self, decl: &'static str, default_start: f64) -> ModelResult<InitValue> {
+        self.init_with(decl, default_start, true)
+    }
+
+    fn init_with(
+        &self,
+        decl: &'static str,
+        default_start: f64,
+        default_fixed: bool,
+    ) -> ModelResult<InitValue> {
         let name = self.declare(decl, ParamKind::Start, Some(default_start.into()));
         match self.get(name) {
             None => Ok(InitValue {
                 start: default_start,
-                fixed: false,
+                fixed: default_fixed,
             }),
             Some(toml::Value::Table(t)) => {
                 for key in t.keys() {
@@ -321,7 +336,7 @@ impl<'a> Params<'a> {
                     Some(v) => v
                         .as_bool()
                         .ok_or_else(|| self.error(name, "'fixed' must be true or false"))?,
-                    None => false,
+                    None => default_fixed,
                 };
                 Ok(InitValue { start, fixed })
             }

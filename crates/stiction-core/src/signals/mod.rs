@@ -10,6 +10,10 @@
 
 use crate::rel::Rel;
 
+pub mod derivatives;
+
+pub use derivatives::{Derivative, Jet};
+
 /// A block's output as a function of time and its inputs. `horizon` is the first time event not
 /// handled yet: Modelica freezes `time >= t0` between events, so a switch at or after the horizon
 /// has not happened, even where the integrator evaluates a little beyond it.
@@ -19,6 +23,11 @@ pub trait Block: Send + Sync {
     /// that change only at time events or follow their inputs).
     fn time_scale(&self) -> f64 {
         f64::INFINITY
+    }
+    /// The output and its first two time derivatives from the inputs' (`derivatives`); `None`
+    /// for a block whose output has no known derivative, at any time.
+    fn jet(&self, _t: f64, _horizon: f64, _u: &[Jet]) -> Option<Jet> {
+        None
     }
 }
 
@@ -86,6 +95,8 @@ pub struct SignalGraph {
     /// The sensors and blocks of `Stage::State` and of `Stage::Solved`, in evaluation order.
     pub state: StagePart,
     pub solved: StagePart,
+    /// Time derivatives of slots that motion sources follow exactly (usually none).
+    pub derivatives: Vec<Derivative>,
 }
 
 /// The sensors of one stage, then the blocks that depend on them.
@@ -126,6 +137,9 @@ impl SignalGraph {
     /// The blocks of `Stage::Time`.
     pub fn eval(&self, t: f64, horizon: f64, values: &mut [f64]) {
         eval_blocks(&self.blocks, t, horizon, values);
+        if !self.derivatives.is_empty() {
+            self.eval_derivatives(t, horizon, values);
+        }
     }
 }
 

@@ -41,8 +41,9 @@ pub fn initial_state_and_guesses(sys: &System) -> Result<InitialState, ModelErro
     let n = sys.nodes;
     let lay = Layout::of(sys);
     let mut x = vec![0.0; sys.state_len()];
-    let (phi, phi_guess_used) = solve(&sys.init_phi, sys, "angle")?;
-    let (w, w_guess_used) = solve(&sys.init_w, sys, "speed")?;
+    let (init_phi, init_w) = with_signal_starts(sys);
+    let (phi, phi_guess_used) = solve(init_phi.as_ref().unwrap_or(&sys.init_phi), sys, "angle")?;
+    let (w, w_guess_used) = solve(init_w.as_ref().unwrap_or(&sys.init_w), sys, "speed")?;
     x[..n].copy_from_slice(&phi);
     x[n..2 * n].copy_from_slice(&w);
     for (k, cap) in sys.thermal.capacities.iter().enumerate() {
@@ -63,6 +64,26 @@ pub fn initial_state_and_guesses(sys: &System) -> Result<InitialState, ModelErro
 }
 
 type Solved = (Vec<f64>, Vec<bool>);
+
+/// The start-value equations with the values of signals at the start time put in
+/// (`InitEq::signal`: a prescribed motion's `w = w_ref`), or None when none reads a signal.
+fn with_signal_starts(sys: &System) -> (Option<Vec<InitEq>>, Option<Vec<InitEq>>) {
+    let reads = |eqs: &[InitEq]| eqs.iter().any(|e| e.signal.is_some());
+    if !reads(&sys.init_phi) && !reads(&sys.init_w) {
+        return (None, None);
+    }
+    let signals = sys.start_signals();
+    let put = |eqs: &[InitEq]| {
+        let mut eqs = eqs.to_vec();
+        for eq in &mut eqs {
+            if let Some(slot) = eq.signal {
+                eq.value.start = signals[slot];
+            }
+        }
+        Some(eqs)
+    };
+    (put(&sys.init_phi), put(&sys.init_w))
+}
 
 fn solve(eqs: &[InitEq], sys: &System, what: &str) -> Result<Solved, ModelError> {
     let n = sys.nodes;

@@ -8,9 +8,15 @@ use super::flange::FlangeBuilder;
 use super::{Constraint, ForceLaw, InitEq, LawElem, NodeRef, Out, Prescribed, Rel, System};
 use crate::error::{ModelError, ModelResult};
 use crate::model::InitValue;
-use crate::signals::{Block, BlockElem, Measure, Sensor, Stage};
+use crate::signals::{Block, BlockElem, Derivative, Measure, Sensor, Stage};
 use crate::switching::element::SwitchingElement;
 use crate::thermal::{Capacity, Link};
+
+/// The placeholder of a start value a signal gives (`InitEq::signal`).
+const FROM_SIGNAL: InitValue = InitValue {
+    start: 0.0,
+    fixed: true,
+};
 
 /// What a port carries, for connection checks and messages.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -231,6 +237,37 @@ impl Builder {
         self.sys.init_w.push(eq);
     }
 
+    /// A fixed start value `rel(phi) = signal(t0)`: the value of a signal slot at the start.
+    pub fn init_angle_from(&mut self, rel: Rel, slot: usize, variable: &str) {
+        let mut eq = self.start_value(rel, FROM_SIGNAL, variable);
+        eq.signal = Some(slot);
+        self.sys.init_phi.push(eq);
+    }
+
+    /// A fixed start value `rel(w) = signal(t0)`.
+    pub fn init_speed_from(&mut self, rel: Rel, slot: usize, variable: &str) {
+        let mut eq = self.start_value(rel, FROM_SIGNAL, variable);
+        eq.signal = Some(slot);
+        self.sys.init_w.push(eq);
+    }
+
+    /// A slot holding the `order`-th time derivative (1 or 2) of signal input `port`, for a
+    /// source that follows it exactly; the assembly refuses an input whose derivative is not
+    /// known (`SignalGraph::underivable`).
+    pub fn signal_derivative(&mut self, port: &'static str, order: usize) -> ModelResult<usize> {
+        let of = self.signal_in(port)?;
+        let slot = self.sys.signals.slots;
+        self.sys.signals.slots += 1;
+        self.sys.signals.derivatives.push(Derivative {
+            of,
+            order,
+            slot,
+            owner: self.name().to_string(),
+            port,
+        });
+        Ok(slot)
+    }
+
     /// The start-value equation of this component's `variable`.
     fn start_value(&self, rel: Rel, value: InitValue, variable: &str) -> InitEq {
         InitEq {
@@ -238,6 +275,7 @@ impl Builder {
             value,
             variable: format!("{}.{variable}", self.name()),
             constraint: false,
+            signal: None,
         }
     }
 
@@ -254,6 +292,7 @@ impl Builder {
                 value,
                 variable: variable.clone(),
                 constraint: true,
+                signal: None,
             });
         }
     }

@@ -48,20 +48,68 @@ pub struct Constraint {
     pub prescribed: Option<Prescribed>,
 }
 
-/// A motion prescribed by signals, as MSL's `Sources.Move` with exact motion: the row's angle is
-/// the `phi` signal and its speed the `w` signal (0 without one) at every evaluation, its
-/// acceleration the `a` signal (0 without one). The angle and speed are algebraic, as in MSL
-/// (`flange.phi = phi`), so a new input value moves the flange at once: the state entries of
-/// `node` are overwritten wherever the state is evaluated or recorded — the reset of the
-/// flange's angle and speed at an input event.
+/// A motion prescribed by signals along a constraint's row (MSL's `Sources.Move`, `Speed`,
+/// `Position`, `Accelerate`): what the signals hold at every evaluation (`Held`) and the row's
+/// acceleration (`Accel`); the rest of the row's motion is the node's state. Held values are
+/// algebraic, as in MSL (`flange.phi = phi`), so a new input value moves the flange at once:
+/// the state entries of `node` are overwritten wherever the state is evaluated or recorded —
+/// the reset of the flange's angle and speed at an input event.
 #[derive(Debug, Clone, Copy)]
 pub struct Prescribed {
     /// The node set to satisfy the row (the flange's; the support keeps its own motion).
     pub node: usize,
-    /// Signal slots of the inputs.
-    pub phi: usize,
-    pub w: Option<usize>,
-    pub a: Option<usize>,
+    pub held: Held,
+    pub accel: Accel,
+}
+
+impl Prescribed {
+    /// The signal slots the row holds its angle and speed to (set before any sensor reads the
+    /// shafts), and the slot its acceleration reads (read after the angle and speed sensors).
+    pub fn slots(&self) -> ([Option<usize>; 2], Option<usize>) {
+        let held = match self.held {
+            Held::Angle { phi, w } => [Some(phi), w],
+            Held::Speed(w) => [Some(w), None],
+            Held::Nothing => [None, None],
+        };
+        let accel = match self.accel {
+            Accel::Zero => None,
+            Accel::Signal(slot) => Some(slot),
+            Accel::FirstOrder { w_ref, .. } => Some(w_ref),
+            Accel::SecondOrder { phi_ref, .. } => Some(phi_ref),
+        };
+        (held, accel)
+    }
+}
+
+/// What the signals hold of a prescribed row's angle and speed (signal slots).
+#[derive(Debug, Clone, Copy)]
+pub enum Held {
+    /// The angle, and the speed (0 without a slot): `Move`, `Position(exact = true)`.
+    Angle { phi: usize, w: Option<usize> },
+    /// The speed; the angle is a state: `Speed(exact = true)`.
+    Speed(usize),
+    /// Nothing: angle and speed are states (the filters, `Accelerate`).
+    Nothing,
+}
+
+/// The right-hand side of a prescribed row's acceleration.
+#[derive(Debug, Clone, Copy)]
+pub enum Accel {
+    Zero,
+    /// A signal slot (an input, or an input's time derivative).
+    Signal(usize),
+    /// MSL `Speed`'s first-order filter: `a = (w_ref − w)·w_crit`.
+    FirstOrder {
+        w_ref: usize,
+        w_crit: f64,
+    },
+    /// MSL `Position`'s critically damped filter: `a = ((phi_ref − phi)·w_crit − af·w)·w_crit/bf`.
+    SecondOrder {
+        phi_ref: usize,
+        w_crit: f64,
+        af: f64,
+        bf: f64,
+    },
 }
 
 impl LawElem {
@@ -89,7 +137,8 @@ impl LawElem {
 }
 
 impl Constraint {
-    /// Sets `phi[node]` and `w[node]` so that the row's angle and speed are the inputs'.
+    /// Sets `phi[node]` and `w[node]` so that the row's angle and speed are what the signals
+    /// hold (`Held`); the entries a signal does not hold are left as they are.
     pub fn prescribe(&self, signals: &[f64], phi: &mut [f64], w: &mut [f64]) {
         let Some(p) = &self.prescribed else {
             return;
@@ -97,18 +146,40 @@ impl Constraint {
         let c = (self.rel.terms.iter())
             .find(|(i, _)| *i == p.node)
             .map_or(1.0, |t| t.1);
-        let target_w = p.w.map_or(0.0, |slot| signals[slot]);
-        let rest_phi = self.rel.angle(phi) - c * phi[p.node];
-        let rest_w = self.rel.dot(w) - c * w[p.node];
-        phi[p.node] = (signals[p.phi] - rest_phi) / c;
-        w[p.node] = (target_w - rest_w) / c;
+        let (target_phi, target_w) = match p.held {
+            Held::Angle { phi, w } => (Some(signals[phi]), Some(w.map_or(0.0, |s| signals[s]))),
+            Held::Speed(w) => (None, Some(signals[w])),
+            Held::Nothing => return,
+        };
+        if let Some(target) = target_phi {
+            let rest_phi = self.rel.angle(phi) - c * phi[p.node];
+            phi[p.node] = (target - rest_phi) / c;
+        }
+        if let Some(target) = target_w {
+            let rest_w = self.rel.dot(w) - c * w[p.node];
+            w[p.node] = (target - rest_w) / c;
+        }
     }
 
-    /// The right-hand side of the acceleration row: the `a` input, or 0.
-    pub fn accel(&self, signals: &[f64]) -> f64 {
-        match self.prescribed {
-            Some(Prescribed { a: Some(slot), .. }) => signals[slot],
-            _ => 0.0,
+    /// The right-hand side of the acceleration row at the angles and speeds `phi`, `w`.
+    #[inline]
+    pub fn accel(&self, signals: &[f64], phi: &[f64], w: &[f64]) -> f64 {
+        let Some(p) = &self.prescribed else {
+            return 0.0;
+        };
+        match p.accel {
+            Accel::Zero => 0.0,
+            Accel::Signal(slot) => signals[slot],
+            Accel::FirstOrder { w_ref, w_crit } => (signals[w_ref] - self.rel.dot(w)) * w_crit,
+            Accel::SecondOrder {
+                phi_ref,
+                w_crit,
+                af,
+                bf,
+            } => {
+                let (phi_rel, w_rel) = (self.rel.angle(phi), self.rel.dot(w));
+                ((signals[phi_ref] - phi_rel) * w_crit - af * w_rel) * (w_crit / bf)
+            }
         }
     }
 }
@@ -121,6 +192,9 @@ pub struct InitEq {
     pub variable: String,
     /// A holonomic constraint holding at the start (a gear), not a user's start value.
     pub constraint: bool,
+    /// The start value is this signal slot's value at the start time (a prescribed motion's
+    /// `w = w_ref` at initialization); `value.start` is then a placeholder.
+    pub signal: Option<usize>,
 }
 
 /// A signal input of a component declared an input of the model: its value comes from the
@@ -187,6 +261,19 @@ impl System {
     /// Number of continuous states: node angles and speeds, heat capacities, two energy integrals.
     pub fn state_len(&self) -> usize {
         2 * self.nodes + self.thermal.capacities.len() + 2
+    }
+
+    /// The signals at the start time with the inputs' start values (what start values taken
+    /// from signals read).
+    pub fn start_signals(&self) -> Vec<f64> {
+        let mut values = vec![0.0; self.signals.slots];
+        for input in &self.inputs {
+            values[input.slot] = input.start;
+        }
+        let t0 = self.experiment.start_time;
+        let horizon = (self.time_events.first().copied()).unwrap_or(self.experiment.stop_time);
+        self.signals.eval(t0, horizon, &mut values);
+        values
     }
 
     /// Whether some constraint prescribes a motion from signals (its node's state is algebraic).

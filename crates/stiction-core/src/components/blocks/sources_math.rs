@@ -6,7 +6,8 @@ use std::f64::consts::PI;
 use crate::components::{Component, Ports};
 use crate::error::ModelResult;
 use crate::model::Params;
-use crate::signals::{reached, Block};
+use crate::signals::derivatives::{linear, product as leibniz, scaled};
+use crate::signals::{reached, Block, Jet};
 use crate::system::{Builder, Out};
 
 /// A block component: its ports, the block itself, and its time events.
@@ -72,6 +73,9 @@ impl Block for Constant {
     fn eval(&self, _t: f64, _horizon: f64, _u: &[f64]) -> f64 {
         self.0
     }
+    fn jet(&self, _t: f64, _horizon: f64, _u: &[Jet]) -> Option<Jet> {
+        Some([self.0, 0.0, 0.0])
+    }
 }
 
 pub fn constant(p: &Params) -> ModelResult<Box<dyn Component>> {
@@ -93,6 +97,10 @@ impl Block for Step {
             } else {
                 0.0
             }
+    }
+    /// Constant between events (the step itself is a time event).
+    fn jet(&self, t: f64, horizon: f64, _u: &[Jet]) -> Option<Jet> {
+        Some([self.eval(t, horizon, &[]), 0.0, 0.0])
     }
 }
 
@@ -124,6 +132,17 @@ impl Block for Ramp {
             } else {
                 self.height
             }
+    }
+    /// The slope while rising (its start and end are time events).
+    fn jet(&self, t: f64, horizon: f64, _u: &[Jet]) -> Option<Jet> {
+        let end = self.start_time + self.duration;
+        let rising = reached(t, self.start_time, horizon) && !reached(t, end, horizon);
+        let slope = if rising {
+            self.height / self.duration
+        } else {
+            0.0
+        };
+        Some([self.eval(t, horizon, &[]), slope, 0.0])
     }
 }
 
@@ -168,6 +187,19 @@ impl Block for Sine {
     fn time_scale(&self) -> f64 {
         1.0 / self.f.abs()
     }
+    fn jet(&self, t: f64, horizon: f64, _u: &[Jet]) -> Option<Jet> {
+        if !reached(t, self.start_time, horizon) {
+            return Some([self.eval(t, horizon, &[]), 0.0, 0.0]);
+        }
+        let omega = 2.0 * PI * self.f;
+        let arg = omega * (t - self.start_time) + self.phase;
+        let (a, w2) = (self.amplitude, omega * omega);
+        Some([
+            self.eval(t, horizon, &[]),
+            a * omega * arg.cos(),
+            -a * w2 * arg.sin(),
+        ])
+    }
 }
 
 pub fn sine(p: &Params) -> ModelResult<Box<dyn Component>> {
@@ -192,6 +224,9 @@ impl Block for Product {
     fn eval(&self, _t: f64, _horizon: f64, u: &[f64]) -> f64 {
         u[0] * u[1]
     }
+    fn jet(&self, _t: f64, _horizon: f64, u: &[Jet]) -> Option<Jet> {
+        Some(leibniz(u[0], u[1]))
+    }
 }
 
 pub fn product(_p: &Params) -> ModelResult<Box<dyn Component>> {
@@ -203,6 +238,9 @@ struct Feedback;
 impl Block for Feedback {
     fn eval(&self, _t: f64, _horizon: f64, u: &[f64]) -> f64 {
         u[0] - u[1]
+    }
+    fn jet(&self, _t: f64, _horizon: f64, u: &[Jet]) -> Option<Jet> {
+        Some(linear(1.0, u[0], -1.0, u[1]))
     }
 }
 
@@ -219,6 +257,9 @@ impl Block for Add {
     fn eval(&self, _t: f64, _horizon: f64, u: &[f64]) -> f64 {
         self.k1 * u[0] + self.k2 * u[1]
     }
+    fn jet(&self, _t: f64, _horizon: f64, u: &[Jet]) -> Option<Jet> {
+        Some(linear(self.k1, u[0], self.k2, u[1]))
+    }
 }
 
 pub fn add(p: &Params) -> ModelResult<Box<dyn Component>> {
@@ -234,6 +275,9 @@ struct Gain(f64);
 impl Block for Gain {
     fn eval(&self, _t: f64, _horizon: f64, u: &[f64]) -> f64 {
         self.0 * u[0]
+    }
+    fn jet(&self, _t: f64, _horizon: f64, u: &[Jet]) -> Option<Jet> {
+        Some(scaled(self.0, u[0]))
     }
 }
 
@@ -294,6 +338,10 @@ impl Block for Pulse {
         }
         let high = !reached(t, self.period_start(k) + self.width, horizon);
         self.offset + if high { self.amplitude } else { 0.0 }
+    }
+    /// Constant between its edges (each a time event).
+    fn jet(&self, t: f64, horizon: f64, _u: &[Jet]) -> Option<Jet> {
+        Some([self.eval(t, horizon, &[]), 0.0, 0.0])
     }
 }
 

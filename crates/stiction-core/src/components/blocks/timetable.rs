@@ -5,7 +5,7 @@ use crate::components::decl::{OFFSET, START_TIME};
 use crate::components::{Component, Ports};
 use crate::error::ModelResult;
 use crate::model::Params;
-use crate::signals::Block;
+use crate::signals::{Block, Jet};
 use crate::system::{Builder, Out};
 
 #[derive(Clone)]
@@ -19,13 +19,27 @@ struct TimeTable {
 
 impl Block for TimeTable {
     fn eval(&self, t: f64, horizon: f64, _u: &[f64]) -> f64 {
+        self.piece(t, horizon).0
+    }
+
+    /// Piecewise linear: the segment's slope, no curvature (breakpoints are time events).
+    fn jet(&self, t: f64, horizon: f64, _u: &[Jet]) -> Option<Jet> {
+        let (y, slope) = self.piece(t, horizon);
+        Some([y, slope, 0.0])
+    }
+}
+
+impl TimeTable {
+    /// The output and the slope of the segment in force.
+    #[inline]
+    fn piece(&self, t: f64, horizon: f64) -> (f64, f64) {
         // MSL CombiTimeTable: the output is `offset` before startTime.
         if !crate::signals::reached(t, self.start_time, horizon) {
-            return self.offset;
+            return (self.offset, 0.0);
         }
         let n = self.t.len();
         if n == 1 {
-            return self.offset + self.y[0];
+            return (self.offset + self.y[0], 0.0);
         }
         let s = t - self.start_time;
         // Breakpoints are time events: the segment in force is the last one whose start has
@@ -36,18 +50,21 @@ impl Block for TimeTable {
             k -= 1;
         }
         if self.hold && k >= n && started(n - 1) {
-            return self.offset + self.y[n - 1];
+            return (self.offset + self.y[n - 1], 0.0);
         }
         if self.hold && !started(0) {
-            return self.offset + self.y[0];
+            return (self.offset + self.y[0], 0.0);
         }
         let i = k.min(n - 1) - 1;
         let (t0, t1, y0, y1) = (self.t[i], self.t[i + 1], self.y[i], self.y[i + 1]);
         if t1 == t0 {
             // a jump at the table's last point: its right value once it has happened
-            return self.offset + if started(i + 1) { y1 } else { y0 };
+            return (self.offset + if started(i + 1) { y1 } else { y0 }, 0.0);
         }
-        self.offset + y0 + (y1 - y0) * (s - t0) / (t1 - t0)
+        (
+            self.offset + y0 + (y1 - y0) * (s - t0) / (t1 - t0),
+            (y1 - y0) / (t1 - t0),
+        )
     }
 }
 

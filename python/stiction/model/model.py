@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 from stiction.errors import ModelError
 from stiction.model import modelfile
 from stiction.model.components import FACTORIES, Component, component_types
+from stiction.model.names import COMPONENT_NAME, split_last
 from stiction.model.parameters import is_expr
 from stiction.model.runinfo import RunInfo
 
@@ -89,6 +90,9 @@ class Model:
         self.components: dict[str, Component] = {}
         self.connections: list[tuple[str, str]] = []
         self._pairs: set[frozenset[str]] = set()
+        # The dotted heads of the component names ("front" of "front.clutch") with the count of
+        # components they were taken from: rebuilt when `components` was changed directly.
+        self._heads: tuple[int, dict[str, str]] = (0, {})
         self.experiment: dict[str, Any] = {}
         # Signal inputs left unconnected on purpose, set while the model runs: port -> start.
         self.inputs: dict[str, float] = {}
@@ -110,9 +114,13 @@ class Model:
 
     # --- building ---------------------------------------------------------------------
     def add(self, name: str, component: Component) -> Model:
-        """Add a component under a unique identifier-like name; returns the model."""
-        if not isinstance(name, str) or not _IDENTIFIER.fullmatch(name):
-            raise ModelError(f"component name {name!r} is not a valid identifier (letters, digits, '_')")
+        """Add a component under a unique name; returns the model. A name is an identifier or
+        a path of them, ``"front.clutch"`` (as Modelica tools name a part of a user's class)."""
+        if not isinstance(name, str) or not COMPONENT_NAME.fullmatch(name):
+            raise ModelError(
+                f"component name {name!r} is not a valid identifier (letters, digits, '_') "
+                "or a path of them (front.clutch)"
+            )
         if not isinstance(component, Component):
             raise ModelError(
                 f"component '{name}': expected a Component such as st.Inertia(J=1.0), got {component!r}"
@@ -133,13 +141,38 @@ class Model:
                         f"component '{name}' ({component.type}): parameter '{param}': "
                         f"unknown parameter{_did_you_mean(param, allowed)}"
                     )
+        self._check_path(name)
         self.components[name] = component
+        self._heads[1].update(self._heads_of(name))
+        self._heads = (len(self.components), self._heads[1])
         return self
+
+    @staticmethod
+    def _heads_of(name: str) -> dict[str, str]:
+        parts = name.split(".")
+        return {".".join(parts[:k]): name for k in range(1, len(parts))}
+
+    def _check_path(self, name: str) -> None:
+        """Refuse a name that starts another component's path or that another's name starts
+        (``front`` and ``front.clutch``): ``front.clutch.w`` would name a variable of both."""
+        if self._heads[0] != len(self.components):
+            heads: dict[str, str] = {}
+            for other in self.components:
+                heads.update(self._heads_of(other))
+            self._heads = (len(self.components), heads)
+        other = self._heads[1].get(name) or next(
+            (h for h in self._heads_of(name) if h in self.components), None
+        )
+        if other is not None:
+            raise ModelError(
+                f"component '{name}': the name and component '{other}' start the same path: their "
+                "variables would be ambiguous; rename one"
+            )
 
     def _check_end(self, end: str) -> None:
         if not isinstance(end, str) or end.count(".") < 1:
             raise ModelError(f'connection end {end!r} must be "component.port"')
-        comp_name, port = end.split(".", 1)
+        comp_name, port = split_last(end)
         if comp_name not in self.components:
             raise ModelError(
                 f"connection end '{end}': unknown component '{comp_name}'"
@@ -188,7 +221,7 @@ class Model:
         unknown names (with suggestions), types, ranges and table shapes — now, not at the
         next run. On an error the model is left unchanged.
         """
-        comp_name, _, param = name.partition(".")
+        comp_name, param = split_last(name)
         if comp_name not in self.components or not param:
             raise ModelError(
                 f"set '{name}': expected 'component.parameter' with a component of this model"
@@ -223,7 +256,7 @@ class Model:
         or start value (``clutch1.fn_max``, ``J1.w``), with suggestions for a near miss."""
         if name in modelfile.EXPERIMENT_KEYS or name in self.parameters:
             return
-        comp_name, _, param = name.partition(".")
+        comp_name, param = split_last(name)
         if comp_name not in self.components or not param:
             raise ModelError(
                 f"{context} '{name}': not an experiment setting, a top-level parameter or "

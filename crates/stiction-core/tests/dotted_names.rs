@@ -139,8 +139,7 @@ fn a_name_that_starts_another_component_s_path_is_refused_naming_both() {
     for bad in ["front..clutch", "front.", "front.1clutch"] {
         let text = COUPLED.replace("\nclutch1 = {", &format!("\n\"{bad}\" = {{"));
         let e = ModelSpec::from_toml(&text, ".")
-            .err()
-            .expect("refused")
+            .expect_err("refused")
             .to_string();
         assert!(
             e.contains(bad) && e.contains("identifiers joined by dots"),

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any
 from stiction.errors import ModelError
 from stiction.model import modelfile
 from stiction.model.components import FACTORIES, Component, component_types
-from stiction.model.names import COMPONENT_NAME, split_last
+from stiction.model.names import COMPONENT_NAME, IDENTIFIER, PathIndex, split_last
 from stiction.model.parameters import is_expr
 from stiction.model.runinfo import RunInfo
 
@@ -31,7 +31,6 @@ if TYPE_CHECKING:
 
 __all__ = ["Model"]
 
-_IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 # a name in an expression: dotted ones (J1.w) are result variables, plain ones may be parameters
 _NAME = re.compile(r"(?<![\w.])[A-Za-z_]\w*(?![\w.])")
 
@@ -90,9 +89,7 @@ class Model:
         self.components: dict[str, Component] = {}
         self.connections: list[tuple[str, str]] = []
         self._pairs: set[frozenset[str]] = set()
-        # The dotted heads of the component names ("front" of "front.clutch") with the count of
-        # components they were taken from: rebuilt when `components` was changed directly.
-        self._heads: tuple[int, dict[str, str]] = (0, {})
+        self._paths = PathIndex()  # refuses `front` beside `front.clutch`
         self.experiment: dict[str, Any] = {}
         # Signal inputs left unconnected on purpose, set while the model runs: port -> start.
         self.inputs: dict[str, float] = {}
@@ -141,33 +138,15 @@ class Model:
                         f"component '{name}' ({component.type}): parameter '{param}': "
                         f"unknown parameter{_did_you_mean(param, allowed)}"
                     )
-        self._check_path(name)
-        self.components[name] = component
-        self._heads[1].update(self._heads_of(name))
-        self._heads = (len(self.components), self._heads[1])
-        return self
-
-    @staticmethod
-    def _heads_of(name: str) -> dict[str, str]:
-        parts = name.split(".")
-        return {".".join(parts[:k]): name for k in range(1, len(parts))}
-
-    def _check_path(self, name: str) -> None:
-        """Refuse a name that starts another component's path or that another's name starts
-        (``front`` and ``front.clutch``): ``front.clutch.w`` would name a variable of both."""
-        if self._heads[0] != len(self.components):
-            heads: dict[str, str] = {}
-            for other in self.components:
-                heads.update(self._heads_of(other))
-            self._heads = (len(self.components), heads)
-        other = self._heads[1].get(name) or next(
-            (h for h in self._heads_of(name) if h in self.components), None
-        )
+        other = self._paths.clash(name, self.components)
         if other is not None:
             raise ModelError(
                 f"component '{name}': the name and component '{other}' start the same path: their "
                 "variables would be ambiguous; rename one"
             )
+        self.components[name] = component
+        self._paths.added(name)
+        return self
 
     def _check_end(self, end: str) -> None:
         if not isinstance(end, str) or end.count(".") < 1:
@@ -318,7 +297,7 @@ class Model:
         expression over result variables, e.g. ``"J1.w - J2.w"`` or ``"J.w*der(J.phi)"``."""
         from stiction.expressions.parser import parse_expression
 
-        if not isinstance(name, str) or not _IDENTIFIER.fullmatch(name):
+        if not isinstance(name, str) or not IDENTIFIER.fullmatch(name):
             raise ModelError(f"variable name {name!r} is not a valid identifier")
         if name in self.components or name in self.variables:
             raise ModelError(f"variable '{name}': the name is already used")

@@ -6,9 +6,9 @@ as Modelica tools flatten a user's class); its ports and parameters are one more
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 
-__all__ = ["COMPONENT_NAME", "IDENTIFIER", "owner", "prefix_clash", "split_last"]
+__all__ = ["COMPONENT_NAME", "IDENTIFIER", "PathIndex", "owner", "split_last"]
 
 IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 COMPONENT_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*(?:\.[A-Za-z_][A-Za-z0-9_]*)*")
@@ -32,10 +32,30 @@ def owner(variable: str, components: Iterable[str]) -> str | None:
     return best
 
 
-def prefix_clash(name: str, components: Iterable[str]) -> str | None:
-    """A component whose name starts ``name``'s path or whose path ``name`` starts (``front``
-    and ``front.clutch``: ``front.clutch.w`` would name a variable of both); None if none."""
-    for other in components:
-        if other.startswith(name + ".") or name.startswith(other + "."):
-            return other
-    return None
+class PathIndex:
+    """The dotted heads of a model's component names (``front`` of ``front.clutch``), to refuse
+    a name that starts another component's path or that another's name starts: with ``front``
+    beside ``front.clutch``, ``front.clutch.w`` would name a variable of both. Kept as names
+    are added; rebuilt when the components were changed directly."""
+
+    def __init__(self) -> None:
+        self.count = 0
+        self.heads: dict[str, str] = {}  # head -> a component whose path it starts
+
+    @staticmethod
+    def heads_of(name: str) -> list[str]:
+        parts = name.split(".")
+        return [".".join(parts[:k]) for k in range(1, len(parts))]
+
+    def clash(self, name: str, components: Mapping[str, object]) -> str | None:
+        """A component of ``components`` whose path ``name`` starts or that starts ``name``'s."""
+        seen = self.heads.get(name)
+        if seen is not None and seen not in components or self.count != len(components):
+            self.heads = {h: other for other in components for h in self.heads_of(other)}
+            self.count = len(components)
+        return self.heads.get(name) or next((h for h in self.heads_of(name) if h in components), None)
+
+    def added(self, name: str) -> None:
+        """Record ``name``, just added to the components."""
+        self.heads.update(dict.fromkeys(self.heads_of(name), name))
+        self.count += 1

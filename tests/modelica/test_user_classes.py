@@ -123,3 +123,18 @@ def test_a_class_with_other_equations_stays_refused_at_its_place() -> None:
         st.Model.from_modelica(text, model="Vehicle2Axles")
     line = text[: text.index("shaft.w = 0")].count("\n") + 1
     assert info.value.errors[0][0] == line and "only connect" in str(info.value), str(info.value)
+
+
+def test_a_quoted_name_is_a_path_and_refused_where_it_clashes_or_is_no_path() -> None:
+    inertia = "Modelica.Mechanics.Rotational.Components.Inertia"
+    text = f"model M\n  {inertia} 'a.b'(J=2);\n  {inertia} c(J=1);\nequation\n  connect('a.b'.flange_b, c.flange_a);\nend M;\n"
+    m = st.Model.from_modelica(text)
+    assert m.components["a.b"].params["J"] == 2.0 and m.connections == [("a.b.flange_b", "c.flange_a")]
+    refused = [
+        ("'my inertia'", "not an identifier or a path", 2),
+        ("'c.d'", "'c'.*'c.d' start the same path", 3),  # at the second of the two
+    ]
+    for bad, words, line in refused:
+        with pytest.raises(st.ModelError, match=words) as info:
+            st.Model.from_modelica(text.replace("'a.b'(J=2)", f"{bad}(J=2)"))
+        assert info.value.errors[0][0] == line, info.value.errors

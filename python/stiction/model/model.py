@@ -138,14 +138,10 @@ class Model:
                         f"component '{name}' ({component.type}): parameter '{param}': "
                         f"unknown parameter{_did_you_mean(param, allowed)}"
                     )
-        other = self._paths.clash(name, self.components)
-        if other is not None:
-            raise ModelError(
-                f"component '{name}': the name and component '{other}' start the same path: their "
-                "variables would be ambiguous; rename one"
-            )
+        problem = self._paths.refusal(name, self.components)
+        if problem is not None:
+            raise ModelError(problem)
         self.components[name] = component
-        self._paths.added(name)
         return self
 
     def _check_end(self, end: str) -> None:

@@ -55,6 +55,20 @@ class PathIndex:
             self.count = len(components)
         return self.heads.get(name) or next((h for h in self.heads_of(name) if h in components), None)
 
+    def refusal(self, name: str, components: Mapping[str, object]) -> str | None:
+        """Why ``name`` cannot be added to ``components`` (not a path of identifiers, a path
+        clash), or None; a name that passes is recorded."""
+        if not COMPONENT_NAME.fullmatch(name):
+            return f"component name '{name}' is not an identifier or a path of them ('front.clutch')"
+        other = self.clash(name, components)
+        if other is not None:
+            return (
+                f"component '{name}': the name and component '{other}' start the same path: their "
+                "variables would be ambiguous; rename one"
+            )
+        self.added(name)
+        return None
+
     def added(self, name: str) -> None:
         """Record ``name``, just added to the components."""
         self.heads.update(dict.fromkeys(self.heads_of(name), name))

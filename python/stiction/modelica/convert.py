@@ -22,7 +22,7 @@ from stiction.expressions.evaluate import evaluate, python_value, unparse
 from stiction.expressions.lexer import ModelicaError, Pos
 from stiction.model.components import START_VARIABLES, Component, component_types
 from stiction.model.modelfile import DECLARATION_KEYS
-from stiction.model.names import owner
+from stiction.model.names import PathIndex, owner
 from stiction.model.parameters import is_expr, resolve_params
 from stiction.modelica.ast import ClassDef, Declaration, Modification, StoredDefinition
 from stiction.modelica.connections import ConnectionSets
@@ -146,6 +146,7 @@ class _Converter(ConnectionSets):
         self.values: dict[str, Any] = {}
         self.evaluating: list[str] = []
         self.components: dict[str, tuple[str, Declaration]] = {}
+        self.paths = PathIndex()  # a quoted 'front.clutch' beside front: refused, placed
         self.variables: list[Declaration] = []
         self.positions: dict[tuple[str, str], Pos] = {}  # (component, parameter) -> modifier
         self.connectors = connectors or {}  # a user class's interface: flat name -> kind, place
@@ -225,6 +226,8 @@ class _Converter(ConnectionSets):
             else:
                 self.variables.append(decl)
         elif full in TYPE_OF:
+            if (problem := self.paths.refusal(decl.name, self.components)) is not None:
+                raise ModelicaError(decl.pos, problem)
             self.components[decl.name] = (TYPE_OF[full], decl)
         elif full.startswith("Modelica."):
             known = ", ".join(sorted(t.split(".")[-1] for t in TYPE_OF))

@@ -102,6 +102,22 @@ mod tests {
     }
 
     #[test]
+    fn a_port_is_the_last_segment_of_its_reference() {
+        let p = crate::model::PortRef::parse("front.clutch.flange_a").unwrap();
+        assert_eq!(
+            (p.component.as_str(), p.port.as_str()),
+            ("front.clutch", "flange_a")
+        );
+        assert_eq!(p.to_string(), "front.clutch.flange_a");
+        let p = crate::model::PortRef::parse("J1.flange_b").unwrap();
+        assert_eq!((p.component.as_str(), p.port.as_str()), ("J1", "flange_b"));
+        for bad in ["J1", "front.clutch.", ".flange_a"] {
+            let e = crate::model::PortRef::parse(bad).unwrap_err().to_string();
+            assert!(e.contains(bad) && e.contains("'component.port'"), "{e}");
+        }
+    }
+
+    #[test]
     fn a_component_name_that_starts_another_is_refused_naming_both() {
         assert!(check_prefixes(["front.clutch", "front2", "front_a.b"]).is_ok());
         let err = check_prefixes(["rear", "front", "front0", "front.clutch"]).unwrap_err();

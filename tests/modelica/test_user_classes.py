@@ -1,7 +1,7 @@
 """Users' own classes (issue 30): a package with a ``Driveline`` class (clutch + gear +
 brake behind its own flanges and inputs) used twice in ``Vehicle2Axles`` with different
 parameters imports, runs, and round-trips through ``to_modelica`` bit-identically (the export
-writes the flattened components, ``front__clutch``, which read back to the same model)."""
+writes the flattened components, ``front.clutch``, which read back to the same model)."""
 
 from __future__ import annotations
 
@@ -72,18 +72,18 @@ end Cars;
 def test_a_two_level_model_is_flattened_with_each_instances_parameters() -> None:
     m = st.Model.from_modelica(VEHICLE, model="Vehicle2Axles")
     c = m.components
-    assert c["front__clutch"].params["peak"] == 1.2 and c["rear__clutch"].params["peak"] == 1.1
-    assert c["front__clutch"].params["fn_max"] == 200.0 and c["rear__clutch"].params["fn_max"] == 150.0
-    assert c["front__brake"].params["fn_max"] == 400.0  # the class's default over the modified force
-    assert c["rear__brake"].params["fn_max"] == 500.0
-    assert c["front__gear"].params["ratio"] == 4.0 and c["rear__gear"].params["ratio"] == 3.0
+    assert c["front.clutch"].params["peak"] == 1.2 and c["rear.clutch"].params["peak"] == 1.1
+    assert c["front.clutch"].params["fn_max"] == 200.0 and c["rear.clutch"].params["fn_max"] == 150.0
+    assert c["front.brake"].params["fn_max"] == 400.0  # the class's default over the modified force
+    assert c["rear.brake"].params["fn_max"] == 500.0
+    assert c["front.gear"].params["ratio"] == 4.0 and c["rear.gear"].params["ratio"] == 3.0
     conns = {frozenset(x) for x in m.connections}
-    assert frozenset(("engine.flange_b", "front__clutch.flange_a")) in conns
-    assert frozenset(("engage.y", "rear__clutch.f_normalized")) in conns  # through the chain
-    assert frozenset(("front__brake.flange_b", "wheelF.flange_a")) in conns
-    assert m.variables["slipFront"] == "front__clutch.w_rel"
+    assert frozenset(("engine.flange_b", "front.clutch.flange_a")) in conns
+    assert frozenset(("engage.y", "rear.clutch.f_normalized")) in conns  # through the chain
+    assert frozenset(("front.brake.flange_b", "wheelF.flange_a")) in conns
+    assert m.variables["slipFront"] == "front.clutch.w_rel"
     r = m.simulate()
-    assert np.isfinite(r["front__clutch.w_rel"]).all()
+    assert np.isfinite(r["front.clutch.w_rel"]).all()
     # the two axles differ (ratios 4 and 3): the wheels turn at different speeds until the
     # brakes (at tBrake = 1.5 s) stop both
     before = np.searchsorted(r["time"], 1.4)
@@ -98,7 +98,7 @@ def test_the_two_level_model_round_trips_through_to_modelica_bit_identically(tmp
     again = st.Model.from_modelica(path)
     assert again.components.keys() == m.components.keys()
     a, b = m.simulate(), again.simulate()
-    for name in ("front__clutch.w_rel", "rear__brake.tau", "wheelF.w", "wheelR.w", "slipFront"):
+    for name in ("front.clutch.w_rel", "rear.brake.tau", "wheelF.w", "wheelR.w", "slipFront"):
         assert (a[name] == b[name]).all(), name
 
 
@@ -123,3 +123,18 @@ def test_a_class_with_other_equations_stays_refused_at_its_place() -> None:
         st.Model.from_modelica(text, model="Vehicle2Axles")
     line = text[: text.index("shaft.w = 0")].count("\n") + 1
     assert info.value.errors[0][0] == line and "only connect" in str(info.value), str(info.value)
+
+
+def test_a_quoted_name_is_a_path_and_refused_where_it_clashes_or_is_no_path() -> None:
+    inertia = "Modelica.Mechanics.Rotational.Components.Inertia"
+    text = f"model M\n  {inertia} 'a.b'(J=2);\n  {inertia} c(J=1);\nequation\n  connect('a.b'.flange_b, c.flange_a);\nend M;\n"
+    m = st.Model.from_modelica(text)
+    assert m.components["a.b"].params["J"] == 2.0 and m.connections == [("a.b.flange_b", "c.flange_a")]
+    refused = [
+        ("'my inertia'", "not an identifier or a path", 2),
+        ("'c.d'", "'c'.*'c.d' start the same path", 3),  # at the second of the two
+    ]
+    for bad, words, line in refused:
+        with pytest.raises(st.ModelError, match=words) as info:
+            st.Model.from_modelica(text.replace("'a.b'(J=2)", f"{bad}(J=2)"))
+        assert info.value.errors[0][0] == line, info.value.errors

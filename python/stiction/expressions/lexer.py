@@ -388,7 +388,11 @@ def _careful_tokens(text: str, source: str) -> Tokens:
         _refuse(text, _first_gap(text), lines)  # no token matches, so the matches end later
     texts = list(map(operator.itemgetter(1), found))
     texts.pop()
-    tokens = Tokens(lines, found, [*_kinds(texts), "eof"], [*texts, ""])
+    kinds = _kinds(texts)
+    # a quoted identifier names what it quotes: 'front.clutch' is the component front.clutch
+    # (the export's spelling of a hierarchical name); its place stays the quoted text's
+    texts = [t[1:-1] if t[:1] == "'" else t for t in texts]
+    tokens = Tokens(lines, found, [*kinds, "eof"], [*texts, ""])
     if "/*" in text and (i := _open_comment(texts, found)) >= 0:
         _refuse(text, tokens.start(i), lines)
     return tokens

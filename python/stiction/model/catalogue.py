@@ -20,6 +20,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from stiction.errors import ModelError
+from stiction.model.names import owner
 from stiction.model.quantities import display_unit, in_display_unit
 
 __all__ = ["ComponentInfo", "Parameter", "Port", "Variable", "catalogue", "describe", "show_value", "unit_of"]
@@ -288,7 +289,8 @@ def unit_of(variable: str, types: dict[str, str]) -> str:
     """
     if variable.startswith("system."):
         return "J"
-    component, _, rest = variable.partition(".")
+    component = owner(variable, types) or ""
+    rest = variable[len(component) + 1 :]
     info = catalogue().get(types.get(component, ""))
     if info is None:
         return ""

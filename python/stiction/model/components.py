@@ -18,6 +18,7 @@ from typing import Any, ClassVar, Union
 
 from stiction.errors import ModelError
 from stiction.model.catalogue import ComponentInfo, Parameter, catalogue
+from stiction.model.names import split_last
 from stiction.model.parameters import table_cells
 from stiction.model.quantities import to_si
 
@@ -187,7 +188,7 @@ def si_overrides(components: Mapping[str, Component], overrides: Mapping[str, An
     for name, value in overrides.items():
         if type_of(value) in _NUMBERS:
             continue
-        comp_name, _, key = name.partition(".")
+        comp_name, key = split_last(name)
         comp = components.get(comp_name) if key else None
         if comp is not None:
             where = f"component '{comp_name}' ({comp.type}): parameter '{key}'"

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 from stiction.errors import ModelError
 from stiction.model import modelfile
 from stiction.model.components import FACTORIES, Component, component_types
+from stiction.model.names import COMPONENT_NAME, IDENTIFIER, PathIndex, split_last
 from stiction.model.parameters import is_expr
 from stiction.model.runinfo import RunInfo
 
@@ -30,7 +31,6 @@ if TYPE_CHECKING:
 
 __all__ = ["Model"]
 
-_IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 # a name in an expression: dotted ones (J1.w) are result variables, plain ones may be parameters
 _NAME = re.compile(r"(?<![\w.])[A-Za-z_]\w*(?![\w.])")
 
@@ -89,6 +89,7 @@ class Model:
         self.components: dict[str, Component] = {}
         self.connections: list[tuple[str, str]] = []
         self._pairs: set[frozenset[str]] = set()
+        self._paths = PathIndex()  # refuses `front` beside `front.clutch`
         self.experiment: dict[str, Any] = {}
         # Signal inputs left unconnected on purpose, set while the model runs: port -> start.
         self.inputs: dict[str, float] = {}
@@ -110,9 +111,13 @@ class Model:
 
     # --- building ---------------------------------------------------------------------
     def add(self, name: str, component: Component) -> Model:
-        """Add a component under a unique identifier-like name; returns the model."""
-        if not isinstance(name, str) or not _IDENTIFIER.fullmatch(name):
-            raise ModelError(f"component name {name!r} is not a valid identifier (letters, digits, '_')")
+        """Add a component under a unique name; returns the model. A name is an identifier or
+        a path of them, ``"front.clutch"`` (as Modelica tools name a part of a user's class)."""
+        if not isinstance(name, str) or not COMPONENT_NAME.fullmatch(name):
+            raise ModelError(
+                f"component name {name!r} is not a valid identifier (letters, digits, '_') "
+                "or a path of them (front.clutch)"
+            )
         if not isinstance(component, Component):
             raise ModelError(
                 f"component '{name}': expected a Component such as st.Inertia(J=1.0), got {component!r}"
@@ -133,13 +138,16 @@ class Model:
                         f"component '{name}' ({component.type}): parameter '{param}': "
                         f"unknown parameter{_did_you_mean(param, allowed)}"
                     )
+        problem = self._paths.refusal(name, self.components)
+        if problem is not None:
+            raise ModelError(problem)
         self.components[name] = component
         return self
 
     def _check_end(self, end: str) -> None:
         if not isinstance(end, str) or end.count(".") < 1:
             raise ModelError(f'connection end {end!r} must be "component.port"')
-        comp_name, port = end.split(".", 1)
+        comp_name, port = split_last(end)
         if comp_name not in self.components:
             raise ModelError(
                 f"connection end '{end}': unknown component '{comp_name}'"
@@ -188,7 +196,7 @@ class Model:
         unknown names (with suggestions), types, ranges and table shapes — now, not at the
         next run. On an error the model is left unchanged.
         """
-        comp_name, _, param = name.partition(".")
+        comp_name, param = split_last(name)
         if comp_name not in self.components or not param:
             raise ModelError(
                 f"set '{name}': expected 'component.parameter' with a component of this model"
@@ -223,7 +231,7 @@ class Model:
         or start value (``clutch1.fn_max``, ``J1.w``), with suggestions for a near miss."""
         if name in modelfile.EXPERIMENT_KEYS or name in self.parameters:
             return
-        comp_name, _, param = name.partition(".")
+        comp_name, param = split_last(name)
         if comp_name not in self.components or not param:
             raise ModelError(
                 f"{context} '{name}': not an experiment setting, a top-level parameter or "
@@ -285,7 +293,7 @@ class Model:
         expression over result variables, e.g. ``"J1.w - J2.w"`` or ``"J.w*der(J.phi)"``."""
         from stiction.expressions.parser import parse_expression
 
-        if not isinstance(name, str) or not _IDENTIFIER.fullmatch(name):
+        if not isinstance(name, str) or not IDENTIFIER.fullmatch(name):
             raise ModelError(f"variable name {name!r} is not a valid identifier")
         if name in self.components or name in self.variables:
             raise ModelError(f"variable '{name}': the name is already used")

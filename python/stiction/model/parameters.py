@@ -20,6 +20,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from stiction.errors import ModelError
+from stiction.model.names import split_last
 
 __all__ = [
     "evaluate_parameters",
@@ -232,7 +233,7 @@ def expand_parameters(
     varied = evaluate_parameters({**parameters, **top}) if top else base
     out = {k: v for k, v in overrides.items() if k not in top}
     for name in tables:
-        comp, _, key = name.partition(".")
+        comp, key = split_last(name)
         out[name] = resolve_params(comp, {key: out[name]}, varied)[key]
     for name, comp in components.items():
         before = resolve_params(name, comp.params, base)

@@ -16,8 +16,8 @@ from typing import TYPE_CHECKING, Any
 from stiction.errors import ModelError
 from stiction.expressions.ast import Literal, Ref
 from stiction.expressions.lexer import ModelicaError, Pos
+from stiction.model.names import owner
 from stiction.model.parameters import resolve_params
-from stiction.modelica.flatten import display
 
 if TYPE_CHECKING:
     from stiction.model.components import Component
@@ -97,7 +97,7 @@ class ConnectionSets:
         else:
             problem = self.kinds_problem(a, ka, b, kb)
         if problem is not None:
-            self.errors.append(ModelicaError(conn.pos, f"connect({display(a)}, {display(b)}): {problem}"))
+            self.errors.append(ModelicaError(conn.pos, f"connect({a}, {b}): {problem}"))
             return
         self.connected.add(key)
         self.kinds[a], self.kinds[b] = ka, kb
@@ -117,7 +117,7 @@ class ConnectionSets:
     def kinds_problem(self, a: str, ka: str, b: str, kb: str) -> str | None:
         """Why Modelica (or the engine) refuses to connect these two ports, or None."""
         if _family(ka) != _family(kb):
-            return f"cannot connect a {ka} ('{display(a)}') to a {kb} ('{display(b)}')"
+            return f"cannot connect a {ka} ('{a}') to a {kb} ('{b}')"
         if ka == "signal output" and kb == "signal input":
             out, inp = a, b
         elif ka == "signal input" and kb == "signal output":
@@ -129,7 +129,7 @@ class ConnectionSets:
         if a in self.connectors or b in self.connectors:
             return None
         if self.fed.setdefault(inp, out) != out:
-            return f"signal input '{display(inp)}' is already connected to another output"
+            return f"signal input '{inp}' is already connected to another output"
         return None
 
     def finish_connections(self) -> None:
@@ -156,13 +156,13 @@ class ConnectionSets:
         outputs = [e for e in real if self.kinds[e] == "signal output"]
         inputs = [e for e in real if self.kinds[e] == "signal input"]
         pos = self.first[root][1]
-        names = ", ".join(display(e) for e in real)
+        names = ", ".join(real)
         if len(outputs) > 1:
             self.errors.append(
                 ModelicaError(
                     pos,
                     f"connection set of {names}: {len(outputs)} signal outputs drive it "
-                    f"({', '.join(display(o) for o in outputs)}); exactly one may",
+                    f"({', '.join(outputs)}); exactly one may",
                 )
             )
             return
@@ -187,14 +187,13 @@ class ConnectionSets:
 
         if ref.name in self.connectors:
             return ref.name, self.connectors[ref.name][0]
-        comp, _, port = ref.name.partition(".")
+        comp = owner(ref.name, self.components) or ref.name.partition(".")[0]
+        port = ref.name[len(comp) + 1 :]
         if comp in self.reported:
             raise Reported
         component = self.model.components.get(comp)
         if component is None:
-            raise ModelicaError(
-                ref.pos, f"connect to '{display(ref.name)}': no component '{display(comp)}' in the model"
-            )
+            raise ModelicaError(ref.pos, f"connect to '{ref.name}': no component '{comp}' in the model")
         ports = _port_kinds().get(component.type)
         element = _element(ref, port)
         if ports is not None and element in ports:  # an array connector's element: Move's u[1]
@@ -203,13 +202,13 @@ class ConnectionSets:
         if ports is not None and kind is None or not port or "." in port:
             raise ModelicaError(
                 ref.pos,
-                f"connect to '{display(ref.name)}': {component.type} '{display(comp)}' has no port "
+                f"connect to '{ref.name}': {component.type} '{comp}' has no port "
                 f"'{port}' (ports: {', '.join(ports or [])})",
             )
         if flag in _CONDITIONAL and not self.enabled(comp, component, flag):
             raise ModelicaError(
                 ref.pos,
-                f"connect to '{display(ref.name)}': {component.type} '{display(comp)}' has no port '{port}' "
+                f"connect to '{ref.name}': {component.type} '{comp}' has no port '{port}' "
                 f"(set {flag} = true to enable it)",
             )
         if ref.subscripts and not (self.components[comp][0] == "CombiTimeTable" and _is_one(ref)):

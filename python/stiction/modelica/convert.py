@@ -22,11 +22,12 @@ from stiction.expressions.evaluate import evaluate, python_value, unparse
 from stiction.expressions.lexer import ModelicaError, Pos
 from stiction.model.components import START_VARIABLES, Component, component_types
 from stiction.model.modelfile import DECLARATION_KEYS
+from stiction.model.names import PathIndex, owner
 from stiction.model.parameters import is_expr, resolve_params
 from stiction.modelica.ast import ClassDef, Declaration, Modification, StoredDefinition
 from stiction.modelica.connections import ConnectionSets
 from stiction.modelica.connections import Reported as _Reported
-from stiction.modelica.flatten import display, flatten, rewrite, uses_classes
+from stiction.modelica.flatten import flatten, rewrite, uses_classes
 from stiction.modelica.names import (
     MSL_CLASSES,
     PARAMETER_RENAMES,
@@ -145,6 +146,7 @@ class _Converter(ConnectionSets):
         self.values: dict[str, Any] = {}
         self.evaluating: list[str] = []
         self.components: dict[str, tuple[str, Declaration]] = {}
+        self.paths = PathIndex()  # a quoted 'front.clutch' beside front: refused, placed
         self.variables: list[Declaration] = []
         self.positions: dict[tuple[str, str], Pos] = {}  # (component, parameter) -> modifier
         self.connectors = connectors or {}  # a user class's interface: flat name -> kind, place
@@ -224,6 +226,8 @@ class _Converter(ConnectionSets):
             else:
                 self.variables.append(decl)
         elif full in TYPE_OF:
+            if (problem := self.paths.refusal(decl.name, self.components)) is not None:
+                raise ModelicaError(decl.pos, problem)
             self.components[decl.name] = (TYPE_OF[full], decl)
         elif full.startswith("Modelica."):
             known = ", ".join(sorted(t.split(".")[-1] for t in TYPE_OF))
@@ -234,7 +238,7 @@ class _Converter(ConnectionSets):
         else:
             raise ModelicaError(
                 decl.type_pos,
-                f"component '{display(decl.name)}' of class '{decl.type_name}': only MSL components and "
+                f"component '{decl.name}' of class '{decl.type_name}': only MSL components and "
                 "models/blocks of this file can be instantiated (not a package)",
             )
 
@@ -332,7 +336,7 @@ class _Converter(ConnectionSets):
             return CONSTANTS[full]
         if is_enumeration(full):
             return full.rsplit(".", 1)[-1]
-        what = "a component or variable" if ref.name.split(".")[0] in self.components else "undefined"
+        what = "a component or variable" if owner(ref.name, self.components) else "undefined"
         raise ModelicaError(
             ref.pos, f"'{ref.name}' is {what}; parameter values may use parameters and constants"
         )
@@ -342,7 +346,7 @@ class _Converter(ConnectionSets):
         (names in it put in too) or the parameter's default."""
         comp, _, key = ref.name.rpartition(".")
         if ref.subscripts:
-            raise ModelicaError(ref.pos, f"subscripted name '{display(ref.name)}[…]' is not supported here")
+            raise ModelicaError(ref.pos, f"subscripted name '{ref.name}[…]' is not supported here")
         stype, decl = self.components[comp]
         if comp in self.reported:
             raise _Reported
@@ -350,7 +354,7 @@ class _Converter(ConnectionSets):
         for mod in decl.args:
             if name.get(mod.name, mod.name) == key and mod.value is not None:
                 if ref.name in self.inlining:
-                    cycle = " -> ".join(display(n) for n in [*self.inlining, ref.name])
+                    cycle = " -> ".join(n for n in [*self.inlining, ref.name])
                     raise ModelicaError(ref.pos, f"cyclic reference between components: {cycle}")
                 self.inlining.append(ref.name)
                 try:
@@ -362,15 +366,14 @@ class _Converter(ConnectionSets):
         if key not in info.get("parameters", []) and known:
             raise ModelicaError(
                 ref.pos,
-                f"'{display(ref.name)}': {MSL_CLASSES.get(stype, stype)} '{display(comp)}' has no "
+                f"'{ref.name}': {MSL_CLASSES.get(stype, stype)} '{comp}' has no "
                 f"parameter '{key}' (parameters: {', '.join(info.get('parameters', []))})",
             )
         default = _default(stype, key)
         if default is None:
             raise ModelicaError(
                 ref.pos,
-                f"'{display(ref.name)}' has no value: '{display(comp)}' does not set '{key}' and "
-                "it has no default",
+                f"'{ref.name}' has no value: '{comp}' does not set '{key}' and it has no default",
             )
         return Literal(default, ref.pos)
 

@@ -28,10 +28,11 @@ def check_expression(expr: Expr, model: Model, resolve: Callable[..., str], para
     """Refuse at import a name that cannot be a result variable of ``model``."""
     from stiction.expressions.ast import Array, BinOp, Call, IfExpr, Matrix, Ref, Unary
     from stiction.expressions.lexer import ModelicaError
+    from stiction.model.names import owner
 
     def walk(e: Any) -> None:
         if isinstance(e, Ref):
-            head = e.name.split(".")[0]
+            head = owner(e.name, model.components) or e.name.split(".")[0]
             known = head in model.components or e.name in params or e.name in model.variables
             if not known and not e.name.startswith("Modelica.") and e.name != "time":
                 raise ModelicaError(e.pos, f"'{e.name}' is undefined: no component '{head}' in the model")

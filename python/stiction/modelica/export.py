@@ -1,10 +1,16 @@
 """Writing a ``Model`` as a Modelica model: fully qualified MSL classes, modifiers, derived
 variables, ``connect`` equations and the experiment annotation, in plain Modelica that
 ``Model.from_modelica`` (and any Modelica tool) reads back to the same model.
+
+A hierarchical component name (``front.clutch``, from a user's class flattened on import) is
+written as a quoted identifier, ``Clutch 'front.clutch'(…)``, and so are the references to it
+(``'front.clutch'.flange_a``, ``'front.clutch'.w_rel``): valid Modelica, which the importer
+reads back to the component ``front.clutch``.
 """
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
@@ -12,6 +18,7 @@ from stiction.errors import ModelError
 from stiction.expressions.evaluate import format_literal
 from stiction.model.catalogue import catalogue
 from stiction.model.components import START_VARIABLES
+from stiction.model.names import owner
 from stiction.model.parameters import is_expr, is_table
 from stiction.model.quantities import is_quantity, si_base
 from stiction.modelica.names import MSL_CLASSES
@@ -28,6 +35,8 @@ _ENUMS = {
     "smoothness": "Modelica.Blocks.Types.Smoothness",
 }
 _EXPERIMENT = ("StartTime", "StopTime", "Interval", "Tolerance")
+# a (dotted) name in an expression, not inside a number (1.5e3) or a quoted identifier
+_DOTTED = re.compile(r"(?<![\w.'])[A-Za-z_]\w*(?:\.[A-Za-z_]\w*)+")
 
 
 def write_modelica(model: Model) -> str:
@@ -42,7 +51,7 @@ def write_modelica(model: Model) -> str:
     for name, comp in model.components.items():
         lines.append(f"  {_declaration(model, name, comp.type, comp.params)};")
     for name, expression in model.variables.items():
-        lines.append(f"  Real {name} = {expression};")
+        lines.append(f"  Real {name} = {_quoted_names(model, expression)};")
     lines.append("equation")
     for a, b in model.connections:
         lines.append(f"  connect({_end(model, a)}, {_end(model, b)});")
@@ -57,14 +66,33 @@ def write_modelica(model: Model) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _quoted(name: str) -> str:
+    """A component's name as Modelica writes it: a dotted path quoted (``'front.clutch'``)."""
+    return f"'{name}'" if "." in name else name
+
+
+def _reference(model: Model, name: str) -> str:
+    """A variable or port of a component, its component's path quoted where dotted."""
+    comp = owner(name, model.components)
+    return name if comp is None or "." not in comp else _quoted(comp) + name[len(comp) :]
+
+
+def _quoted_names(model: Model, expression: str) -> str:
+    """An expression with its references to dotted components quoted."""
+    if not any("." in n for n in model.components):
+        return expression
+    return _DOTTED.sub(lambda m: _reference(model, m.group()), expression)
+
+
 def _is_combi(model: Model, name: str) -> bool:
     comp = model.components[name]
     return comp.type == "TimeTable" and ("file" in comp.params or "extrapolation" in comp.params)
 
 
 def _end(model: Model, end: str) -> str:
-    comp, _, port = end.partition(".")
-    return f"{end}[1]" if _is_combi(model, comp) and port == "y" else end
+    comp, _, port = end.rpartition(".")
+    text = _reference(model, end)
+    return f"{text}[1]" if _is_combi(model, comp) and port == "y" else text
 
 
 def _declaration(model: Model, name: str, ctype: str, params: dict[str, Any]) -> str:
@@ -75,7 +103,7 @@ def _declaration(model: Model, name: str, ctype: str, params: dict[str, Any]) ->
         cls, params = COMBI_CLASS, time_table_modifiers(params, _table_rows(model, name, params))
     starts = _start_variables(ctype)
     mods = [_modifier(key, value, key in starts) for key, value in params.items()]
-    return f"{cls} {name}({', '.join(mods)})" if mods else f"{cls} {name}"
+    return f"{cls} {_quoted(name)}({', '.join(mods)})" if mods else f"{cls} {_quoted(name)}"
 
 
 def _parameter(name: str, value: Any, declared: Mapping[str, Any]) -> str:

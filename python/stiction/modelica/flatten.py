@@ -1,10 +1,10 @@
 """Users' own classes, flattened: a ``model Driveline … end Driveline;`` of the same file used
 as a component ``Driveline front(clutchPeak=1.2)`` becomes its components, named
-``front__clutch`` (``SEPARATOR``), with the class's parameters put in as the expressions they
-are bound to (a modifier of the instance, else the class's default), its connectors as nodes
-of connection sets (``CONNECTOR_KINDS``), its ``connect`` equations renamed, and
-``extends`` of another such class merged in. The engine's component names are identifiers,
-hence ``__`` where Modelica writes ``.``: ``front.clutch.w_rel`` is ``front__clutch.w_rel``.
+``front.clutch`` as Modelica tools name them (the engine's component names are dotted paths),
+with the class's parameters put in as the expressions they are bound to (a modifier of the
+instance, else the class's default), its connectors as nodes of connection sets
+(``CONNECTOR_KINDS``), its ``connect`` equations renamed, and ``extends`` of another such
+class merged in. Its variables are the flattened ones: ``front.clutch.w_rel``.
 
 Only what such a class may hold is read: parameters, MSL components, connectors, variables
 with a binding, instances of other such classes and ``connect``. Other equations are refused
@@ -24,16 +24,10 @@ from stiction.expressions.lexer import ModelicaError, Pos
 from stiction.modelica.ast import ClassDef, Connect, Declaration, Modification
 from stiction.modelica.names import CONNECTOR_KINDS, Scope, is_icon
 
-__all__ = ["SEPARATOR", "Flat", "display", "flatten", "rewrite"]
+__all__ = ["Flat", "flatten", "rewrite"]
 
-SEPARATOR = "__"
 _PARAMETER = ("parameter", "constant")
 _ATTRIBUTES_KEPT = frozenset(("unit", "displayUnit", "quantity"))
-
-
-def display(name: str) -> str:
-    """A flattened name as the Modelica text writes it (``front__clutch`` -> ``front.clutch``)."""
-    return name.replace(SEPARATOR, ".")
 
 
 def rewrite(expr: Any, fn: Callable[[Ref], Any]) -> Any:
@@ -195,8 +189,7 @@ class _Flattener:
                     self.errors.append(
                         ModelicaError(
                             bad[0].pos,
-                            f"unsupported attribute '{bad[0].name}' "
-                            f"of parameter '{display(flat)}.{mod.name}'",
+                            f"unsupported attribute '{bad[0].name}' of parameter '{flat}.{mod.name}'",
                         )
                     )
                 inst.given[mod.name] = mod.value  # flat already
@@ -208,7 +201,7 @@ class _Flattener:
                     ModelicaError(
                         mod.pos,
                         f"unknown modifier '{mod.name}' of class '{full.rsplit('.', 1)[-1]}' "
-                        f"'{display(flat)}' (parameters: {known}; a component is modified as 'name(k=…)')",
+                        f"'{flat}' (parameters: {known}; a component is modified as 'name(k=…)')",
                     )
                 )
         for decl, scope in body.decls:
@@ -238,9 +231,7 @@ class _Flattener:
         user = self.user_class(decl, scope)
         if user is not None:
             if decl.binding is not None:
-                raise ModelicaError(
-                    decl.binding.pos, f"component '{display(flat)}' cannot have a binding '= …'"
-                )
+                raise ModelicaError(decl.binding.pos, f"component '{flat}' cannot have a binding '= …'")
             mods = [self.modification(m, inst, scope) for m in decl.args]
             self.instance(user, flat, mods + extra, inst, decl.pos, stack)
             return
@@ -267,7 +258,7 @@ class _Flattener:
     # --- names --------------------------------------------------------------------------
     @staticmethod
     def join(prefix: str, name: str) -> str:
-        return f"{prefix}{SEPARATOR}{name}" if prefix else name
+        return f"{prefix}.{name}" if prefix else name
 
     def expr(self, expr: Any, inst: _Instance | None, scope: Scope | None = None) -> Any:
         """``expr`` written in instance ``inst`` (None: the model itself), in flat names."""
@@ -291,8 +282,8 @@ class _Flattener:
         return None
 
     def path(self, flat: str, parts: list[str], ref: Ref) -> Any:
-        """``front.sub.k`` -> the expression of parameter k of instance front__sub;
-        ``front.clutch.w_rel`` -> ``front__clutch.w_rel``."""
+        """``front.sub.k`` -> the expression of parameter k of instance front.sub;
+        ``front.clutch.w_rel`` -> the variable ``front.clutch.w_rel`` of component front.clutch."""
         for i, part in enumerate(parts):
             inner = self.join(flat, part)
             sub = self.instances.get(inner)
@@ -317,7 +308,7 @@ class _Flattener:
             if decl.binding is None:
                 raise ModelicaError(
                     pos,
-                    f"parameter '{display(self.join(inst.flat, name))}' has no value: "
+                    f"parameter '{self.join(inst.flat, name)}' has no value: "
                     f"give it one in the class or modify it ('{name}=…')",
                 )
             inst.evaluating.append(name)
@@ -329,8 +320,8 @@ class _Flattener:
         return copy.deepcopy(value)
 
     def end(self, ref: Ref, inst: _Instance, scope: Scope) -> Ref:
-        """A connect end in flat names: a component's port ``front__clutch.flange_a`` or a
-        connector node ``front__flange_a``."""
+        """A connect end in flat names: a component's port ``front.clutch.flange_a`` or a
+        connector node ``front.flange_a``."""
         parts = ref.name.split(".")
         flat = inst.flat
         for i, part in enumerate(parts):
@@ -340,7 +331,7 @@ class _Flattener:
             if name not in self.instances:
                 return Ref(".".join([name, *parts[i + 1 :]]), ref.pos, ref.subscripts)
             flat = name
-        raise ModelicaError(ref.pos, f"connect to '{ref.name}': '{display(flat)}' is a component, not a port")
+        raise ModelicaError(ref.pos, f"connect to '{ref.name}': '{flat}' is a component, not a port")
 
 
 def uses_classes(cls: ClassDef, scope: Scope, classes: dict[str, tuple[ClassDef, Scope]]) -> bool:

@@ -256,7 +256,7 @@ class Result:
         """
         name = f"{component}.lossPower"
         if name not in self:
-            lossy = sorted({n.split(".")[0] for n in self.names if n.endswith(".lossPower")})
+            lossy = sorted({n.removesuffix(".lossPower") for n in self.names if n.endswith(".lossPower")})
             raise KeyError(f"{component!r} has no lossPower; components that dissipate: {', '.join(lossy)}")
         t, p = self.time, self[name]
         steps = np.concatenate(([0.0], 0.5 * (p[1:] + p[:-1]) * np.diff(t)))

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 
 from stiction.errors import UsageError
 from stiction.model.components import si_overrides
+from stiction.model.names import split_last
 from stiction.model.parameters import evaluate_parameters, is_table, resolve_params
 from stiction.model.runinfo import RunInfo
 from stiction.results.result import Result
@@ -88,7 +89,7 @@ class Simulation:
         values = si_overrides(self._components, dict(values))
         for name, value in values.items():  # a table with expression cells: this run's values
             if is_table(value):
-                comp, _, key = name.partition(".")
+                comp, key = split_last(name)
                 values[name] = resolve_params(comp, {key: value}, self._parameters)[key]
         self._core.set_parameters(values)
 

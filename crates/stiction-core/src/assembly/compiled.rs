@@ -10,7 +10,7 @@ use std::sync::Arc;
 use super::{build, build_with, create_components, SpecView, Topology};
 use crate::components::{self, Component};
 use crate::error::{ModelError, ModelResult};
-use crate::model::{ComponentSpec, Experiment, ModelSpec};
+use crate::model::{split_last, ComponentSpec, Experiment, ModelSpec};
 use crate::system::System;
 
 /// The components of a model, shared by its variants.
@@ -86,7 +86,7 @@ impl CompiledModel {
     /// parameter of a component of this model that leaves the compiled structure alone
     /// (`ParamInfo::tunable`). An experiment setting or a fixed parameter is refused, named.
     pub fn check_tunable(&self, name: &str) -> ModelResult<()> {
-        let Some((component, parameter)) = name.split_once('.') else {
+        let Some((component, parameter)) = split_last(name) else {
             return Err(ModelError::File(format!(
                 "'{name}' is not a parameter (component.parameter): experiment settings are fixed in a running simulation"
             )));
@@ -200,7 +200,7 @@ impl CompiledModel {
     ) -> ModelResult<Vec<usize>> {
         let mut changed: Vec<usize> = Vec::new();
         for (name, value) in overrides {
-            match name.split_once('.') {
+            match split_last(name) {
                 Some((component, parameter)) => {
                     let ci = self.component_index(component)?;
                     set(ci, parameter, value);

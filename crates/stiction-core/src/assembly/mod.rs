@@ -14,7 +14,7 @@ pub use topology::Topology;
 
 use crate::components::{self, Component};
 use crate::error::{ModelError, ModelResult};
-use crate::model::{DerivedSpec, Experiment, ModelSpec};
+use crate::model::{check_prefixes, split_last, DerivedSpec, Experiment, ModelSpec};
 use crate::signals::SignalGraph;
 use crate::system::flange::FlangeBuilder;
 use crate::system::outputs::EnergyVar;
@@ -57,7 +57,8 @@ pub fn create_components(spec: &ModelSpec) -> ModelResult<Vec<Arc<dyn Component>
     let mut comps: Vec<Arc<dyn Component>> = Vec::new();
     let mut names: Vec<String> = Vec::new();
     for c in &spec.components {
-        if RESERVED.contains(&c.name.as_str()) {
+        // `system.…` names the system-wide results: no component's path starts there
+        if RESERVED.contains(&c.name.split('.').next().unwrap_or_default()) {
             return Err(ModelError::Component {
                 component: c.name.clone(),
                 message: "this name is reserved for system-wide results".into(),
@@ -72,6 +73,7 @@ pub fn create_components(spec: &ModelSpec) -> ModelResult<Vec<Arc<dyn Component>
         comps.push(components::create(c, &spec.base_dir)?.into());
         names.push(c.name.clone());
     }
+    check_prefixes(names.iter().map(String::as_str))?;
     Ok(comps)
 }
 
@@ -304,7 +306,7 @@ fn finish_thermal(b: &mut Builder) -> ModelResult<()> {
             (None, None) => {
                 if !linked[node] {
                     return Err(ModelError::Component {
-                        component: net.node_ports[node][0].split('.').next().unwrap_or("").to_string(),
+                        component: split_last(&net.node_ports[node][0]).map_or("", |(c, _)| c).to_string(),
                         message: format!(
                             "heat port '{}' has nowhere to send its heat: connect it to a HeatCapacitor, a conductor or a FixedTemperature (or set useHeatPort = false)",
                             net.node_ports[node].join(", ")

@@ -3,10 +3,12 @@
 
 mod decl;
 mod expr;
+mod names;
 mod params;
 mod spec;
 
 pub use decl::{parse_decl, ParamInfo, ParamKind};
 pub use expr::{BinOp, DerivedSpec, Expr, CONSTANTS};
+pub use names::{check_prefixes, near, split_last};
 pub use params::{InitValue, Params};
 pub use spec::{ComponentSpec, Experiment, InputSpec, ModelSpec, PortRef};

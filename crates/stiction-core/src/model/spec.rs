@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use super::expr::DerivedSpec;
+use super::names::{is_component_name, is_identifier, split_last};
 use crate::error::{ModelError, ModelResult};
 
 /// One component as written: its instance name, its type and its raw parameter values.
@@ -13,7 +14,8 @@ pub struct ComponentSpec {
     pub params: toml::Table,
 }
 
-/// `comp.port` (a port path may itself contain dots, e.g. `J1.flange_a`).
+/// `comp.port`: the port is the last segment, the component the dotted path before it
+/// (`front.clutch.flange_a`: component `front.clutch`, port `flange_a`).
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub struct PortRef {
     pub component: String,
@@ -22,8 +24,8 @@ pub struct PortRef {
 
 impl PortRef {
     pub fn parse(text: &str) -> ModelResult<Self> {
-        match text.split_once('.') {
-            Some((c, p)) if !c.is_empty() && !p.is_empty() => Ok(Self {
+        match split_last(text) {
+            Some((c, p)) => Ok(Self {
                 component: c.to_string(),
                 port: p.to_string(),
             }),
@@ -415,9 +417,9 @@ fn read_component(name: &str, value: &toml::Value) -> ModelResult<ComponentSpec>
         component: name.to_string(),
         message: message.to_string(),
     };
-    if !is_identifier(name) {
+    if !is_component_name(name) {
         return Err(err(
-            "a component name must be an identifier (letters, digits, _)",
+            "a component name must be an identifier (letters, digits, _) or identifiers joined by dots (front.clutch)",
         ));
     }
     let table = value
@@ -456,10 +458,4 @@ fn read_connections(value: &toml::Value) -> ModelResult<Vec<(PortRef, PortRef)>>
             }
         })
         .collect()
-}
-
-pub(crate) fn is_identifier(name: &str) -> bool {
-    let mut chars = name.chars();
-    matches!(chars.next(), Some(c) if c.is_ascii_alphabetic() || c == '_')
-        && chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
 }

@@ -14,6 +14,7 @@
 
 use super::SimResult;
 use crate::engine::eval::{DiscreteState, Workspace};
+use crate::model::split_last;
 use crate::rel::Rel;
 use crate::system::{EnergyRole, Out, System};
 
@@ -191,7 +192,7 @@ fn parts_of(sys: &System) -> Vec<Parts> {
         let (Out::FlangeTau(i), Some(port)) = (out, name.strip_suffix(".tau")) else {
             continue;
         };
-        let (Some(rel), Some((component, _))) = (angles.get(port), port.split_once('.')) else {
+        let (Some(rel), Some((component, _))) = (angles.get(port), split_last(port)) else {
             continue;
         };
         let k = of(component, &mut parts);

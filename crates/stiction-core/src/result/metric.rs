@@ -8,6 +8,7 @@
 use super::SimResult;
 use crate::engine::eval::DiscreteState;
 use crate::error::{ModelError, ModelResult};
+use crate::model::near;
 use crate::rel::Rel;
 use crate::system::outputs::SwitchVar;
 use crate::system::{Out, System};
@@ -81,18 +82,12 @@ impl Metric {
             if names.iter().any(|n| n == name) {
                 return Ok(name.to_string());
             }
-            let prefix = name.split('.').next().unwrap_or(name);
-            let near: Vec<&str> = (names.iter())
-                .filter(|n| n.split('.').next() == Some(prefix))
-                .map(String::as_str)
-                .collect();
-            Err(error(if near.is_empty() {
-                format!("unknown variable '{name}'")
-            } else {
-                format!(
+            Err(error(match near(name, names) {
+                None => format!("unknown variable '{name}'"),
+                Some((prefix, found)) => format!(
                     "unknown variable '{name}' (variables of {prefix}: {})",
-                    near.join(", ")
-                )
+                    found.join(", ")
+                ),
             }))
         };
         let (kind, var) = match func {

@@ -23,6 +23,7 @@ use crate::assembly::CompiledModel;
 use crate::engine::eval::Workspace;
 use crate::engine::ModeCache;
 use crate::error::{ModelError, SimError};
+use crate::model::split_last;
 use crate::system::System;
 
 /// Parameters set to new values at `time`, after the first `after_inputs` input events of
@@ -194,7 +195,7 @@ fn same_structure(
         return Ok(());
     };
     let name = changes.first().map_or("", |(n, _)| *n);
-    let (component, parameter) = name.split_once('.').unwrap_or((name, ""));
+    let (component, parameter) = split_last(name).unwrap_or((name, ""));
     let type_name = (model.spec().components.iter())
         .find(|c| c.name == component)
         .map_or(String::new(), |c| c.type_name.clone());

@@ -17,7 +17,7 @@ use std::sync::Arc;
 use super::formula::{Formula, Node};
 use super::outputs::Out;
 use crate::error::{ModelError, ModelResult};
-use crate::model::{DerivedSpec, Expr, CONSTANTS};
+use crate::model::{near, DerivedSpec, Expr, CONSTANTS};
 
 /// A variable's name and its derivative's, by the last part of a name (as Python's derived
 /// variables had them).
@@ -103,15 +103,10 @@ impl Resolver<'_> {
         if name == "time" {
             return Ok(self.leaf(Out::Time));
         }
-        let prefix = name.split('.').next().unwrap_or(name);
-        let near: Vec<&str> = (self.outputs.iter())
-            .map(|(n, _)| n.as_str())
-            .filter(|n| n.split('.').next() == Some(prefix))
-            .take(12)
-            .collect();
-        Err(match near.is_empty() {
-            true => format!("unknown variable '{name}' (no result variable, parameter or earlier derived variable of that name)"),
-            false => format!("unknown variable '{name}' (variables of {prefix}: {}…)", near.join(", ")),
+        let names: Vec<String> = self.outputs.iter().map(|(n, _)| n.clone()).collect();
+        Err(match near(name, &names) {
+            None => format!("unknown variable '{name}' (no result variable, parameter or earlier derived variable of that name)"),
+            Some((prefix, found)) => format!("unknown variable '{name}' (variables of {prefix}: {}…)", found.join(", ")),
         })
     }
 

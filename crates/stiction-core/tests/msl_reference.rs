@@ -132,6 +132,7 @@ example_tests! {
     lossy_gear_demo1_stays_in_the_msl_tube: "LossyGearDemo1";
     backlash_stays_in_the_msl_tube: "Backlash";
     lossy_gear_demo3_stays_in_the_msl_tube: "LossyGearDemo3";
+    first_grounded_stays_in_the_msl_tube: "FirstGrounded";
     elastic_bearing_stays_in_the_msl_tube: "ElasticBearing";
     // MSL 4.0.0 compares the bearing's start flags too (as test_lossy_gear.py does)
     lossy_gear_demo2_stays_in_the_msl_tube: "LossyGearDemo2"

@@ -16,10 +16,32 @@ use crate::error::{ModelError, ModelResult};
 use crate::model::ComponentSpec;
 
 /// A start value as Modelica has it: `fixed` ones are initial equations, others are guesses.
+/// `nominal` is the variable's scale, as Modelica's attribute: the integrator controls the
+/// states the variable is made of to an absolute error of Tolerance·nominal (1: Tolerance).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct InitValue {
     pub start: f64,
     pub fixed: bool,
+    pub nominal: f64,
+}
+
+impl InitValue {
+    /// A fixed start value (an initial equation) of nominal 1.
+    pub fn fixed(start: f64) -> Self {
+        Self {
+            start,
+            fixed: true,
+            nominal: 1.0,
+        }
+    }
+
+    /// A guess for the initialization, of nominal 1.
+    pub fn guess(start: f64) -> Self {
+        Self {
+            fixed: false,
+            ..Self::fixed(start)
+        }
+    }
 }
 
 pub struct Params<'a> {
@@ -299,18 +321,17 @@ impl<'a> Params<'a> {
         Ok(out)
     }
 
-    /// A start value: a bare number is a fixed start value, `{ start = …, fixed = … }` says both.
+    /// A start value: a bare number is a fixed start value, `{ start = …, fixed = …, nominal = … }`
+    /// says more.
     pub fn init(&self, decl: &'static str, default_start: f64) -> ModelResult<InitValue> {
         let name = self.declare(decl, ParamKind::Start, Some(default_start.into()));
         match self.get(name) {
-            None => Ok(InitValue {
-                start: default_start,
-                fixed: false,
-            }),
+            None => Ok(InitValue::guess(default_start)),
             Some(toml::Value::Table(t)) => {
                 for key in t.keys() {
-                    if key != "start" && key != "fixed" {
-                        return Err(self.error(name, format!("unknown key '{key}' (start, fixed)")));
+                    if !["start", "fixed", "nominal"].contains(&key.as_str()) {
+                        return Err(self
+                            .error(name, format!("unknown key '{key}' (start, fixed, nominal)")));
                     }
                 }
                 let start = match t.get("start") {
@@ -323,12 +344,27 @@ impl<'a> Params<'a> {
                         .ok_or_else(|| self.error(name, "'fixed' must be true or false"))?,
                     None => false,
                 };
-                Ok(InitValue { start, fixed })
+                let nominal = match t.get("nominal") {
+                    Some(v) => self.nominal(name, v)?,
+                    None => 1.0,
+                };
+                Ok(InitValue {
+                    start,
+                    fixed,
+                    nominal,
+                })
             }
-            Some(v) => Ok(InitValue {
-                start: self.number(name, v)?,
-                fixed: true,
-            }),
+            Some(v) => Ok(InitValue::fixed(self.number(name, v)?)),
+        }
+    }
+
+    /// A start value's `nominal`: a positive finite number.
+    fn nominal(&self, name: &str, v: &toml::Value) -> ModelResult<f64> {
+        let nominal = self.number(name, v)?;
+        if nominal.is_finite() && nominal > 0.0 {
+            Ok(nominal)
+        } else {
+            Err(self.error(name, format!("'nominal' must be positive, got {nominal}")))
         }
     }
 

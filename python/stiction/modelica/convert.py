@@ -478,8 +478,10 @@ class _Converter(ConnectionSets):
             elif sub.name == "nominal":
                 value = python_value(self.expression(self.inline(sub.value)))
                 attrs["nominal"] = positive_nominal(value, sub.pos, f"{comp}.{mod.name}")
-        if "nominal" not in attrs and attrs.get("fixed") is True and (
-            isinstance(attrs.get("start"), float) or is_expr(attrs.get("start"))
+        if (
+            "nominal" not in attrs
+            and attrs.get("fixed") is True
+            and (isinstance(attrs.get("start"), float) or is_expr(attrs.get("start")))
         ):
             return attrs["start"]  # the model file's short form of a fixed start value
         return attrs

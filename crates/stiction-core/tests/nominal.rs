@@ -94,3 +94,42 @@ fn a_nominal_that_is_not_positive_is_refused_by_name() {
         );
     }
 }
+
+/// A start value set anew (a sweep's variant, an FMU host, `params=`) is a value: the nominal
+/// the model gave its variable stays, on both the general and the sweep's path.
+#[test]
+fn a_start_value_set_anew_keeps_its_nominal() {
+    use stiction_core::{run, CompiledModel};
+    let model = |w_rel: &str| {
+        let text = oscillator("{ start = 0, fixed = true, nominal = 1e-6 }", w_rel);
+        CompiledModel::new(ModelSpec::from_toml(&text, ".").unwrap()).unwrap()
+    };
+    let w = |r: SimResult| {
+        r.column("J.w")
+            .unwrap()
+            .iter()
+            .map(|v| v.to_bits())
+            .collect::<Vec<_>>()
+    };
+    let given = model("{ start = 2e-4, fixed = true, nominal = 1e-4 }");
+    let base = model("{ start = 1e-4, fixed = true, nominal = 1e-4 }");
+    let expected = w(run(given.system()).unwrap());
+    let set = [("spring.w_rel", toml::Value::Float(2e-4))];
+    assert_eq!(w(run(base.with(&set).unwrap().system()).unwrap()), expected);
+    assert_eq!(
+        w(run(base.variant_system(&set).unwrap()).unwrap()),
+        expected
+    );
+    let speed_error = |r: SimResult| {
+        let (sigma, omega) = (0.1, (1e4f64 - 0.01).sqrt());
+        let exact = |t: f64| {
+            2e-4 * (-sigma * t).exp() * ((omega * t).cos() - sigma / omega * (omega * t).sin())
+        };
+        let (t, w) = (r.column("time").unwrap(), r.column("J.w").unwrap());
+        (t.iter().zip(w))
+            .map(|(&t, w)| (w - exact(t)).abs())
+            .fold(0.0, f64::max)
+            / 2e-4
+    };
+    assert!(speed_error(run(base.with(&set).unwrap().system()).unwrap()) < 1e-3);
+}

@@ -8,5 +8,5 @@ mod spec;
 
 pub use decl::{parse_decl, ParamInfo, ParamKind};
 pub use expr::{BinOp, DerivedSpec, Expr, CONSTANTS};
-pub use params::{InitValue, Params};
+pub use params::{overriding, InitValue, Params};
 pub use spec::{ComponentSpec, Experiment, InputSpec, ModelSpec, PortRef};

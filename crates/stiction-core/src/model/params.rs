@@ -44,6 +44,32 @@ impl InitValue {
     }
 }
 
+/// The value a parameter or start value set anew (a sweep, an FMU host, `params=`) takes: a start
+/// value keeps the `nominal` the model gave its variable, which scales the error control and is
+/// no part of the value.
+pub fn overriding(old: Option<&toml::Value>, new: &toml::Value) -> toml::Value {
+    let nominal = match old {
+        Some(toml::Value::Table(t)) => t.get("nominal"),
+        _ => None,
+    };
+    let Some(nominal) = nominal else {
+        return new.clone();
+    };
+    let mut table = match new {
+        toml::Value::Table(t) if t.contains_key("nominal") => return new.clone(),
+        toml::Value::Table(t) => t.clone(),
+        toml::Value::Float(_) | toml::Value::Integer(_) => {
+            let mut t = toml::map::Map::new();
+            t.insert("start".into(), new.clone());
+            t.insert("fixed".into(), toml::Value::Boolean(true));
+            t
+        }
+        _ => return new.clone(),
+    };
+    table.insert("nominal".into(), nominal.clone());
+    toml::Value::Table(table)
+}
+
 pub struct Params<'a> {
     spec: &'a ComponentSpec,
     /// Folder that relative file names are resolved against.

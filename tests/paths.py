@@ -22,7 +22,6 @@ MSL_EXAMPLES = EXAMPLES / "msl"
 # component is merged. Shared by every test that globs the shipped .mo files.
 AWAITING_COMPONENTS = {
     "Backlash": "Components.ElastoBacklash2 (its new branch)",
-    "ElasticBearing": "state nominals (MSL's springDamper.w_rel(nominal=1e-4) scales its error control)",
     "EddyCurrentBrake": "Sources.EddyCurrentTorque",
     "RollingWheel": "Components.IdealRollingWheel and Translational.Mass/QuadraticSpeedDependentForce",
 }

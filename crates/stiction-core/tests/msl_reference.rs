@@ -130,9 +130,11 @@ example_tests! {
     one_way_clutch_stays_in_the_msl_tube: "OneWayClutch";
     one_way_clutch_disengaged_stays_in_the_msl_tube: "OneWayClutchDisengaged";
     lossy_gear_demo1_stays_in_the_msl_tube: "LossyGearDemo1";
+    lossy_gear_demo3_stays_in_the_msl_tube: "LossyGearDemo3";
     backlash_stays_in_the_msl_tube: "Backlash";
     lossy_gear_demo3_stays_in_the_msl_tube: "LossyGearDemo3";
     first_grounded_stays_in_the_msl_tube: "FirstGrounded";
+    // at the default Tolerance by its springDamper.w_rel's nominal (1e-4, MSL's)
     elastic_bearing_stays_in_the_msl_tube: "ElasticBearing";
     // MSL 4.0.0 compares the bearing's start flags too (as test_lossy_gear.py does)
     lossy_gear_demo2_stays_in_the_msl_tube: "LossyGearDemo2"

@@ -35,7 +35,9 @@ __all__ = [
 ]
 
 StartValue = Mapping[str, float | bool]
-"""A start value with its flag, ``{"start": 10.0, "fixed": False}``; a bare number is fixed."""
+"""A start value with its flag, ``{"start": 10.0, "fixed": False}``; a bare number is fixed.
+``"nominal": 1e-4`` (positive) scales the integrator's absolute tolerance of the states the
+variable is made of to Tolerance·nominal."""
 
 ParamValue = Union[bool, int, float, str, Sequence[Any], Mapping[str, Any], "os.PathLike[str]"]
 

@@ -37,6 +37,7 @@ from stiction.modelica.names import (
     is_icon,
     is_unit_type,
 )
+from stiction.modelica.nominal import PHI_NOMINAL, phi_nominal, positive_nominal, with_phi_nominal
 from stiction.modelica.parser import SUPPORTED
 from stiction.modelica.timetable import COMBI_PARAMETERS, combi_time_table
 from stiction.modelica.value_check import always_valid, value_problems
@@ -46,8 +47,9 @@ if TYPE_CHECKING:
 
 __all__ = ["IGNORED_MODIFIERS", "convert", "select_class"]
 
-# Modifiers that choose states or scale the solver in Modelica and have no effect here.
-IGNORED_MODIFIERS = frozenset(("stateSelect", "phi_nominal"))
+# Modifiers that choose states in Modelica and have no effect here (states are the node angles
+# and speeds; `nominal`s scale their error control, `stiction.modelica.nominal`).
+IGNORED_MODIFIERS = frozenset(("stateSelect",))
 INTEGER_PARAMETERS = frozenset(("nperiod", "columns"))
 _ATTRIBUTES = ("start", "fixed", "nominal", "stateSelect", "unit", "displayUnit", "quantity", "min", "max")
 _EXPERIMENT = ("StartTime", "StopTime", "Interval", "Tolerance")
@@ -409,6 +411,8 @@ class _Converter(ConnectionSets):
             if key is not None:
                 params[key] = value
                 self.positions[(name, key)] = mod.pos
+        if PHI_NOMINAL in params:
+            with_phi_nominal(params, params.pop(PHI_NOMINAL))
         if stype == "CombiTimeTable":
             try:
                 stype, params = combi_time_table(name, decl, params)
@@ -436,6 +440,8 @@ class _Converter(ConnectionSets):
         if key in IGNORED_MODIFIERS:
             return None, None
         allowed = _parameters_of(stype)
+        if key == PHI_NOMINAL and allowed is not None and "phi_rel" in allowed and mod.value is not None:
+            return key, phi_nominal(self.expression(self.inline(mod.value)), mod.pos, f"{comp}.{key}")
         if allowed is not None and key not in allowed:
             raise ModelicaError(
                 mod.pos,
@@ -472,8 +478,13 @@ class _Converter(ConnectionSets):
                 value = _real(python_value(self.expression(sub.value)), mod.name)
                 kept = self.kept(sub.value, value)  # `start = w0` stays an expression over w0
                 attrs[sub.name] = {"expr": kept} if isinstance(kept, str) and kept != value else value
-        if attrs.get("fixed") is True and (
-            isinstance(attrs.get("start"), float) or is_expr(attrs.get("start"))
+            elif sub.name == "nominal":
+                value = python_value(self.expression(self.inline(sub.value)))
+                attrs["nominal"] = positive_nominal(value, sub.pos, f"{comp}.{mod.name}")
+        if (
+            "nominal" not in attrs
+            and attrs.get("fixed") is True
+            and (isinstance(attrs.get("start"), float) or is_expr(attrs.get("start")))
         ):
             return attrs["start"]  # the model file's short form of a fixed start value
         return attrs

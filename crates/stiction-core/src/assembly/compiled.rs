@@ -10,7 +10,7 @@ use std::sync::Arc;
 use super::{build, build_with, create_components, SpecView, Topology};
 use crate::components::{self, Component};
 use crate::error::{ModelError, ModelResult};
-use crate::model::{split_last, ComponentSpec, Experiment, ModelSpec};
+use crate::model::{overriding, split_last, ComponentSpec, Experiment, ModelSpec};
 use crate::system::System;
 
 /// The components of a model, shared by its variants.
@@ -132,7 +132,8 @@ impl CompiledModel {
             overrides,
             |ci, parameter, value| {
                 let params = &mut spec.components[ci].params;
-                params.insert(parameter.to_string(), value.clone());
+                let value = overriding(params.get(parameter), value);
+                params.insert(parameter.to_string(), value);
             },
         )?;
         spec.parameters = numbers;
@@ -167,10 +168,9 @@ impl CompiledModel {
                         edited.len() - 1
                     }
                 };
-                edited[at]
-                    .1
-                    .params
-                    .insert(parameter.to_string(), value.clone());
+                let params = &mut edited[at].1.params;
+                let value = overriding(params.get(parameter), value);
+                params.insert(parameter.to_string(), value);
             },
         )?;
         debug_assert_eq!(changed.len(), edited.len());

@@ -284,9 +284,11 @@ fn finish_thermal(b: &mut Builder) -> ModelResult<()> {
             Some(k) => {
                 let merged: &mut Capacity = &mut net.capacities[k];
                 merged.c += cap.c;
+                let nominal = merged.init.nominal.min(cap.init.nominal);
                 if cap.init.fixed && !merged.init.fixed {
                     merged.init = cap.init;
                 }
+                merged.init.nominal = nominal;
             }
             None => {
                 cap_of_node[cap.node] = Some(net.capacities.len());

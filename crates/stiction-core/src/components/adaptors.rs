@@ -133,10 +133,7 @@ impl Component for AngleToTorque {
         let k = b.add_prescribed(rel.clone(), prescribed)?;
         // The inputs fix the flange's angle and speed from the start (their values replace these
         // zeros once the signals are known), so another fixed start on it is over-determined.
-        let from_inputs = InitValue {
-            start: 0.0,
-            fixed: true,
-        };
+        let from_inputs = InitValue::fixed(0.0);
         b.init_angle(rel.clone(), from_inputs, "phi");
         b.init_speed(rel.clone(), from_inputs, "w");
         // MSL: tau = torqueSensor.tau = −flange.tau, the torque that drives the flange

@@ -125,11 +125,7 @@ fn linear(p: &Params, has_spring: bool, has_damper: bool) -> ModelResult<Box<dyn
     let (w_rel, use_heat_port) = if has_damper {
         (p.init(W_REL, 0.0)?, p.boolean(USE_HEAT_PORT, false)?)
     } else {
-        let guess = InitValue {
-            start: 0.0,
-            fixed: false,
-        };
-        (guess, false)
+        (InitValue::guess(0.0), false)
     };
     Ok(Box::new(Compliant {
         c,

@@ -179,6 +179,7 @@ fn motion(p: &Params, kind: Kind, phi: InitValue, w: InitValue) -> ModelResult<B
 const UNUSED: InitValue = InitValue {
     start: 0.0,
     fixed: false,
+    nominal: 1.0,
 };
 
 fn speed(p: &Params) -> ModelResult<Box<dyn Component>> {

@@ -326,10 +326,7 @@ impl Component for ConstantSpeed {
         let (nf, ns) = (b.node("flange")?, b.node("support")?);
         let rel = Rel::of(&[(nf, 1.0), (ns, -1.0)]);
         let k = b.add_constraint(rel.clone(), true)?;
-        let fixed_speed = InitValue {
-            start: self.w_fixed,
-            fixed: true,
-        };
+        let fixed_speed = InitValue::fixed(self.w_fixed);
         b.init_speed(rel.clone(), fixed_speed, "w");
         b.init_angle(rel.clone(), self.phi, "phi");
         b.output("tau", Out::ConstraintTau(k, -1.0));

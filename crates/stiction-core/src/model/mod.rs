@@ -10,5 +10,5 @@ mod spec;
 pub use decl::{parse_decl, ParamInfo, ParamKind};
 pub use expr::{BinOp, DerivedSpec, Expr, CONSTANTS};
 pub use names::{check_prefixes, near, split_last};
-pub use params::{InitValue, Params};
+pub use params::{overriding, InitValue, Params};
 pub use spec::{ComponentSpec, Experiment, InputSpec, ModelSpec, PortRef};

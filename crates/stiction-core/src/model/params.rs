@@ -16,10 +16,58 @@ use crate::error::{ModelError, ModelResult};
 use crate::model::ComponentSpec;
 
 /// A start value as Modelica has it: `fixed` ones are initial equations, others are guesses.
+/// `nominal` is the variable's scale, as Modelica's attribute: the integrator controls the
+/// states the variable is made of to an absolute error of Tolerance·nominal (1: Tolerance).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct InitValue {
     pub start: f64,
     pub fixed: bool,
+    pub nominal: f64,
+}
+
+impl InitValue {
+    /// A fixed start value (an initial equation) of nominal 1.
+    pub fn fixed(start: f64) -> Self {
+        Self {
+            start,
+            fixed: true,
+            nominal: 1.0,
+        }
+    }
+
+    /// A guess for the initialization, of nominal 1.
+    pub fn guess(start: f64) -> Self {
+        Self {
+            fixed: false,
+            ..Self::fixed(start)
+        }
+    }
+}
+
+/// The value a parameter or start value set anew (a sweep, an FMU host, `params=`) takes: a start
+/// value keeps the `nominal` the model gave its variable, which scales the error control and is
+/// no part of the value.
+pub fn overriding(old: Option<&toml::Value>, new: &toml::Value) -> toml::Value {
+    let nominal = match old {
+        Some(toml::Value::Table(t)) => t.get("nominal"),
+        _ => None,
+    };
+    let Some(nominal) = nominal else {
+        return new.clone();
+    };
+    let mut table = match new {
+        toml::Value::Table(t) if t.contains_key("nominal") => return new.clone(),
+        toml::Value::Table(t) => t.clone(),
+        toml::Value::Float(_) | toml::Value::Integer(_) => {
+            let mut t = toml::map::Map::new();
+            t.insert("start".into(), new.clone());
+            t.insert("fixed".into(), toml::Value::Boolean(true));
+            t
+        }
+        _ => return new.clone(),
+    };
+    table.insert("nominal".into(), nominal.clone());
+    toml::Value::Table(table)
 }
 
 pub struct Params<'a> {
@@ -299,7 +347,8 @@ impl<'a> Params<'a> {
         Ok(out)
     }
 
-    /// A start value: a bare number is a fixed start value, `{ start = …, fixed = … }` says both.
+    /// A start value: a bare number is a fixed start value, `{ start = …, fixed = …, nominal = … }`
+    /// says more.
     pub fn init(&self, decl: &'static str, default_start: f64) -> ModelResult<InitValue> {
         self.init_with(decl, default_start, false)
     }
@@ -321,11 +370,13 @@ impl<'a> Params<'a> {
             None => Ok(InitValue {
                 start: default_start,
                 fixed: default_fixed,
+                nominal: 1.0,
             }),
             Some(toml::Value::Table(t)) => {
                 for key in t.keys() {
-                    if key != "start" && key != "fixed" {
-                        return Err(self.error(name, format!("unknown key '{key}' (start, fixed)")));
+                    if !["start", "fixed", "nominal"].contains(&key.as_str()) {
+                        return Err(self
+                            .error(name, format!("unknown key '{key}' (start, fixed, nominal)")));
                     }
                 }
                 let start = match t.get("start") {
@@ -338,12 +389,27 @@ impl<'a> Params<'a> {
                         .ok_or_else(|| self.error(name, "'fixed' must be true or false"))?,
                     None => default_fixed,
                 };
-                Ok(InitValue { start, fixed })
+                let nominal = match t.get("nominal") {
+                    Some(v) => self.nominal(name, v)?,
+                    None => 1.0,
+                };
+                Ok(InitValue {
+                    start,
+                    fixed,
+                    nominal,
+                })
             }
-            Some(v) => Ok(InitValue {
-                start: self.number(name, v)?,
-                fixed: true,
-            }),
+            Some(v) => Ok(InitValue::fixed(self.number(name, v)?)),
+        }
+    }
+
+    /// A start value's `nominal`: a positive finite number.
+    fn nominal(&self, name: &str, v: &toml::Value) -> ModelResult<f64> {
+        let nominal = self.number(name, v)?;
+        if nominal.is_finite() && nominal > 0.0 {
+            Ok(nominal)
+        } else {
+            Err(self.error(name, format!("'nominal' must be positive, got {nominal}")))
         }
     }
 

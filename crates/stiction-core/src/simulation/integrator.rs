@@ -238,7 +238,7 @@ pub fn problem(
     let mut p = OdeBuilder::<M>::new()
         .t0(t0)
         .rtol(tolerance)
-        .atol([tolerance])
+        .atol(absolute_tolerance(sys, tolerance))
         .rhs_implicit(rhs, jac_vec)
         .init(init, n)
         .build()
@@ -248,6 +248,42 @@ pub fn problem(
         _ => EXPLICIT_STEP_GAIN,
     };
     Ok(p)
+}
+
+/// The absolute tolerance of each state, as Dymola's DASSL scales it: Tolerance·nominal, where
+/// a start value's `nominal` tightens every state its variable is made of (the angles of a
+/// `phi_rel`'s nodes, the speeds of a `w_rel`'s, a capacity's temperature). One value for all
+/// states when no nominal is given, so such runs stay as they were bit for bit.
+pub fn absolute_tolerance(sys: &System, tolerance: f64) -> Vec<f64> {
+    let nodes = sys.nodes;
+    let angles = sys.init_phi.iter().map(|eq| (0, eq));
+    let speeds = sys.init_w.iter().map(|eq| (nodes, eq));
+    let scaled = (angles.chain(speeds)).filter(|(_, eq)| eq.value.nominal != 1.0);
+    let capacities = sys.thermal.capacities.iter().enumerate();
+    let warm = capacities.filter(|(_, c)| c.init.nominal != 1.0);
+    let mut atol = vec![tolerance];
+    for (base, eq) in scaled {
+        for &(node, _) in &eq.rel.terms {
+            tighten(&mut atol, sys, base + node, tolerance * eq.value.nominal);
+        }
+    }
+    for (k, capacity) in warm {
+        tighten(
+            &mut atol,
+            sys,
+            2 * nodes + k,
+            tolerance * capacity.init.nominal,
+        );
+    }
+    atol
+}
+
+/// `atol[state] = min(atol[state], value)`, first spreading the single value over all states.
+fn tighten(atol: &mut Vec<f64>, sys: &System, state: usize, value: f64) {
+    if atol.len() == 1 {
+        *atol = vec![atol[0]; sys.state_len()];
+    }
+    atol[state] = atol[state].min(value);
 }
 
 /// The problem with a fresh solver of the named method ("auto" starts explicit).

@@ -16,6 +16,7 @@ use crate::thermal::{Capacity, Link};
 const FROM_SIGNAL: InitValue = InitValue {
     start: 0.0,
     fixed: true,
+    nominal: 1.0,
 };
 
 /// What a port carries, for connection checks and messages.
@@ -281,10 +282,7 @@ impl Builder {
 
     /// A gear's kinematic row `row = 0` holds from the start, for angles and speeds.
     pub fn init_constraint(&mut self, row: Rel) {
-        let value = InitValue {
-            start: 0.0,
-            fixed: true,
-        };
+        let value = InitValue::fixed(0.0);
         let variable = format!("{} (gear constraint)", self.name());
         for list in [&mut self.sys.init_phi, &mut self.sys.init_w] {
             list.push(InitEq {

@@ -130,7 +130,6 @@ example_tests! {
     one_way_clutch_stays_in_the_msl_tube: "OneWayClutch";
     one_way_clutch_disengaged_stays_in_the_msl_tube: "OneWayClutchDisengaged";
     lossy_gear_demo1_stays_in_the_msl_tube: "LossyGearDemo1";
-    lossy_gear_demo3_stays_in_the_msl_tube: "LossyGearDemo3";
     backlash_stays_in_the_msl_tube: "Backlash";
     lossy_gear_demo3_stays_in_the_msl_tube: "LossyGearDemo3";
     first_grounded_stays_in_the_msl_tube: "FirstGrounded";

@@ -24,5 +24,4 @@ AWAITING_COMPONENTS = {
     "Backlash": "Components.ElastoBacklash2 (its new branch)",
     "ElasticBearing": "Sensors.MultiSensor",
     "EddyCurrentBrake": "Sources.EddyCurrentTorque",
-    "RollingWheel": "Components.IdealRollingWheel and Translational.Mass/QuadraticSpeedDependentForce",
 }

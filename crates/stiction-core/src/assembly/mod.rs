@@ -169,6 +169,7 @@ fn builder(spec: &SpecView, topo: &Topology) -> Builder {
         names: topo.names.clone(),
         index: topo.index.clone(),
         mech_node: topo.mech_node.clone(),
+        domain: topo.ports.iter().map(|p| p.domain).collect(),
         signal_slot: topo.signal_slot.clone(),
         heat_node: topo.heat_node.clone(),
         sys: System {

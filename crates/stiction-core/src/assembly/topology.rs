@@ -6,7 +6,7 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use crate::components::{Component, PortKind, Ports};
+use crate::components::{Component, Domain, PortKind, Ports};
 use crate::error::{ModelError, ModelResult};
 use crate::model::{ModelSpec, PortRef};
 use crate::system::{ModelInput, NodeRef, PortInfo};
@@ -99,6 +99,7 @@ impl Topology {
                     component: ci,
                     name,
                     kind,
+                    domain: decl.domain_of(name),
                 });
             }
         }
@@ -174,6 +175,11 @@ impl Topology {
             let (ia, ib) = (self.port_of(a, &conn)?, self.port_of(b, &conn)?);
             let (ka, kb) = (self.ports[ia].kind, self.ports[ib].kind);
             let message = match (ka, kb) {
+                (PortKind::Mechanical, PortKind::Mechanical)
+                    if self.ports[ia].domain != self.ports[ib].domain =>
+                {
+                    Some(self.domains_differ(ia, ib))
+                }
                 (PortKind::Mechanical, PortKind::Mechanical) => {
                     j.mech.union(ia, ib);
                     j.cut.union(ia, ib);
@@ -193,8 +199,8 @@ impl Topology {
                 }
                 _ => Some(format!(
                     "cannot connect {} ('{a}') to {} ('{b}')",
-                    ka.describe(),
-                    kb.describe()
+                    self.ports[ia].describe(),
+                    self.ports[ib].describe()
                 )),
             };
             if let Some(message) = message {
@@ -210,6 +216,26 @@ impl Topology {
             }
         }
         Ok(j)
+    }
+
+    /// Why a rotational flange cannot join a translational one: their coordinates are an angle
+    /// and a position, related only by a component that converts.
+    fn domains_differ(&self, ia: usize, ib: usize) -> String {
+        let name = |i: usize| {
+            let p = &self.ports[i];
+            format!(
+                "{} flange '{}.{}'",
+                p.domain.word(),
+                self.names[p.component],
+                p.name
+            )
+        };
+        format!(
+            "cannot connect the {} to the {}: an angle and a position are joined only through a \
+             component that converts rotation into translation (IdealRollingWheel, IdealGearR2T)",
+            name(ia),
+            name(ib)
+        )
     }
 
     /// Wires a signal output to an input; the reason it cannot, if it cannot.
@@ -235,11 +261,15 @@ impl Topology {
                 let root = sets.find(self.index[&(ci, *p)]);
                 if let Some(&(other, by)) = ground_of.get(&root) {
                     if other != *phi0 {
+                        let (parameter, what) = match decl.domain_of(p) {
+                            Domain::Rotational => ("phi0", "angle"),
+                            Domain::Translational => ("s0", "position"),
+                        };
                         return Err(ModelError::Parameter {
                             component: self.names[ci].clone(),
                             type_name: self.types[ci].clone(),
-                            parameter: "phi0".into(),
-                            message: format!("the flange is rigidly connected to '{}', fixed at a different angle {other}", self.names[by]),
+                            parameter: parameter.into(),
+                            message: format!("the flange is rigidly connected to '{}', fixed at a different {what} {other}", self.names[by]),
                         });
                     }
                 }
@@ -342,7 +372,7 @@ impl Topology {
             if self.ports[i].kind != PortKind::SignalIn {
                 return Err(err(format!(
                     "a model input must be a signal input port, not {}",
-                    self.ports[i].kind.describe()
+                    self.ports[i].describe()
                 )));
             }
             if self.signal_slot[i].is_some() {

@@ -12,6 +12,7 @@ pub mod gears;
 pub mod heat;
 pub mod inertia;
 pub mod sources;
+pub mod translational;
 
 #[cfg(test)]
 mod toys;
@@ -21,12 +22,14 @@ use std::path::Path;
 use crate::error::{ModelError, ModelResult};
 use crate::model::{ComponentSpec, ParamInfo, Params};
 use crate::system::Builder;
-pub use crate::system::PortKind;
+pub use crate::system::{Domain, PortKind};
 
 /// The ports a component has once its conditional connectors are decided.
 #[derive(Debug, Default, Clone, PartialEq)]
 pub struct Ports {
     pub mech: Vec<&'static str>,
+    /// The mechanical ports that are translational (`s`, `f`); the others are rotational.
+    pub translational: Vec<&'static str>,
     /// Mechanical ports that are rigidly one (an Inertia's two flanges, a Brake's shaft).
     pub joins: Vec<(&'static str, &'static str)>,
     /// Mechanical ports held at a fixed angle (Fixed's flange).
@@ -52,6 +55,15 @@ impl Ports {
             Some(PortKind::Heat)
         } else {
             None
+        }
+    }
+
+    /// The domain of a port (Rotational unless listed as translational).
+    pub fn domain_of(&self, port: &str) -> Domain {
+        if self.translational.contains(&port) {
+            Domain::Translational
+        } else {
+            Domain::Rotational
         }
     }
 
@@ -159,6 +171,7 @@ pub fn registry() -> Vec<Entry> {
     r.extend(friction::lossy_gear::REGISTRY);
     r.extend(blocks::REGISTRY);
     r.extend(heat::REGISTRY);
+    r.extend(translational::registry());
     #[cfg(test)]
     r.extend(toys::REGISTRY);
 

@@ -50,6 +50,7 @@ fn mass(p: &Params) -> ModelResult<Box<dyn Component>> {
     )?;
     // The engine's flanges of one rigid set share one coordinate: a flange offset from its
     // node (flange_a.s = s - L/2) is not built yet, so a length is refused, not ignored.
+    p.range("L", "[0, 0]");
     if length != 0.0 && !p.in_catalogue() {
         return Err(p.error(
             "L",

@@ -207,7 +207,10 @@ fn refused(text: &str) -> String {
     let spec = ModelSpec::from_toml(text, ".");
     match spec {
         Err(e) => e.to_string(),
-        Ok(spec) => simulate(&spec).err().expect("refused").to_string(),
+        Ok(spec) => match simulate(&spec) {
+            Err(e) => e.to_string(),
+            Ok(_) => panic!("not refused: {text}"),
+        },
     }
 }
 
@@ -241,15 +244,70 @@ fn bad_parameters_are_refused_by_name() {
             "radius = -0.3",
             ["wheel", "'radius'", "> 0"],
         ),
-        (
-            "m = 25.0",
-            "m = 25.0, L = 1.0",
-            ["car", "'L'", "not supported"],
-        ),
     ] {
         let msg = refused(&base.replace(from, to));
         for w in words {
             assert!(msg.contains(w), "{to}: {msg}");
         }
     }
+}
+
+#[test]
+fn a_mass_of_length_l_has_its_flanges_l_apart_around_its_center() {
+    // wheel → car (L = 2) → trailer (L = 4): positions add up along the rigid chain
+    let text = wheel_model(
+        r#"drive = { type = "ConstantTorque", tau_constant = 12.0 }
+trailer = { type = "Translational.Mass", m = 5.0, L = 4.0 }"#,
+        r#"["car.flange_b", "trailer.flange_a"],"#,
+    )
+    .replace("m = 25.0 }", "m = 25.0, L = 2.0 }");
+    let r = run(&text);
+    let s_t = last(&r, "wheel.flangeT.s");
+    assert!(s_t > 0.1);
+    assert!((last(&r, "car.s") - (s_t + 1.0)).abs() < 1e-12);
+    assert!((last(&r, "car.flange_b.s") - (s_t + 2.0)).abs() < 1e-12);
+    assert!((last(&r, "trailer.s") - (s_t + 4.0)).abs() < 1e-12);
+    assert!((last(&r, "trailer.flange_b.s") - (s_t + 6.0)).abs() < 1e-12);
+    // one node: both masses accelerate together, at the wheel's closed form with m = 30
+    let a = 12.0 * R / (J + 30.0 * R * R);
+    assert!((last(&r, "trailer.a") - a).abs() < 1e-9 * a);
+    // the wheel's row is on absolute positions (MSL: flangeR.phi·radius = flangeT.s): a car
+    // started with its center at 5 puts flangeT at 4 and the hub at 4/R
+    let started = run(&text
+        .replace("L = 2.0 }", "L = 2.0, s = { start = 5.0, fixed = true } }")
+        .replace("phi = 0.0,", ""));
+    let phi0 = started.column("hub.phi").unwrap()[0];
+    assert!((phi0 - 4.0 / R).abs() < 1e-12, "{phi0}");
+}
+
+#[test]
+fn fixed_positions_and_lengths_must_agree() {
+    let held = |s_b: f64| {
+        format!(
+            r#"
+name = "held"
+connect = [["a.flange", "car.flange_a"], ["car.flange_b", "b.flange"]]
+[experiment]
+StopTime = 1.0
+[components]
+a = {{ type = "Translational.Fixed", s0 = 0.5 }}
+car = {{ type = "Translational.Mass", m = 1.0, L = 1.5 }}
+b = {{ type = "Translational.Fixed", s0 = {s_b} }}
+"#
+        )
+    };
+    let r = run(&held(2.0));
+    assert_eq!(last(&r, "car.s"), 1.25);
+    let msg = refused(&held(2.5));
+    assert!(
+        msg.contains("'s0'") && msg.contains("different position 2"),
+        "{msg}"
+    );
+    // both flanges of a mass of length 1.5 on one rigid set: a loop that does not close
+    let looped = held(2.0).replace(
+        r#"["car.flange_b", "b.flange"]"#,
+        r#"["car.flange_b", "a.flange"]"#,
+    );
+    let msg = refused(&looped);
+    assert!(msg.contains("car") && msg.contains("1.5 apart"), "{msg}");
 }

@@ -32,6 +32,9 @@ pub struct Ports {
     pub translational: Vec<&'static str>,
     /// Mechanical ports that are rigidly one (an Inertia's two flanges, a Brake's shaft).
     pub joins: Vec<(&'static str, &'static str)>,
+    /// Where joined ports sit relative to one another: a port's coordinate minus the
+    /// component's own (a Mass's flanges at ∓L/2 from its center); 0 if not listed.
+    pub offsets: Vec<(&'static str, f64)>,
     /// Mechanical ports held at a fixed angle (Fixed's flange).
     pub ground: Vec<(&'static str, f64)>,
     pub signal_in: Vec<&'static str>,
@@ -65,6 +68,13 @@ impl Ports {
         } else {
             Domain::Rotational
         }
+    }
+
+    /// The offset of a port from its component's coordinate (see `offsets`).
+    pub fn offset_of(&self, port: &str) -> f64 {
+        (self.offsets.iter())
+            .find(|(p, _)| *p == port)
+            .map_or(0.0, |(_, d)| *d)
     }
 
     pub fn all(&self) -> Vec<&'static str> {

@@ -97,6 +97,8 @@ pub struct Builder {
     pub(crate) mech_node: Vec<Option<NodeRef>>,
     /// The domain of every port (by global index): what its flange outputs are called.
     pub(crate) domain: Vec<Domain>,
+    /// Each flange's coordinate minus its node's (0 but for a Mass with a length).
+    pub(crate) offset: Vec<f64>,
     pub(crate) signal_slot: Vec<Option<usize>>,
     pub(crate) heat_node: Vec<Option<usize>>,
     pub(crate) sys: System,
@@ -136,6 +138,23 @@ impl Builder {
             None if port.starts_with("support") => Ok(NodeRef::Ground(0.0)),
             None => Err(self.error(format!("internal: flange '{port}' not declared"))),
         }
+    }
+
+    /// `Σ coef·position(port)`: a row over the flanges' own coordinates, with the offsets of
+    /// flanges that sit apart from their node (a Mass's of length L) and the implicit ground of
+    /// an undeclared support.
+    pub fn rel(&self, parts: &[(&str, f64)]) -> ModelResult<Rel> {
+        let mut nodes = Vec::with_capacity(parts.len());
+        let mut offset = 0.0;
+        for &(port, coef) in parts {
+            nodes.push((self.node(port)?, coef));
+            if let Some(i) = self.port(port) {
+                offset += coef * self.offset[i];
+            }
+        }
+        let mut rel = Rel::of(&nodes);
+        rel.offset += offset;
+        Ok(rel)
     }
 
     pub fn add_mass(&mut self, node: NodeRef, j: f64) {
@@ -295,7 +314,9 @@ impl Builder {
         let i = self.port_index(port)?;
         let d = self.domain[i];
         let position = format!("{port}.{}", d.position());
-        self.output(&position, Out::Angle(Rel::of(&[(node, 1.0)])));
+        let mut at = Rel::of(&[(node, 1.0)]);
+        at.offset += self.offset[i];
+        self.output(&position, Out::Angle(at));
         self.output(&format!("{port}.{}", d.force()), Out::FlangeTau(i));
         if let Some(tau) = tau {
             self.flanges.known(i, tau);

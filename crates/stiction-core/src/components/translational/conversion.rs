@@ -6,7 +6,7 @@
 use crate::components::{Component, Entry, Ports};
 use crate::error::ModelResult;
 use crate::model::Params;
-use crate::system::{Builder, Out, Rel};
+use crate::system::{Builder, Out};
 
 /// `(flangeR.phi − supportR.phi)·k_r = (flangeT.s − supportT.s)·k_t`.
 struct RotToTrans {
@@ -40,11 +40,16 @@ impl Component for RotToTrans {
         let (nr, nt) = (b.node("flangeR")?, b.node("flangeT")?);
         let (nsr, nst) = (b.node("supportR")?, b.node("supportT")?);
         let (kr, kt) = (self.k_r, self.k_t);
-        let row = || Rel::of(&[(nr, kr), (nsr, -kr), (nt, -kt), (nst, kt)]);
+        let row = b.rel(&[
+            ("flangeR", kr),
+            ("supportR", -kr),
+            ("flangeT", -kt),
+            ("supportT", kt),
+        ])?;
         // multiplier λ: flangeR.tau = k_r·λ, flangeT.f = −k_t·λ, so that
         // k_t·flangeR.tau + k_r·flangeT.f = 0 (no power is lost or stored)
-        let k = b.add_constraint(row(), false)?;
-        b.init_constraint(row());
+        let k = b.add_constraint(row.clone(), false)?;
+        b.init_constraint(row);
         b.flange("flangeR", nr, Some(Out::ConstraintTau(k, kr)))?;
         b.flange("flangeT", nt, Some(Out::ConstraintTau(k, -kt)))?;
         if self.use_support_r {

@@ -4,10 +4,11 @@
 use crate::components::{Component, Entry, Ports};
 use crate::error::ModelResult;
 use crate::model::{InitValue, Params};
-use crate::system::{Builder, Out, Rel};
+use crate::system::{Builder, Out};
 
 struct Mass {
     m: f64,
+    length: f64,
     s: InitValue,
     v: InitValue,
 }
@@ -18,6 +19,11 @@ impl Component for Mass {
             mech: vec!["flange_a", "flange_b"],
             translational: vec!["flange_a", "flange_b"],
             joins: vec![("flange_a", "flange_b")],
+            // MSL's PartialRigid: flange_a.s = s - L/2, flange_b.s = s + L/2
+            offsets: vec![
+                ("flange_a", -self.length / 2.0),
+                ("flange_b", self.length / 2.0),
+            ],
             ..Ports::default()
         }
     }
@@ -26,18 +32,20 @@ impl Component for Mass {
         let node = b.node("flange_a")?;
         // ½·m·v² is the kinetic energy the audit counts, as ½·J·w² for an Inertia
         b.add_mass(node, self.m);
-        let rel = Rel::of(&[(node, 1.0)]);
-        b.init_angle(rel.clone(), self.s, "s");
-        b.init_speed(rel.clone(), self.v, "v");
-        b.output("s", Out::Angle(rel.clone()));
-        b.output("v", Out::Speed(rel.clone()));
-        b.output("a", Out::Accel(rel.clone()));
+        // the center s: half a length beyond flange_a (speeds and accelerations are the node's)
+        let mut center = b.rel(&[("flange_a", 1.0)])?;
+        center.offset += self.length / 2.0;
+        b.init_angle(center.clone(), self.s, "s");
+        b.init_speed(center.clone(), self.v, "v");
+        b.output("s", Out::Angle(center.clone()));
+        b.output("v", Out::Speed(center.clone()));
+        b.output("a", Out::Accel(center.clone()));
         b.flange("flange_a", node, None)?;
         b.flange("flange_b", node, None)?;
         // m·a = flange_a.f + flange_b.f
         b.flange_group(
             &["flange_a", "flange_b"],
-            Some(Out::Scaled(Box::new(Out::Accel(rel)), self.m)),
+            Some(Out::Scaled(Box::new(Out::Accel(center)), self.m)),
         )
     }
 }
@@ -48,17 +56,9 @@ fn mass(p: &Params) -> ModelResult<Box<dyn Component>> {
         "L [m] Length of component, from left flange to right flange (= flange_b.s - flange_a.s)",
         0.0,
     )?;
-    // The engine's flanges of one rigid set share one coordinate: a flange offset from its
-    // node (flange_a.s = s - L/2) is not built yet, so a length is refused, not ignored.
-    p.range("L", "[0, 0]");
-    if length != 0.0 && !p.in_catalogue() {
-        return Err(p.error(
-            "L",
-            format!("a length other than 0 is not supported yet (got {length}): the flanges of a Mass are at its center s"),
-        ));
-    }
     Ok(Box::new(Mass {
         m,
+        length,
         s: p.init(
             "s [m] Absolute position of center of component (start value)",
             0.0,

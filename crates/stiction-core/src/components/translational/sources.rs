@@ -6,7 +6,7 @@ use crate::components::sources::{Kind, SourceLaw};
 use crate::components::{with_support, Component, Entry, Ports};
 use crate::error::ModelResult;
 use crate::model::Params;
-use crate::system::{Builder, Out, Rel};
+use crate::system::{Builder, Out};
 
 const USE_SUPPORT: &str =
     "useSupport true: enable the support connector (else the housing is fixed at position 0)";
@@ -32,7 +32,7 @@ impl Component for ForceSource {
 
     fn build(&self, b: &mut Builder) -> ModelResult<()> {
         let (nf, ns) = (b.node("flange")?, b.node("support")?);
-        let rel = Rel::of(&[(nf, 1.0), (ns, -1.0)]);
+        let rel = b.rel(&[("flange", 1.0), ("support", -1.0)])?;
         let kind = match self.kind {
             Kind::Input(_) => Kind::Input(b.signal_in("f")?),
             k => k,

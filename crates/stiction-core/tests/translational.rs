@@ -311,3 +311,41 @@ b = {{ type = "Translational.Fixed", s0 = {s_b} }}
     let msg = refused(&looped);
     assert!(msg.contains("car") && msg.contains("1.5 apart"), "{msg}");
 }
+
+#[test]
+fn a_held_mass_reports_each_flange_at_its_own_position() {
+    let text = r#"
+name = "held"
+connect = [["a.flange", "car.flange_a"]]
+[experiment]
+StopTime = 1.0
+[components]
+a = { type = "Translational.Fixed", s0 = 0.5 }
+car = { type = "Translational.Mass", m = 1.0, L = 1.5 }
+"#;
+    let r = run(text);
+    assert_eq!(last(&r, "car.flange_a.s"), 0.5);
+    assert_eq!(last(&r, "car.s"), 1.25);
+    assert_eq!(last(&r, "car.flange_b.s"), 2.0);
+}
+
+#[test]
+fn a_start_speed_is_the_speed_whatever_the_flanges_offsets() {
+    // the car's center is L/2 beyond its flange, the wheel's row has that constant: neither
+    // is a speed (the start speed 3 m/s is the car's and the hub's 3/R)
+    let text = wheel_model(
+        r#"drive = { type = "ConstantTorque", tau_constant = 0.0 }"#,
+        "",
+    )
+    .replace(
+        "m = 25.0 }",
+        "m = 25.0, L = 2.0, v = { start = 3.0, fixed = true } }",
+    )
+    .replace(
+        "w = { start = 0.0, fixed = true }",
+        "w = { start = 1.0, fixed = false }",
+    );
+    let r = run(&text);
+    assert!((r.column("car.v").unwrap()[0] - 3.0).abs() < 1e-12);
+    assert!((last(&r, "hub.w") - 3.0 / R).abs() < 1e-9);
+}

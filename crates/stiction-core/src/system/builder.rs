@@ -270,7 +270,9 @@ impl Builder {
         self.sys.init_phi.push(eq);
     }
 
-    pub fn init_speed(&mut self, rel: Rel, value: InitValue, variable: &str) {
+    pub fn init_speed(&mut self, mut rel: Rel, value: InitValue, variable: &str) {
+        // a coordinate's constant offset (a ground's angle, a flange's place) has no speed
+        rel.offset = 0.0;
         let eq = self.start_value(rel, value, variable);
         self.sys.init_w.push(eq);
     }
@@ -292,9 +294,16 @@ impl Builder {
             fixed: true,
         };
         let variable = format!("{} (gear constraint)", self.name());
-        for list in [&mut self.sys.init_phi, &mut self.sys.init_w] {
+        let speeds = Rel {
+            offset: 0.0, // the row's constant has no speed
+            ..row.clone()
+        };
+        for (list, rel) in [
+            (&mut self.sys.init_phi, row),
+            (&mut self.sys.init_w, speeds),
+        ] {
             list.push(InitEq {
-                rel: row.clone(),
+                rel,
                 value,
                 variable: variable.clone(),
                 constraint: true,
@@ -309,7 +318,8 @@ impl Builder {
     }
 
     /// Reports the position and cut force of a flange (`.phi`/`.tau` or, translational,
-    /// `.s`/`.f`), and says how its force is known.
+    /// `.s`/`.f`), and says how its force is known. `node` is the port's own (`node(port)`):
+    /// the flange's offset from it is added.
     pub fn flange(&mut self, port: &str, node: NodeRef, tau: Option<Out>) -> ModelResult<()> {
         let i = self.port_index(port)?;
         let d = self.domain[i];

@@ -40,8 +40,10 @@ impl Component for Mass {
         b.output("s", Out::Angle(center.clone()));
         b.output("v", Out::Speed(center.clone()));
         b.output("a", Out::Accel(center.clone()));
+        // each flange at its own place (a held Mass's flanges are grounds L apart)
         b.flange("flange_a", node, None)?;
-        b.flange("flange_b", node, None)?;
+        let node_b = b.node("flange_b")?;
+        b.flange("flange_b", node_b, None)?;
         // m·a = flange_a.f + flange_b.f
         b.flange_group(
             &["flange_a", "flange_b"],

@@ -23,5 +23,4 @@ MSL_EXAMPLES = EXAMPLES / "msl"
 AWAITING_COMPONENTS = {
     "Backlash": "Components.ElastoBacklash2 (its new branch)",
     "EddyCurrentBrake": "Sources.EddyCurrentTorque",
-    "RollingWheel": "Components.IdealRollingWheel and Translational.Mass/QuadraticSpeedDependentForce",
 }

@@ -8,7 +8,7 @@
 use std::path::PathBuf;
 
 use crate::assembly::assemble;
-use crate::components::{self, Entry, PortKind, Ports};
+use crate::components::{self, Domain, Entry, PortKind, Ports};
 use crate::model::{
     ComponentSpec, Experiment, InputSpec, ModelSpec, ParamInfo, ParamKind, PortRef,
 };
@@ -18,8 +18,20 @@ use crate::model::{
 pub struct PortInfo {
     pub name: String,
     pub kind: PortKind,
+    /// A flange's domain (rotational or translational); Rotational for other ports.
+    pub domain: Domain,
     /// The Boolean parameter that enables a conditional port (`useSupport`, `useHeatPort`).
     pub enabled_by: Option<String>,
+}
+
+impl PortInfo {
+    /// `a flange`, `a translational flange`, `a signal input` …
+    pub fn describe(&self) -> &'static str {
+        match (self.kind, self.domain) {
+            (PortKind::Mechanical, Domain::Translational) => "a translational flange",
+            (kind, _) => kind.describe(),
+        }
+    }
 }
 
 /// A result variable of a component type, relative to the instance (`w`, `flange_a.tau`).
@@ -64,6 +76,7 @@ fn describe_entry(entry: &Entry) -> TypeInfo {
             PortInfo {
                 name: name.to_string(),
                 kind,
+                domain: full.domain_of(name),
                 enabled_by,
             }
         })
@@ -72,7 +85,7 @@ fn describe_entry(entry: &Entry) -> TypeInfo {
         name: entry.name,
         class: entry.class,
         description: entry.description,
-        variables: variables(entry, &params, &full),
+        variables: variables(entry, &params, &full, translational(&full)),
         params,
         ports,
     }
@@ -122,7 +135,18 @@ fn instance(entry: &Entry, params: &[ParamInfo]) -> ComponentSpec {
 /// The result variables of one instance with every conditional port enabled: a model of that
 /// component alone (its signal inputs declared model inputs, a heat port that needs somewhere
 /// to send its heat given a fixed temperature) is assembled and its outputs read.
-fn variables(entry: &Entry, params: &[ParamInfo], ports: &Ports) -> Vec<VariableInfo> {
+/// Whether a component is translational: its flanges are all translational (a Mass's `a` is
+/// in m/s2, an Inertia's in rad/s2; a wheel's flanges say their domain in their names).
+fn translational(ports: &Ports) -> bool {
+    !ports.mech.is_empty() && ports.mech.iter().all(|p| ports.translational.contains(p))
+}
+
+fn variables(
+    entry: &Entry,
+    params: &[ParamInfo],
+    ports: &Ports,
+    translational: bool,
+) -> Vec<VariableInfo> {
     let system = assemble(&alone(entry, params, ports, false))
         .or_else(|_| assemble(&alone(entry, params, ports, true)))
         .unwrap_or_else(|e| panic!("{} alone does not assemble: {e}", entry.name));
@@ -132,7 +156,10 @@ fn variables(entry: &Entry, params: &[ParamInfo], ports: &Ports) -> Vec<Variable
         .filter_map(|(name, _)| name.strip_prefix("x."))
         .map(|name| VariableInfo {
             name: name.to_string(),
-            unit: variable_unit(name),
+            unit: match translational {
+                true => translational_unit(name),
+                false => variable_unit(name),
+            },
         })
         .collect()
 }
@@ -148,10 +175,15 @@ fn alone(entry: &Entry, params: &[ParamInfo], ports: &Ports, heat_boundary: bool
     for (k, flange) in ports.must_connect.iter().enumerate() {
         let name = format!("inertia{k}");
         let mut t = toml::Table::new();
-        t.insert("J".into(), 1.0.into());
+        let type_name = match ports.domain_of(flange) {
+            Domain::Rotational => "Inertia",
+            Domain::Translational => "Translational.Mass",
+        };
+        let mass = if type_name == "Inertia" { "J" } else { "m" };
+        t.insert(mass.into(), 1.0.into());
         components.push(ComponentSpec {
             name: name.clone(),
-            type_name: "Inertia".into(),
+            type_name: type_name.into(),
             params: t,
         });
         connections.push((port("x", flange), port(&name, "flange_a")));
@@ -199,6 +231,9 @@ pub fn variable_unit(name: &str) -> &'static str {
         "a" | "a_rel" | "a_a" | "a_b" | "a_ref" | "u[3]" => "rad/s2",
         "tau" | "tau_c" | "tau_d" | "sa" | "tau0" | "tau0_max" | "tauLoss" | "tau_eta"
         | "tau_bf1" | "tau_bf2" | "tau_bf_a" | "tauLossMax_p" | "tauLossMin_m" => "N.m",
+        "s" | "s_rel" | "s0" => "m",
+        "v" | "v_rel" => "m/s",
+        "f" => "N",
         "lossPower" | "Q_flow" | "power" => "W",
         "T" => "K",
         "dT" => "K",
@@ -207,6 +242,16 @@ pub fn variable_unit(name: &str) -> &'static str {
         "mu" | "eta_mf1" | "eta_mf2" | "f_normalized" | "u" | "y" | "u1" | "u2" => "1",
         "Gc" => "W/K",
         _ => "",
+    }
+}
+
+/// The unit of a translational component's variable: the accelerations are linear; every
+/// other name (`s`, `v`, `f`, `lossPower`) has one unit in both domains.
+pub fn translational_unit(name: &str) -> &'static str {
+    let last = name.rsplit('.').next().unwrap_or(name);
+    match last {
+        "a" | "a_rel" => "m/s2",
+        _ => variable_unit(name),
     }
 }
 

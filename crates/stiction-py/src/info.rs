@@ -51,7 +51,7 @@ fn type_info<'py>(py: Python<'py>, t: &TypeInfo) -> PyResult<Bound<'py, PyDict>>
     out.set_item("parameters", params)?;
     let ports = PyList::empty(py);
     for p in &t.ports {
-        let kind = p.kind.describe().trim_start_matches("a ");
+        let kind = p.describe().trim_start_matches("a ");
         ports.append((&p.name, kind, &p.enabled_by))?;
     }
     out.set_item("ports", ports)?;

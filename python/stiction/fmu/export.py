@@ -48,7 +48,7 @@ PLATFORM = {
 # a TorqueToAngleAdaptor's use_w and use_a decide which of its signals exist (FMU outputs)
 ADAPTOR_SIGNALS = {"use_w", "use_a"}
 # variables whose values are states, by component type: the default outputs
-STATES = {"Inertia": ("phi", "w"), "HeatCapacitor": ("T",)}
+STATES = {"Inertia": ("phi", "w"), "Translational.Mass": ("s", "v"), "HeatCapacitor": ("T",)}
 
 
 @dataclass(frozen=True)

@@ -48,6 +48,8 @@ START_VARIABLES = frozenset(
         "phi",
         "w",
         "a",
+        "s",
+        "v",
         "phi_rel",
         "w_rel",
         "a_rel",

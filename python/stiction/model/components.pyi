@@ -49,7 +49,9 @@ __all__ = [
     "Gain",
     "HeatCapacitor",
     "IdealGear",
+    "IdealGearR2T",
     "IdealPlanetary",
+    "IdealRollingWheel",
     "Inertia",
     "InverseSpeedDependentTorque",
     "LinearSpeedDependentTorque",
@@ -1917,4 +1919,86 @@ class FixedTemperature(_Factory):
         self,
         *,
         T: float = ...,
+    ) -> None: ...
+
+class IdealRollingWheel(_Factory):
+    """Simple 1-dim. model of an ideal rolling wheel without inertia.
+
+    MSL class: ``Modelica.Mechanics.Rotational.Components.IdealRollingWheel``
+
+    Parameters
+    ----------
+    radius : Real [m], default 0.3, > 0
+        Wheel radius
+    useSupportR : Boolean, default false
+        true: enable the rotational support connector (else it is fixed at angle 0)
+    useSupportT : Boolean, default false
+        true: enable the translational support connector (else it is fixed at position 0)
+
+    Ports
+    -----
+    - flangeR: flange
+    - flangeT: translational flange
+    - supportR: flange (if useSupportR = true)
+    - supportT: translational flange (if useSupportT = true)
+
+    Variables
+    ---------
+    - flangeR.phi [rad] (displayUnit deg)
+    - flangeR.tau [N.m]
+    - flangeT.s [m]
+    - flangeT.f [N]
+    - supportR.phi [rad] (displayUnit deg)
+    - supportR.tau [N.m]
+    - supportT.s [m]
+    - supportT.f [N]
+    """
+
+    def __init__(
+        self,
+        *,
+        radius: float = ...,
+        useSupportR: bool = ...,
+        useSupportT: bool = ...,
+    ) -> None: ...
+
+class IdealGearR2T(_Factory):
+    """Gearbox transforming rotational into translational motion.
+
+    MSL class: ``Modelica.Mechanics.Rotational.Components.IdealGearR2T``
+
+    Parameters
+    ----------
+    ratio : Real [rad/m], default 1, != 0
+        Transmission ratio (flangeR.phi/flangeT.s)
+    useSupportR : Boolean, default false
+        true: enable the rotational support connector (else it is fixed at angle 0)
+    useSupportT : Boolean, default false
+        true: enable the translational support connector (else it is fixed at position 0)
+
+    Ports
+    -----
+    - flangeR: flange
+    - flangeT: translational flange
+    - supportR: flange (if useSupportR = true)
+    - supportT: translational flange (if useSupportT = true)
+
+    Variables
+    ---------
+    - flangeR.phi [rad] (displayUnit deg)
+    - flangeR.tau [N.m]
+    - flangeT.s [m]
+    - flangeT.f [N]
+    - supportR.phi [rad] (displayUnit deg)
+    - supportR.tau [N.m]
+    - supportT.s [m]
+    - supportT.f [N]
+    """
+
+    def __init__(
+        self,
+        *,
+        ratio: float = ...,
+        useSupportR: bool = ...,
+        useSupportT: bool = ...,
     ) -> None: ...

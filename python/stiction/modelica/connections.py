@@ -24,7 +24,7 @@ if TYPE_CHECKING:
 
 __all__ = ["ConnectionSets", "Reported"]
 
-_JOINED = ("flange", "heat port")  # kinds of port that connect to their own kind
+_JOINED = ("flange", "translational flange", "heat port")  # kinds of port that connect to their own kind
 _NO_PORT = (None, None)
 # MSL's conditional connectors: the port exists when its flag is true (false by default). The
 # adaptors' w and a depend on two flags at once: the engine checks those.
@@ -116,6 +116,13 @@ class ConnectionSets:
 
     def kinds_problem(self, a: str, ka: str, b: str, kb: str) -> str | None:
         """Why Modelica (or the engine) refuses to connect these two ports, or None."""
+        if {ka, kb} == {"flange", "translational flange"}:  # the engine's words
+            return (
+                f"cannot connect the {'rotational ' if ka == 'flange' else ''}{ka} '{a}' to the "
+                f"{'rotational ' if kb == 'flange' else ''}{kb} '{b}': an angle and a position are "
+                "joined only through a component that converts rotation into translation "
+                "(IdealRollingWheel, IdealGearR2T)"
+            )
         if _family(ka) != _family(kb):
             return f"cannot connect a {ka} ('{a}') to a {kb} ('{b}')"
         if ka == "signal output" and kb == "signal input":

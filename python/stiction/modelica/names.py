@@ -25,6 +25,7 @@ __all__ = [
 ]
 
 _ROT = "Modelica.Mechanics.Rotational"
+_TRANS = "Modelica.Mechanics.Translational"
 _HEAT = "Modelica.Thermal.HeatTransfer"
 
 # stiction type -> MSL class (the name export writes)
@@ -47,6 +48,8 @@ MSL_CLASSES: dict[str, str] = {
             "LossyGear",
             "TorqueToAngleAdaptor",
             "AngleToTorqueAdaptor",
+            "IdealRollingWheel",
+            "IdealGearR2T",
         ]
     },
     **{
@@ -80,6 +83,12 @@ MSL_CLASSES: dict[str, str] = {
             "MultiSensor",
         ]
     },
+    # the translational types are named Translational.<MSL name> (Translational.Fixed)
+    **{f"Translational.{t}": f"{_TRANS}.Components.{t}" for t in ["Mass", "Fixed"]},
+    **{
+        f"Translational.{t}": f"{_TRANS}.Sources.{t}"
+        for t in ["Force", "ConstantForce", "LinearSpeedDependentForce", "QuadraticSpeedDependentForce"]
+    },
     **{t: f"Modelica.Blocks.Sources.{t}" for t in ["Constant", "Step", "Ramp", "Sine", "Pulse", "TimeTable"]},
     **{t: f"Modelica.Blocks.Math.{t}" for t in ["Product", "Feedback", "Add", "Gain"]},
     **{t: f"{_HEAT}.Components.{t}" for t in ["HeatCapacitor", "ThermalConductor", "Convection"]},
@@ -106,6 +115,9 @@ CONNECTOR_KINDS: dict[str, str] = {
     f"{_ROT}.Interfaces.Flange_a": "flange",
     f"{_ROT}.Interfaces.Flange_b": "flange",
     f"{_ROT}.Interfaces.Support": "flange",
+    f"{_TRANS}.Interfaces.Flange_a": "translational flange",
+    f"{_TRANS}.Interfaces.Flange_b": "translational flange",
+    f"{_TRANS}.Interfaces.Support": "translational flange",
     "Modelica.Blocks.Interfaces.RealInput": "signal input",
     "Modelica.Blocks.Interfaces.RealOutput": "signal output",
     f"{_HEAT}.Interfaces.HeatPort_a": "heat port",

@@ -15,7 +15,7 @@ from stiction.model.components import Component, component_types
 __all__ = ["always_valid", "batch_problem", "free_reals", "value_problems"]
 
 # Signal inputs an unconnected component declares as model inputs (they need no source here).
-_SIGNAL_INPUTS = ("f_normalized", "tau", "u", "u1", "u2", "Gc")
+_SIGNAL_INPUTS = ("f_normalized", "tau", "f", "u", "u1", "u2", "Gc")
 
 
 def always_valid(stype: str, key: str, value: Any) -> bool:

@@ -45,7 +45,7 @@ _OPS: dict[str, Callable[[Any, float], Any]] = {
     "<": operator.lt,
     ">": operator.gt,
 }
-_MAIN_SUFFIXES = ("w", "w_rel", "mode", "tau", "phi", "phi_rel", "T", "y")
+_MAIN_SUFFIXES = ("w", "v", "w_rel", "mode", "tau", "phi", "s", "phi_rel", "T", "y")
 
 
 class Event(NamedTuple):

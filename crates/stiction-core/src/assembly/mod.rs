@@ -173,6 +173,8 @@ fn builder(spec: &SpecView, topo: &Topology) -> Builder {
         names: topo.names.clone(),
         index: topo.index.clone(),
         mech_node: topo.mech_node.clone(),
+        domain: topo.ports.iter().map(|p| p.domain).collect(),
+        offset: topo.mech_offset.clone(),
         signal_slot: topo.signal_slot.clone(),
         heat_node: topo.heat_node.clone(),
         sys: System {

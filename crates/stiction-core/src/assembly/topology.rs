@@ -6,36 +6,71 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use crate::components::{Component, PortKind, Ports};
+use crate::components::{Component, Domain, PortKind, Ports};
 use crate::error::{ModelError, ModelResult};
 use crate::model::{ModelSpec, PortRef};
 use crate::system::{ModelInput, NodeRef, PortInfo};
 
-/// Union–find over port indices.
-struct Sets(Vec<usize>);
+/// Union–find over port indices, with each port's coordinate relative to its set's root (a
+/// Mass's flanges are L apart; every other join and every connection is at distance 0).
+struct Sets {
+    parent: Vec<usize>,
+    /// Coordinate of a port minus its parent's (0 at a root).
+    w: Vec<f64>,
+}
 
 impl Sets {
     fn new(n: usize) -> Self {
-        Sets((0..n).collect())
+        Sets {
+            parent: (0..n).collect(),
+            w: vec![0.0; n],
+        }
     }
     fn find(&mut self, i: usize) -> usize {
-        let mut r = i;
-        while self.0[r] != r {
-            r = self.0[r];
+        let (mut r, mut total) = (i, 0.0);
+        while self.parent[r] != r {
+            total += self.w[r];
+            r = self.parent[r];
         }
+        // path compression, each port keeping its distance to the root
         let mut j = i;
-        while self.0[j] != r {
-            let next = self.0[j];
-            self.0[j] = r;
+        while j != r {
+            let (next, wj) = (self.parent[j], self.w[j]);
+            self.parent[j] = r;
+            self.w[j] = total;
+            total -= wj;
             j = next;
         }
         r
     }
-    fn union(&mut self, a: usize, b: usize) {
-        let (ra, rb) = (self.find(a), self.find(b));
-        if ra != rb {
-            self.0[rb] = ra;
+    /// The coordinate of port `i` relative to its set's root.
+    fn offset(&mut self, i: usize) -> f64 {
+        let r = self.find(i);
+        if r == i {
+            0.0
+        } else {
+            self.w[i]
         }
+    }
+    fn union(&mut self, a: usize, b: usize) {
+        self.union_at(a, b, 0.0)
+            .expect("joins at distance 0 are always consistent");
+    }
+    /// Joins `b` to `a` at `x_b = x_a + d`; `Err(distance)` if they are already joined at
+    /// another distance (a rigid loop that does not close).
+    fn union_at(&mut self, a: usize, b: usize, d: f64) -> Result<(), f64> {
+        let (wa, wb) = (self.offset(a), self.offset(b));
+        let (ra, rb) = (self.find(a), self.find(b));
+        if ra == rb {
+            let have = wb - wa;
+            return match (have - d).abs() <= 1e-12 * (1.0 + d.abs()) {
+                true => Ok(()),
+                false => Err(have),
+            };
+        }
+        self.parent[rb] = ra;
+        self.w[rb] = d + wa - wb;
+        Ok(())
     }
 }
 
@@ -60,6 +95,8 @@ pub struct Topology {
     pub index: HashMap<(usize, &'static str), usize>,
     component_of: HashMap<String, usize>,
     pub mech_node: Vec<Option<NodeRef>>,
+    /// Each flange's coordinate minus its node's (a Mass's flanges sit ±L/2 from its center).
+    pub mech_offset: Vec<f64>,
     pub node_ports: Vec<Vec<String>>,
     pub signal_slot: Vec<Option<usize>>,
     pub slots: usize,
@@ -99,6 +136,7 @@ impl Topology {
                     component: ci,
                     name,
                     kind,
+                    domain: decl.domain_of(name),
                 });
             }
         }
@@ -119,6 +157,7 @@ impl Topology {
             ports,
             index,
             mech_node: Vec::new(),
+            mech_offset: Vec::new(),
             node_ports: Vec::new(),
             signal_slot: Vec::new(),
             slots: 0,
@@ -174,6 +213,11 @@ impl Topology {
             let (ia, ib) = (self.port_of(a, &conn)?, self.port_of(b, &conn)?);
             let (ka, kb) = (self.ports[ia].kind, self.ports[ib].kind);
             let message = match (ka, kb) {
+                (PortKind::Mechanical, PortKind::Mechanical)
+                    if self.ports[ia].domain != self.ports[ib].domain =>
+                {
+                    Some(self.domains_differ(ia, ib))
+                }
                 (PortKind::Mechanical, PortKind::Mechanical) => {
                     j.mech.union(ia, ib);
                     j.cut.union(ia, ib);
@@ -193,8 +237,8 @@ impl Topology {
                 }
                 _ => Some(format!(
                     "cannot connect {} ('{a}') to {} ('{b}')",
-                    ka.describe(),
-                    kb.describe()
+                    self.ports[ia].describe(),
+                    self.ports[ib].describe()
                 )),
             };
             if let Some(message) = message {
@@ -206,10 +250,39 @@ impl Topology {
         }
         for (ci, decl) in self.port_decls.iter().enumerate() {
             for (x, y) in &decl.joins {
-                j.mech.union(self.index[&(ci, *x)], self.index[&(ci, *y)]);
+                let length = decl.offset_of(y) - decl.offset_of(x);
+                let (ix, iy) = (self.index[&(ci, *x)], self.index[&(ci, *y)]);
+                if let Err(have) = j.mech.union_at(ix, iy, length) {
+                    return Err(ModelError::Component {
+                        component: self.names[ci].clone(),
+                        message: format!(
+                            "{x} and {y} are {length} apart, but the connections outside join them rigidly {have} apart (a rigid loop that does not close)"
+                        ),
+                    });
+                }
             }
         }
         Ok(j)
+    }
+
+    /// Why a rotational flange cannot join a translational one: their coordinates are an angle
+    /// and a position, related only by a component that converts.
+    fn domains_differ(&self, ia: usize, ib: usize) -> String {
+        let name = |i: usize| {
+            let p = &self.ports[i];
+            format!(
+                "{} flange '{}.{}'",
+                p.domain.word(),
+                self.names[p.component],
+                p.name
+            )
+        };
+        format!(
+            "cannot connect the {} to the {}: an angle and a position are joined only through a \
+             component that converts rotation into translation (IdealRollingWheel, IdealGearR2T)",
+            name(ia),
+            name(ib)
+        )
     }
 
     /// Wires a signal output to an input; the reason it cannot, if it cannot.
@@ -227,34 +300,42 @@ impl Topology {
         }
     }
 
-    /// One node per rigid set of flanges, unless the set is held by a Fixed.
+    /// One node per rigid set of flanges, unless the set is held by a Fixed; a node's
+    /// coordinate is its root port's, each port sits at its offset from it (`mech_offset`).
     fn mechanical_nodes(&mut self, sets: &mut Sets) -> ModelResult<()> {
+        // per set held by a Fixed: the root's coordinate, and who holds it
         let mut ground_of: HashMap<usize, (f64, usize)> = HashMap::new();
         for (ci, decl) in self.port_decls.iter().enumerate() {
             for (p, phi0) in &decl.ground {
-                let root = sets.find(self.index[&(ci, *p)]);
+                let i = self.index[&(ci, *p)];
+                let (root, at) = (sets.find(i), *phi0 - sets.offset(i));
                 if let Some(&(other, by)) = ground_of.get(&root) {
-                    if other != *phi0 {
+                    if (other - at).abs() > 1e-12 * (1.0 + at.abs()) {
+                        let (parameter, what) = match decl.domain_of(p) {
+                            Domain::Rotational => ("phi0", "angle"),
+                            Domain::Translational => ("s0", "position"),
+                        };
                         return Err(ModelError::Parameter {
                             component: self.names[ci].clone(),
                             type_name: self.types[ci].clone(),
-                            parameter: "phi0".into(),
-                            message: format!("the flange is rigidly connected to '{}', fixed at a different angle {other}", self.names[by]),
+                            parameter: parameter.into(),
+                            message: format!("the flange is rigidly connected to '{}', fixed at a different {what} {}", self.names[by], other + sets.offset(i)),
                         });
                     }
                 }
-                ground_of.insert(root, (*phi0, ci));
+                ground_of.insert(root, (at, ci));
             }
         }
         let mut node_of_root: HashMap<usize, usize> = HashMap::new();
         self.mech_node = vec![None; self.ports.len()];
+        self.mech_offset = vec![0.0; self.ports.len()];
         for (i, p) in self.ports.iter().enumerate() {
             if p.kind != PortKind::Mechanical {
                 continue;
             }
-            let root = sets.find(i);
+            let (root, offset) = (sets.find(i), sets.offset(i));
             self.mech_node[i] = Some(match ground_of.get(&root) {
-                Some((phi0, _)) => NodeRef::Ground(*phi0),
+                Some((at, _)) => NodeRef::Ground(at + offset),
                 None => {
                     let node = *node_of_root.entry(root).or_insert_with(|| {
                         self.node_ports.push(Vec::new());
@@ -262,6 +343,7 @@ impl Topology {
                     });
                     let label = format!("{}.{}", self.names[p.component], p.name);
                     self.node_ports[node].push(label);
+                    self.mech_offset[i] = offset;
                     NodeRef::Node(node)
                 }
             });
@@ -342,7 +424,7 @@ impl Topology {
             if self.ports[i].kind != PortKind::SignalIn {
                 return Err(err(format!(
                     "a model input must be a signal input port, not {}",
-                    self.ports[i].kind.describe()
+                    self.ports[i].describe()
                 )));
             }
             if self.signal_slot[i].is_some() {

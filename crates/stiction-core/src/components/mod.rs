@@ -14,6 +14,7 @@ pub mod inertia;
 pub mod sensors;
 pub mod motion;
 pub mod sources;
+pub mod translational;
 
 #[cfg(test)]
 mod toys;
@@ -23,14 +24,19 @@ use std::path::Path;
 use crate::error::{ModelError, ModelResult};
 use crate::model::{ComponentSpec, ParamInfo, Params};
 use crate::system::Builder;
-pub use crate::system::PortKind;
+pub use crate::system::{Domain, PortKind};
 
 /// The ports a component has once its conditional connectors are decided.
 #[derive(Debug, Default, Clone, PartialEq)]
 pub struct Ports {
     pub mech: Vec<&'static str>,
+    /// The mechanical ports that are translational (`s`, `f`); the others are rotational.
+    pub translational: Vec<&'static str>,
     /// Mechanical ports that are rigidly one (an Inertia's two flanges, a Brake's shaft).
     pub joins: Vec<(&'static str, &'static str)>,
+    /// Where joined ports sit relative to one another: a port's coordinate minus the
+    /// component's own (a Mass's flanges at ∓L/2 from its center); 0 if not listed.
+    pub offsets: Vec<(&'static str, f64)>,
     /// Mechanical ports held at a fixed angle (Fixed's flange).
     pub ground: Vec<(&'static str, f64)>,
     pub signal_in: Vec<&'static str>,
@@ -55,6 +61,22 @@ impl Ports {
         } else {
             None
         }
+    }
+
+    /// The domain of a port (Rotational unless listed as translational).
+    pub fn domain_of(&self, port: &str) -> Domain {
+        if self.translational.contains(&port) {
+            Domain::Translational
+        } else {
+            Domain::Rotational
+        }
+    }
+
+    /// The offset of a port from its component's coordinate (see `offsets`).
+    pub fn offset_of(&self, port: &str) -> f64 {
+        (self.offsets.iter())
+            .find(|(p, _)| *p == port)
+            .map_or(0.0, |(_, d)| *d)
     }
 
     pub fn all(&self) -> Vec<&'static str> {
@@ -163,6 +185,7 @@ pub fn registry() -> Vec<Entry> {
     r.extend(friction::lossy_gear::REGISTRY);
     r.extend(blocks::REGISTRY);
     r.extend(heat::REGISTRY);
+    r.extend(translational::registry());
     #[cfg(test)]
     r.extend(toys::REGISTRY);
 

@@ -8,8 +8,9 @@ use crate::model::{InitValue, Params};
 use crate::signals::reached;
 use crate::system::{Builder, EnergyRole, ForceLaw, LawCtx, Out, Rel};
 
+// (visible to the translational sources: one law serves a torque and a force)
 #[derive(Clone, Copy)]
-enum Kind {
+pub(super) enum Kind {
     /// Input signal `tau`.
     Input(usize),
     Constant(f64),
@@ -42,7 +43,7 @@ enum Kind {
 }
 
 #[derive(Clone, Copy, PartialEq)]
-enum Reg {
+pub(super) enum Reg {
     Exp,
     Sine,
     Linear,
@@ -50,7 +51,7 @@ enum Reg {
 }
 
 /// The accelerating torque `tau` of the source; the element torque along `flange − support` is −tau.
-struct SourceLaw(Kind);
+pub(super) struct SourceLaw(pub(super) Kind);
 
 impl SourceLaw {
     fn accelerating(&self, x: &LawCtx) -> f64 {

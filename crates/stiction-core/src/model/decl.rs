@@ -71,6 +71,15 @@ const FIXED: &[(&str, &str)] = &[
         "the ground's angle is a position the run has reached",
     ),
     (
+        "s0",
+        "the ground's position is a position the run has reached",
+    ),
+    ("L", "a mass's length places its flanges"),
+    (
+        "radius",
+        "the wheel's position constraint holds from the start",
+    ),
+    (
         "w_fixed",
         "the prescribed speed is a state the run has reached",
     ),

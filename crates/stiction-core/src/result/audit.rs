@@ -16,7 +16,7 @@ use super::SimResult;
 use crate::engine::eval::{DiscreteState, Workspace};
 use crate::model::split_last;
 use crate::rel::Rel;
-use crate::system::{EnergyRole, Out, System};
+use crate::system::{Domain, EnergyRole, Out, System};
 
 /// The energy balance of one component over a run.
 #[derive(Debug, Clone, PartialEq)]
@@ -168,7 +168,15 @@ fn is_passive(sys: &System, p: &Parts) -> bool {
         && p.constraints.iter().all(|&k| !sys.constraints[k].does_work)
 }
 
-/// Each component's flanges (from its `.phi`/`.tau` outputs), masses, laws, constraints and
+/// The flange of a flange output `port.phi` / `port.s` (`last`: `Domain::position`) or
+/// `port.tau` / `port.f` (`Domain::force`), in either domain.
+fn flange_of(name: &str, last: fn(Domain) -> &'static str) -> Option<&str> {
+    [Domain::Rotational, Domain::Translational]
+        .into_iter()
+        .find_map(|d| name.strip_suffix(last(d))?.strip_suffix('.'))
+}
+
+/// Each component's flanges (from its `.phi`/`.tau` or `.s`/`.f` outputs), masses, laws, constraints and
 /// switching elements, in the order the components appear in the outputs.
 fn parts_of(sys: &System) -> Vec<Parts> {
     let mut parts: Vec<Parts> = Vec::new();
@@ -184,12 +192,12 @@ fn parts_of(sys: &System) -> Vec<Parts> {
     };
     let angles: std::collections::HashMap<&str, &Rel> = (sys.outputs.iter())
         .filter_map(|(n, out)| match out {
-            Out::Angle(rel) => n.strip_suffix(".phi").map(|port| (port, rel)),
+            Out::Angle(rel) => flange_of(n, Domain::position).map(|port| (port, rel)),
             _ => None,
         })
         .collect();
     for (name, out) in &sys.outputs {
-        let (Out::FlangeTau(i), Some(port)) = (out, name.strip_suffix(".tau")) else {
+        let (Out::FlangeTau(i), Some(port)) = (out, flange_of(name, Domain::force)) else {
             continue;
         };
         let (Some(rel), Some((component, _))) = (angles.get(port), split_last(port)) else {

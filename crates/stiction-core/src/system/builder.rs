@@ -39,12 +39,61 @@ impl PortKind {
     }
 }
 
+/// The mechanical domain of a flange: a property of the port, not a copy of the engine. Nodes,
+/// constraint rows, laws, switching elements, events, the energy audit and shafts without
+/// inertia serve both; only the names and units of what a flange reports differ.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Domain {
+    /// `phi` [rad], `w` [rad/s], `a` [rad/s2], `tau` [N.m].
+    #[default]
+    Rotational,
+    /// `s` [m], `v` [m/s], `a` [m/s2], `f` [N].
+    Translational,
+}
+
+impl Domain {
+    /// The name of a flange's position (`flange_a.phi`, `flange_a.s`).
+    pub fn position(self) -> &'static str {
+        match self {
+            Domain::Rotational => "phi",
+            Domain::Translational => "s",
+        }
+    }
+
+    /// The name of a flange's cut force (`flange_a.tau`, `flange_a.f`).
+    pub fn force(self) -> &'static str {
+        match self {
+            Domain::Rotational => "tau",
+            Domain::Translational => "f",
+        }
+    }
+
+    pub fn word(self) -> &'static str {
+        match self {
+            Domain::Rotational => "rotational",
+            Domain::Translational => "translational",
+        }
+    }
+}
+
 /// One port of one component, as the assembly resolved it.
 #[derive(Debug, Clone)]
 pub struct PortInfo {
     pub component: usize,
     pub name: &'static str,
     pub kind: PortKind,
+    /// For a flange, its domain (Rotational for every other port).
+    pub domain: Domain,
+}
+
+impl PortInfo {
+    /// `a flange`, `a translational flange`, `a signal input` … for messages.
+    pub fn describe(&self) -> &'static str {
+        match (self.kind, self.domain) {
+            (PortKind::Mechanical, Domain::Translational) => "a translational flange",
+            (kind, _) => kind.describe(),
+        }
+    }
 }
 
 /// What a component sees while it contributes to the system.
@@ -53,6 +102,10 @@ pub struct Builder {
     pub(crate) names: Vec<String>,
     pub(crate) index: HashMap<(usize, &'static str), usize>,
     pub(crate) mech_node: Vec<Option<NodeRef>>,
+    /// The domain of every port (by global index): what its flange outputs are called.
+    pub(crate) domain: Vec<Domain>,
+    /// Each flange's coordinate minus its node's (0 but for a Mass with a length).
+    pub(crate) offset: Vec<f64>,
     pub(crate) signal_slot: Vec<Option<usize>>,
     pub(crate) heat_node: Vec<Option<usize>>,
     pub(crate) sys: System,
@@ -89,14 +142,31 @@ impl Builder {
             .ok_or_else(|| self.error(format!("internal: port '{port}' not declared")))
     }
 
-    /// The node of a mechanical port; an undeclared `support` is the implicit ground (MSL
-    /// `useSupport = false`: `phi_support = 0`).
+    /// The node of a mechanical port; an undeclared `support` (`supportR`, `supportT`) is the
+    /// implicit ground (MSL `useSupport = false`: `phi_support = 0`).
     pub fn node(&self, port: &str) -> ModelResult<NodeRef> {
         match self.port(port) {
             Some(i) => Ok(self.mech_node[i].expect("mechanical port has a node")),
-            None if port == "support" => Ok(NodeRef::Ground(0.0)),
+            None if port.starts_with("support") => Ok(NodeRef::Ground(0.0)),
             None => Err(self.error(format!("internal: flange '{port}' not declared"))),
         }
+    }
+
+    /// `Σ coef·position(port)`: a row over the flanges' own coordinates, with the offsets of
+    /// flanges that sit apart from their node (a Mass's of length L) and the implicit ground of
+    /// an undeclared support.
+    pub fn rel(&self, parts: &[(&str, f64)]) -> ModelResult<Rel> {
+        let mut nodes = Vec::with_capacity(parts.len());
+        let mut offset = 0.0;
+        for &(port, coef) in parts {
+            nodes.push((self.node(port)?, coef));
+            if let Some(i) = self.port(port) {
+                offset += coef * self.offset[i];
+            }
+        }
+        let mut rel = Rel::of(&nodes);
+        rel.offset += offset;
+        Ok(rel)
     }
 
     pub fn add_mass(&mut self, node: NodeRef, j: f64) {
@@ -233,7 +303,9 @@ impl Builder {
         self.sys.init_phi.push(eq);
     }
 
-    pub fn init_speed(&mut self, rel: Rel, value: InitValue, variable: &str) {
+    pub fn init_speed(&mut self, mut rel: Rel, value: InitValue, variable: &str) {
+        // a coordinate's constant offset (a ground's angle, a flange's place) has no speed
+        rel.offset = 0.0;
         let eq = self.start_value(rel, value, variable);
         self.sys.init_w.push(eq);
     }
@@ -284,9 +356,16 @@ impl Builder {
     pub fn init_constraint(&mut self, row: Rel) {
         let value = InitValue::fixed(0.0);
         let variable = format!("{} (gear constraint)", self.name());
-        for list in [&mut self.sys.init_phi, &mut self.sys.init_w] {
+        let speeds = Rel {
+            offset: 0.0, // the row's constant has no speed
+            ..row.clone()
+        };
+        for (list, rel) in [
+            (&mut self.sys.init_phi, row),
+            (&mut self.sys.init_w, speeds),
+        ] {
             list.push(InitEq {
-                rel: row.clone(),
+                rel,
                 value,
                 variable: variable.clone(),
                 constraint: true,
@@ -301,11 +380,17 @@ impl Builder {
         self.sys.outputs.push((full, out));
     }
 
-    /// Reports the angle and cut torque of a flange, and says how its torque is known.
+    /// Reports the position and cut force of a flange (`.phi`/`.tau` or, translational,
+    /// `.s`/`.f`), and says how its force is known. `node` is the port's own (`node(port)`):
+    /// the flange's offset from it is added.
     pub fn flange(&mut self, port: &str, node: NodeRef, tau: Option<Out>) -> ModelResult<()> {
         let i = self.port_index(port)?;
-        self.output(&format!("{port}.phi"), Out::Angle(Rel::of(&[(node, 1.0)])));
-        self.output(&format!("{port}.tau"), Out::FlangeTau(i));
+        let d = self.domain[i];
+        let position = format!("{port}.{}", d.position());
+        let mut at = Rel::of(&[(node, 1.0)]);
+        at.offset += self.offset[i];
+        self.output(&position, Out::Angle(at));
+        self.output(&format!("{port}.{}", d.force()), Out::FlangeTau(i));
         if let Some(tau) = tau {
             self.flanges.known(i, tau);
         }

@@ -11,7 +11,7 @@ pub mod outputs;
 pub mod variables;
 
 pub use crate::rel::{NodeRef, Rel};
-pub use builder::{Builder, PortInfo, PortKind};
+pub use builder::{Builder, Domain, PortInfo, PortKind};
 pub use flange::FlangeTorques;
 pub use law::{EnergyRole, ForceLaw, LawCtx};
 pub use outputs::Out;

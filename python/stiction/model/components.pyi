@@ -40,6 +40,7 @@ __all__ = [
     "Convection",
     "Damper",
     "ElastoBacklash",
+    "ElastoBacklash2",
     "Feedback",
     "Fixed",
     "FixedTemperature",
@@ -277,6 +278,61 @@ class ElastoBacklash(_Factory):
     """Backlash connected in series to linear spring and damper (soft contact).
 
     MSL class: ``Modelica.Mechanics.Rotational.Components.ElastoBacklash``
+
+    Parameters
+    ----------
+    b : Real [rad] (displayUnit deg), default 0, >= 0
+        Total backlash
+    c : Real [N.m/rad], default 100000, > 0
+        Spring constant
+    d : Real [N.m.s/rad], default 0, >= 0
+        Damping constant
+    phi_rel0 : Real [rad] (displayUnit deg), default 0
+        Unstretched spring angle
+    phi_rel : start value [rad] (displayUnit deg), start (a guess unless given) 0
+        Relative rotation angle flange_b.phi - flange_a.phi (start value)
+    w_rel : start value [rad/s], start (a guess unless given) 0
+        Relative angular velocity der(phi_rel) (start value)
+    useHeatPort : Boolean, default false
+        true: enable the heatPort connector (else the loss power goes nowhere)
+
+    Ports
+    -----
+    - flange_a: flange
+    - flange_b: flange
+    - heatPort: heat port (if useHeatPort = true)
+
+    Variables
+    ---------
+    - phi_rel [rad] (displayUnit deg)
+    - w_rel [rad/s]
+    - a_rel [rad/s2]
+    - tau [N.m]
+    - lossPower [W]
+    - flange_a.phi [rad] (displayUnit deg)
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad] (displayUnit deg)
+    - flange_b.tau [N.m]
+    - heatPort.T [K] (displayUnit degC)
+    - heatPort.Q_flow [W]
+    """
+
+    def __init__(
+        self,
+        *,
+        b: float = ...,
+        c: float = ...,
+        d: float = ...,
+        phi_rel0: float = ...,
+        phi_rel: float | StartValue = ...,
+        w_rel: float | StartValue = ...,
+        useHeatPort: bool = ...,
+    ) -> None: ...
+
+class ElastoBacklash2(_Factory):
+    """Backlash connected in series to linear spring and damper (hard contact: events, torque jumps).
+
+    MSL class: ``Modelica.Mechanics.Rotational.Components.ElastoBacklash2``
 
     Parameters
     ----------

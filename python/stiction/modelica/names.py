@@ -36,6 +36,7 @@ MSL_CLASSES: dict[str, str] = {
             "Damper",
             "SpringDamper",
             "ElastoBacklash",
+            "ElastoBacklash2",
             "IdealGear",
             "IdealPlanetary",
             "Brake",

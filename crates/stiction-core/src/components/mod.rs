@@ -5,6 +5,7 @@
 
 pub mod adaptors;
 pub mod backlash;
+pub mod backlash2;
 pub mod blocks;
 pub mod compliant;
 pub mod friction;

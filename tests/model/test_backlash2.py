@@ -9,7 +9,9 @@ no column of this branch, so the exact piecewise solution is the reference.
 
 from __future__ import annotations
 
+import itertools
 import math
+from collections.abc import Callable
 
 import numpy as np
 import pytest
@@ -46,7 +48,7 @@ def _first_zero(f, t_end: float) -> float:
     return hi
 
 
-def exact(stop: float) -> tuple[list[tuple[float, str, float, float]], callable]:
+def exact(stop: float) -> tuple[list[tuple[float, str, float, float]], Callable]:
     """The phases [(t_start, kind, phi, w)] of the branch up to `stop` and a sampler."""
     phases = []
     t, phi, w = 0.0, PHI0, 0.0
@@ -129,7 +131,7 @@ def test_elasto_backlash2_energy_balance(backlash: st.Result) -> None:
     """The initial spring energy = the final kinetic and spring energy + ∫lossPower (the
     damper) + the spring energy left in each contact that stopped pushing (the torque drops to
     0 there, MSL's lossPower leaves it out)."""
-    phases, sample = exact(1.0)
+    phases, _ = exact(1.0)
     t = backlash.time
     w, phi = backlash["elastoBacklash2.w_rel"], backlash["elastoBacklash2.phi_rel"]
     stretch = np.maximum(np.abs(phi) - B_MAX, 0.0)
@@ -146,7 +148,7 @@ def test_elasto_backlash2_energy_balance(backlash: st.Result) -> None:
 def _released(phases: list[tuple[float, str, float, float]]) -> float:
     """The spring energy at each end of pushing that leaves the contact still compressed."""
     total = 0.0
-    for (_, kind, _, _), (_, nxt, p, _) in zip(phases, phases[1:]):
+    for (_, kind, _, _), (_, nxt, p, _) in itertools.pairwise(phases):
         if kind == "contact" and nxt == "free":
             total += 0.5 * C * max(abs(p) - B_MAX, 0.0) ** 2
     return total

@@ -39,6 +39,7 @@ __all__ = [
     "ConstantTorque",
     "Convection",
     "Damper",
+    "EddyCurrentTorque",
     "ElastoBacklash",
     "ElastoBacklash2",
     "Feedback",
@@ -765,6 +766,64 @@ class ConstantSpeed(_Factory):
         w_fixed: float = ...,
         phi: float | StartValue = ...,
         useSupport: bool = ...,
+    ) -> None: ...
+
+class EddyCurrentTorque(_Factory):
+    """Simple model of a rotational eddy current brake.
+
+    MSL class: ``Modelica.Mechanics.Rotational.Sources.EddyCurrentTorque``
+
+    Parameters
+    ----------
+    useTau_nominalInput : Boolean, default false
+        true: signal input tau_input for tau_nominal
+    tau_nominal : Real [N.m], default 0
+        Maximum torque (always braking)
+    w_nominal : Real [rad/s], required, > 0
+        Nominal speed (leads to maximum torque) at reference temperature
+    TRef : Real [K] (displayUnit degC), default 293.15 (20 degC), > 0
+        Reference temperature
+    alpha20 : Real [1/K], default 0
+        Temperature coefficient of material
+    useSupport : Boolean, default false
+        true: enable the support connector (else the housing is fixed at angle 0)
+    useHeatPort : Boolean, default false
+        true: enable the heatPort connector (else the loss power goes nowhere)
+    T : Real [K] (displayUnit degC), default 293.15 (20 degC), > 0
+        Fixed device temperature if useHeatPort = false
+
+    Ports
+    -----
+    - flange: flange
+    - support: flange (if useSupport = true)
+    - tau_input: signal input (if useTau_nominalInput = true)
+    - heatPort: heat port (if useHeatPort = true)
+
+    Variables
+    ---------
+    - tau [N.m]
+    - phi [rad] (displayUnit deg)
+    - w [rad/s]
+    - lossPower [W]
+    - flange.phi [rad] (displayUnit deg)
+    - flange.tau [N.m]
+    - support.phi [rad] (displayUnit deg)
+    - support.tau [N.m]
+    - heatPort.T [K] (displayUnit degC)
+    - heatPort.Q_flow [W]
+    """
+
+    def __init__(
+        self,
+        *,
+        useTau_nominalInput: bool = ...,
+        tau_nominal: float = ...,
+        w_nominal: float = ...,
+        TRef: float = ...,
+        alpha20: float = ...,
+        useSupport: bool = ...,
+        useHeatPort: bool = ...,
+        T: float = ...,
     ) -> None: ...
 
 class TorqueToAngleAdaptor(_Factory):

@@ -59,6 +59,7 @@ MSL_CLASSES: dict[str, str] = {
             "SignTorque",
             "InverseSpeedDependentTorque",
             "ConstantSpeed",
+            "EddyCurrentTorque",
         ]
     },
     **{t: f"Modelica.Blocks.Sources.{t}" for t in ["Constant", "Step", "Ramp", "Sine", "Pulse", "TimeTable"]},

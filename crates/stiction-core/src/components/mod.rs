@@ -8,6 +8,7 @@ pub mod backlash;
 pub mod backlash2;
 pub mod blocks;
 pub mod compliant;
+pub mod eddy_current;
 pub mod friction;
 pub mod gears;
 pub mod heat;
@@ -155,6 +156,7 @@ pub fn registry() -> Vec<Entry> {
     r.extend(compliant::REGISTRY);
     r.extend(gears::REGISTRY);
     r.extend(sources::REGISTRY);
+    r.extend(eddy_current::REGISTRY);
     r.extend(adaptors::REGISTRY);
     r.extend(friction::REGISTRY);
     r.extend(friction::lossy_gear::REGISTRY);

@@ -39,6 +39,7 @@ __all__ = [
     "ConstantTorque",
     "Convection",
     "Damper",
+    "Disc",
     "EddyCurrentTorque",
     "ElastoBacklash",
     "ElastoBacklash2",
@@ -68,6 +69,7 @@ __all__ = [
     "ThermalConductor",
     "TimeTable",
     "Torque",
+    "Torque2",
     "TorqueStep",
     "TorqueToAngleAdaptor",
     "component_types",
@@ -824,6 +826,58 @@ class EddyCurrentTorque(_Factory):
         useSupport: bool = ...,
         useHeatPort: bool = ...,
         T: float = ...,
+    ) -> None: ...
+
+class Torque2(_Factory):
+    """Input signal acting as torque on two flanges.
+
+    MSL class: ``Modelica.Mechanics.Rotational.Sources.Torque2``
+
+    Ports
+    -----
+    - flange_a: flange
+    - flange_b: flange
+    - tau: signal input
+
+    Variables
+    ---------
+    - tau [N.m]
+    - flange_a.phi [rad] (displayUnit deg)
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad] (displayUnit deg)
+    - flange_b.tau [N.m]
+    """
+
+    def __init__(self) -> None: ...
+
+class Disc(_Factory):
+    """Rigid component without inertia, flange_b rotated by a fixed angle against flange_a.
+
+    MSL class: ``Modelica.Mechanics.Rotational.Components.Disc``
+
+    Parameters
+    ----------
+    deltaPhi : Real [rad] (displayUnit deg), default 0
+        Fixed rotation of flange_b with respect to flange_a (= flange_b.phi - flange_a.phi)
+
+    Ports
+    -----
+    - flange_a: flange
+    - flange_b: flange
+
+    Variables
+    ---------
+    - phi [rad] (displayUnit deg)
+    - flange_a.phi [rad] (displayUnit deg)
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad] (displayUnit deg)
+    - flange_b.tau [N.m]
+    """
+
+    def __init__(
+        self,
+        *,
+        deltaPhi: float = ...,
     ) -> None: ...
 
 class TorqueToAngleAdaptor(_Factory):

@@ -37,6 +37,7 @@ MSL_CLASSES: dict[str, str] = {
             "SpringDamper",
             "ElastoBacklash",
             "ElastoBacklash2",
+            "Disc",
             "IdealGear",
             "IdealPlanetary",
             "Brake",
@@ -60,6 +61,7 @@ MSL_CLASSES: dict[str, str] = {
             "InverseSpeedDependentTorque",
             "ConstantSpeed",
             "EddyCurrentTorque",
+            "Torque2",
         ]
     },
     **{t: f"Modelica.Blocks.Sources.{t}" for t in ["Constant", "Step", "Ramp", "Sine", "Pulse", "TimeTable"]},

@@ -8,12 +8,14 @@ pub mod backlash;
 pub mod backlash2;
 pub mod blocks;
 pub mod compliant;
+pub mod disc;
 pub mod eddy_current;
 pub mod friction;
 pub mod gears;
 pub mod heat;
 pub mod inertia;
 pub mod sources;
+pub mod torque2;
 
 #[cfg(test)]
 mod toys;
@@ -157,6 +159,8 @@ pub fn registry() -> Vec<Entry> {
     r.extend(gears::REGISTRY);
     r.extend(sources::REGISTRY);
     r.extend(eddy_current::REGISTRY);
+    r.extend(torque2::REGISTRY);
+    r.extend(disc::REGISTRY);
     r.extend(adaptors::REGISTRY);
     r.extend(friction::REGISTRY);
     r.extend(friction::lossy_gear::REGISTRY);

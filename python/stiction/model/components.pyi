@@ -47,6 +47,8 @@ __all__ = [
     "Fixed",
     "FixedTemperature",
     "Gain",
+    "GeneralAngleToTorqueAdaptor",
+    "GeneralTorqueToAngleAdaptor",
     "HeatCapacitor",
     "IdealGear",
     "IdealPlanetary",
@@ -948,6 +950,76 @@ class AngleToTorqueAdaptor(_Factory):
         *,
         use_w: bool = ...,
         use_a: bool = ...,
+    ) -> None: ...
+
+class GeneralTorqueToAngleAdaptor(_Factory):
+    """Signal adaptor for a rotational flange with angle, speed, and acceleration as outputs and torque as input (especially useful for FMUs).
+
+    MSL class: ``Modelica.Mechanics.Rotational.Components.GeneralTorqueToAngleAdaptor``
+
+    Parameters
+    ----------
+    use_pder : Boolean, default true
+        true: enable the output pder (angular velocity)
+    use_pder2 : Boolean, default true
+        true: enable the output pder2 (angular acceleration; only with use_pder)
+
+    Ports
+    -----
+    - flange: flange
+    - f: signal input
+
+    Variables
+    ---------
+    - f
+    - p
+    - pder
+    - pder2
+    - flange.phi [rad] (displayUnit deg)
+    - flange.tau [N.m]
+    """
+
+    def __init__(
+        self,
+        *,
+        use_pder: bool = ...,
+        use_pder2: bool = ...,
+    ) -> None: ...
+
+class GeneralAngleToTorqueAdaptor(_Factory):
+    """Signal adaptor for a rotational flange with torque as output and angle, speed and acceleration as input (especially useful for FMUs).
+
+    MSL class: ``Modelica.Mechanics.Rotational.Components.GeneralAngleToTorqueAdaptor``
+
+    Parameters
+    ----------
+    use_pder : Boolean, default true
+        true: enable the input pder (angular velocity)
+    use_pder2 : Boolean, default true
+        true: enable the input pder2 (angular acceleration; only with use_pder)
+
+    Ports
+    -----
+    - flange: flange
+    - p: signal input
+    - pder: signal input (if use_pder = true)
+    - pder2: signal input
+
+    Variables
+    ---------
+    - f
+    - p
+    - pder
+    - pder2
+    - flange.phi [rad] (displayUnit deg)
+    - flange.tau [N.m]
+    """
+
+    def __init__(
+        self,
+        *,
+        use_pder: bool = ...,
+        use_pder2: bool = ...,
     ) -> None: ...
 
 class Brake(_Factory):

@@ -47,6 +47,8 @@ MSL_CLASSES: dict[str, str] = {
             "LossyGear",
             "TorqueToAngleAdaptor",
             "AngleToTorqueAdaptor",
+            "GeneralTorqueToAngleAdaptor",
+            "GeneralAngleToTorqueAdaptor",
         ]
     },
     **{

@@ -15,7 +15,7 @@ const ATT_USE_W: &str = "use_w true: enable the input connector w (angular veloc
 const ATT_USE_A: &str = "use_a true: enable the input connector a (angular acceleration)";
 
 /// MSL `flange.tau = tau`: the input is the flange's cut torque, so it acts on the shaft as −tau.
-struct InputTorque(usize);
+pub(super) struct InputTorque(pub(super) usize);
 
 impl ForceLaw for InputTorque {
     fn tau(&self, x: &LawCtx) -> f64 {
@@ -77,7 +77,7 @@ impl AngleToTorque {
 }
 
 /// An enabled input that nothing drives: name the parameter that enabled it.
-fn conditional_input(b: &Builder, port: &str, parameter: &str) -> ModelResult<usize> {
+pub(super) fn conditional_input(b: &Builder, port: &str, parameter: &str) -> ModelResult<usize> {
     b.signal_in(port).map_err(|_| ModelError::Component {
         component: b.name().to_string(),
         message: format!(

@@ -12,6 +12,7 @@ pub mod disc;
 pub mod eddy_current;
 pub mod friction;
 pub mod gears;
+pub mod general_adaptors;
 pub mod heat;
 pub mod inertia;
 pub mod sources;
@@ -162,6 +163,7 @@ pub fn registry() -> Vec<Entry> {
     r.extend(torque2::REGISTRY);
     r.extend(disc::REGISTRY);
     r.extend(adaptors::REGISTRY);
+    r.extend(general_adaptors::REGISTRY);
     r.extend(friction::REGISTRY);
     r.extend(friction::lossy_gear::REGISTRY);
     r.extend(blocks::REGISTRY);

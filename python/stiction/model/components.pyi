@@ -62,6 +62,7 @@ __all__ = [
     "Pulse",
     "QuadraticSpeedDependentTorque",
     "Ramp",
+    "RelativeStates",
     "SignTorque",
     "Sine",
     "Spring",
@@ -880,6 +881,41 @@ class Disc(_Factory):
         self,
         *,
         deltaPhi: float = ...,
+    ) -> None: ...
+
+class RelativeStates(_Factory):
+    """Definition of relative state variables.
+
+    MSL class: ``Modelica.Mechanics.Rotational.Components.RelativeStates``
+
+    Parameters
+    ----------
+    phi_rel : start value [rad] (displayUnit deg), start (a guess unless given) 0
+        Relative rotation angle flange_b.phi - flange_a.phi (start value)
+    w_rel : start value [rad/s], start (a guess unless given) 0
+        Relative angular velocity der(phi_rel) (start value)
+
+    Ports
+    -----
+    - flange_a: flange
+    - flange_b: flange
+
+    Variables
+    ---------
+    - phi_rel [rad] (displayUnit deg)
+    - w_rel [rad/s]
+    - a_rel [rad/s2]
+    - flange_a.phi [rad] (displayUnit deg)
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad] (displayUnit deg)
+    - flange_b.tau [N.m]
+    """
+
+    def __init__(
+        self,
+        *,
+        phi_rel: float | StartValue = ...,
+        w_rel: float | StartValue = ...,
     ) -> None: ...
 
 class TorqueToAngleAdaptor(_Factory):

@@ -38,6 +38,7 @@ MSL_CLASSES: dict[str, str] = {
             "ElastoBacklash",
             "ElastoBacklash2",
             "Disc",
+            "RelativeStates",
             "IdealGear",
             "IdealPlanetary",
             "Brake",

@@ -15,6 +15,7 @@ pub mod gears;
 pub mod general_adaptors;
 pub mod heat;
 pub mod inertia;
+pub mod relative_states;
 pub mod sources;
 pub mod torque2;
 
@@ -162,6 +163,7 @@ pub fn registry() -> Vec<Entry> {
     r.extend(eddy_current::REGISTRY);
     r.extend(torque2::REGISTRY);
     r.extend(disc::REGISTRY);
+    r.extend(relative_states::REGISTRY);
     r.extend(adaptors::REGISTRY);
     r.extend(general_adaptors::REGISTRY);
     r.extend(friction::REGISTRY);

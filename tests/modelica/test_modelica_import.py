@@ -27,7 +27,7 @@ def _runs(name: str) -> tuple[st.Model, st.Result, st.Model, st.Result]:
 
 def test_every_toml_example_has_a_modelica_twin() -> None:
     assert NAMES == sorted(p.stem for p in EXAMPLES.glob("*.mo"))
-    assert len(NAMES) == 12
+    assert len(NAMES) == 13
 
 
 @pytest.mark.parametrize("name", NAMES)

@@ -195,6 +195,11 @@ pub fn variable_unit(name: &str) -> &'static str {
         "a" | "a_rel" | "a_a" | "a_b" => "rad/s2",
         "tau" | "tau_c" | "tau_d" | "sa" | "tau0" | "tau0_max" | "tauLoss" | "tau_eta"
         | "tau_bf1" | "tau_bf2" | "tau_bf_a" | "tauLossMax_p" | "tauLossMin_m" => "N.m",
+        // the General adaptors' generic names (potential p, flow f) on a rotational flange
+        "p" => "rad",
+        "pder" => "rad/s",
+        "pder2" => "rad/s2",
+        "f" => "N.m",
         "lossPower" | "Q_flow" => "W",
         "T" => "K",
         "dT" => "K",

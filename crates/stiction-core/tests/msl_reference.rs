@@ -131,6 +131,7 @@ example_tests! {
     one_way_clutch_disengaged_stays_in_the_msl_tube: "OneWayClutchDisengaged";
     lossy_gear_demo1_stays_in_the_msl_tube: "LossyGearDemo1";
     backlash_stays_in_the_msl_tube: "Backlash";
+    eddy_current_brake_stays_in_the_msl_tube: "EddyCurrentBrake";
     // MSL 4.0.0 compares the bearing's start flags too (as test_lossy_gear.py does)
     lossy_gear_demo2_stays_in_the_msl_tube: "LossyGearDemo2"
         + "bearingFriction.startForward" + "bearingFriction.startBackward";

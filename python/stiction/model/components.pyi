@@ -1007,10 +1007,10 @@ class GeneralTorqueToAngleAdaptor(_Factory):
 
     Variables
     ---------
-    - f
-    - p
-    - pder
-    - pder2
+    - f [N.m]
+    - p [rad] (displayUnit deg)
+    - pder [rad/s]
+    - pder2 [rad/s2]
     - flange.phi [rad] (displayUnit deg)
     - flange.tau [N.m]
     """
@@ -1043,10 +1043,10 @@ class GeneralAngleToTorqueAdaptor(_Factory):
 
     Variables
     ---------
-    - f
-    - p
-    - pder
-    - pder2
+    - f [N.m]
+    - p [rad] (displayUnit deg)
+    - pder [rad/s]
+    - pder2 [rad/s2]
     - flange.phi [rad] (displayUnit deg)
     - flange.tau [N.m]
     """

@@ -21,6 +21,4 @@ MSL_EXAMPLES = EXAMPLES / "msl"
 # (issue 30): the tests skip them with this reason; the coordinator removes an entry when the
 # component is merged. Shared by every test that globs the shipped .mo files.
 AWAITING_COMPONENTS = {
-    "Backlash": "Components.ElastoBacklash2 (its new branch)",
-    "EddyCurrentBrake": "Sources.EddyCurrentTorque",
 }

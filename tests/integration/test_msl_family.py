@@ -2,8 +2,8 @@
 
 SimpleGearShift (planetary gear, brake and clutch), First (ideal gear, no friction),
 OneWayClutch (actively engaged freewheel, Pulse engagement), OneWayClutchDisengaged
-(freewheel alone) and Backlash (ElastoBacklash soft contact, without MSL's ElastoBacklash2
-branch), each run with its model file's MSL experiment settings. Where MSL has a
+(freewheel alone) and Backlash (ElastoBacklash soft contact; MAP-LIB has no column of its
+ElastoBacklash2 branch, tests/model/test_backlash2.py checks that against its closed form), each run with its model file's MSL experiment settings. Where MSL has a
 ``.signals.txt`` we compare exactly those signals (mode signals included); where it has none
 (OneWayClutch, First) every column of the reference file is compared, as MSL does.
 """

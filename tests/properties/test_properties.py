@@ -27,7 +27,15 @@ from stiction.results.comparison import compare
 EXAMPLES = int(os.environ.get("STICTION_SOAK", "100"))
 AUDIT = ("system.kineticEnergy", "system.potentialEnergy", "system.dissipatedEnergy", "system.sourceWork")
 
-FREE_COUPLINGS = ("Clutch", "OneWayClutch", "SpringDamper", "Spring", "ElastoBacklash", "Damper")
+FREE_COUPLINGS = (
+    "Clutch",
+    "OneWayClutch",
+    "SpringDamper",
+    "Spring",
+    "ElastoBacklash",
+    "ElastoBacklash2",
+    "Damper",
+)
 COUPLINGS = (*FREE_COUPLINGS, "IdealGear", "LossyGear")
 
 
@@ -130,10 +138,9 @@ def _coupling(draw: Any, kind: str) -> st.Component:
         return st.SpringDamper(c=draw(hs.floats(10.0, 1e4)), d=draw(hs.floats(0.1, 10.0)))
     if kind == "Spring":
         return st.Spring(c=draw(hs.floats(10.0, 1e4)))
-    if kind == "ElastoBacklash":
-        return st.ElastoBacklash(
-            c=draw(hs.floats(1e2, 1e4)), d=draw(hs.floats(0.0, 5.0)), b=draw(hs.floats(0.0, 0.2))
-        )
+    if kind in ("ElastoBacklash", "ElastoBacklash2"):
+        backlash = st.ElastoBacklash if kind == "ElastoBacklash" else st.ElastoBacklash2
+        return backlash(c=draw(hs.floats(1e2, 1e4)), d=draw(hs.floats(0.0, 5.0)), b=draw(hs.floats(0.0, 0.2)))
     if kind == "Damper":
         return st.Damper(d=draw(hs.floats(0.1, 10.0)))
     ratio = draw(hs.sampled_from([-3.0, -0.5, 0.5, 2.0, 4.0]))

@@ -146,7 +146,7 @@ def test_every_element_balances_its_power_and_none_that_is_passive_delivers_ener
     model = st.Model.load(path)
     audit = model.simulate().audit()
     assert audit.ok(), str(audit)
-    assert len(audit.elements) >= 3
+    assert len(audit.elements) >= 2  # EddyCurrentBrake: a brake and an inertia
     dips = [e.component for e in audit.elements if e.passive and e.min_dissipation < -audit.allowed(e)]
     assert dips == []
     storing_nothing = ("Brake", "Clutch", "OneWayClutch", "BearingFriction", "LossyGear", "Damper")

@@ -233,7 +233,11 @@ pub fn variable_unit(name: &str) -> &'static str {
         | "tau_bf1" | "tau_bf2" | "tau_bf_a" | "tauLossMax_p" | "tauLossMin_m" => "N.m",
         "s" | "s_rel" | "s0" => "m",
         "v" | "v_rel" => "m/s",
-        "f" => "N",
+        // the General adaptors' generic names (potential p, flow f) on a rotational flange
+        "p" => "rad",
+        "pder" => "rad/s",
+        "pder2" => "rad/s2",
+        "f" => "N.m",
         "lossPower" | "Q_flow" | "power" => "W",
         "T" => "K",
         "dT" => "K",
@@ -245,12 +249,14 @@ pub fn variable_unit(name: &str) -> &'static str {
     }
 }
 
-/// The unit of a translational component's variable: the accelerations are linear; every
-/// other name (`s`, `v`, `f`, `lossPower`) has one unit in both domains.
+/// The unit of a translational component's variable: the accelerations are linear and a force
+/// `f` is in N (a rotational `f` is the General adaptors' flow, a torque); every other name
+/// (`s`, `v`, `lossPower`) has one unit in both domains.
 pub fn translational_unit(name: &str) -> &'static str {
     let last = name.rsplit('.').next().unwrap_or(name);
     match last {
         "a" | "a_rel" => "m/s2",
+        "f" => "N",
         _ => variable_unit(name),
     }
 }

@@ -76,6 +76,31 @@ pub struct ThermalNet {
     pub capacities: Vec<Capacity>,
     pub links: Vec<Link>,
     pub algebraic: Vec<usize>,
+    /// Heat-port temperatures a force law reads (EddyCurrentTorque's): copied into a signal
+    /// slot before the laws are evaluated. Only nodes whose temperature is a state or fixed
+    /// qualify (an algebraic one would depend on the law's own loss).
+    pub taps: Vec<TemperatureTap>,
+}
+
+#[derive(Debug, Clone)]
+pub struct TemperatureTap {
+    pub owner: String,
+    pub node: usize,
+    pub slot: usize,
+}
+
+impl ThermalNet {
+    /// Writes the tapped temperatures into their signal slots, from the capacities' states.
+    #[inline]
+    pub fn tap(&self, cap_states: &[f64], signals: &mut [f64]) {
+        for tap in &self.taps {
+            signals[tap.slot] = match self.kind[tap.node] {
+                NodeKind::Capacitive(i) => cap_states[i],
+                NodeKind::Fixed(t) => t,
+                NodeKind::Algebraic(_) => f64::NAN, // refused by the assembly
+            };
+        }
+    }
 }
 
 impl ThermalNet {

@@ -19,7 +19,8 @@ fn every_element_of_every_msl_example_balances_its_power() {
         let text = std::fs::read_to_string(path).unwrap();
         let r = simulate(&ModelSpec::from_toml(&text, dir).unwrap()).unwrap();
         let audits = r.audit();
-        assert!(audits.len() >= 3, "{path:?}: {} elements", audits.len());
+        // (EddyCurrentBrake: a brake and an inertia)
+        assert!(audits.len() >= 2, "{path:?}: {} elements", audits.len());
         // the event band (|w_rel| ≤ 1e-10 while stuck) lets a held torque do about 1e-10·tau of work
         let scale = audits.iter().map(|a| a.scale).fold(1.0, f64::max);
         let allowed = |a: &stiction_core::ElementAudit| 1e-9 * scale + 2e-10 * a.torque;

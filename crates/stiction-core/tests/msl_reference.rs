@@ -134,10 +134,10 @@ example_tests! {
     lossy_gear_demo1_stays_in_the_msl_tube: "LossyGearDemo1";
     lossy_gear_demo3_stays_in_the_msl_tube: "LossyGearDemo3";
     backlash_stays_in_the_msl_tube: "Backlash";
-    lossy_gear_demo3_stays_in_the_msl_tube: "LossyGearDemo3";
     first_grounded_stays_in_the_msl_tube: "FirstGrounded";
     // at the default Tolerance by its springDamper.w_rel's nominal (1e-4, MSL's)
     elastic_bearing_stays_in_the_msl_tube: "ElasticBearing";
+    eddy_current_brake_stays_in_the_msl_tube: "EddyCurrentBrake";
     // MSL 4.0.0 compares the bearing's start flags too (as test_lossy_gear.py does)
     lossy_gear_demo2_stays_in_the_msl_tube: "LossyGearDemo2"
         + "bearingFriction.startForward" + "bearingFriction.startBackward";

@@ -42,11 +42,16 @@ __all__ = [
     "ConstantTorque",
     "Convection",
     "Damper",
+    "Disc",
+    "EddyCurrentTorque",
     "ElastoBacklash",
+    "ElastoBacklash2",
     "Feedback",
     "Fixed",
     "FixedTemperature",
     "Gain",
+    "GeneralAngleToTorqueAdaptor",
+    "GeneralTorqueToAngleAdaptor",
     "HeatCapacitor",
     "IdealGear",
     "IdealGearR2T",
@@ -69,6 +74,7 @@ __all__ = [
     "RelAccSensor",
     "RelAngleSensor",
     "RelSpeedSensor",
+    "RelativeStates",
     "SignTorque",
     "Sine",
     "Speed",
@@ -80,6 +86,7 @@ __all__ = [
     "ThermalConductor",
     "TimeTable",
     "Torque",
+    "Torque2",
     "TorqueSensor",
     "TorqueStep",
     "TorqueToAngleAdaptor",
@@ -292,6 +299,61 @@ class ElastoBacklash(_Factory):
     """Backlash connected in series to linear spring and damper (soft contact).
 
     MSL class: ``Modelica.Mechanics.Rotational.Components.ElastoBacklash``
+
+    Parameters
+    ----------
+    b : Real [rad] (displayUnit deg), default 0, >= 0
+        Total backlash
+    c : Real [N.m/rad], default 100000, > 0
+        Spring constant
+    d : Real [N.m.s/rad], default 0, >= 0
+        Damping constant
+    phi_rel0 : Real [rad] (displayUnit deg), default 0
+        Unstretched spring angle
+    phi_rel : start value [rad] (displayUnit deg), start (a guess unless given) 0
+        Relative rotation angle flange_b.phi - flange_a.phi (start value)
+    w_rel : start value [rad/s], start (a guess unless given) 0
+        Relative angular velocity der(phi_rel) (start value)
+    useHeatPort : Boolean, default false
+        true: enable the heatPort connector (else the loss power goes nowhere)
+
+    Ports
+    -----
+    - flange_a: flange
+    - flange_b: flange
+    - heatPort: heat port (if useHeatPort = true)
+
+    Variables
+    ---------
+    - phi_rel [rad] (displayUnit deg)
+    - w_rel [rad/s]
+    - a_rel [rad/s2]
+    - tau [N.m]
+    - lossPower [W]
+    - flange_a.phi [rad] (displayUnit deg)
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad] (displayUnit deg)
+    - flange_b.tau [N.m]
+    - heatPort.T [K] (displayUnit degC)
+    - heatPort.Q_flow [W]
+    """
+
+    def __init__(
+        self,
+        *,
+        b: float = ...,
+        c: float = ...,
+        d: float = ...,
+        phi_rel0: float = ...,
+        phi_rel: float | StartValue = ...,
+        w_rel: float | StartValue = ...,
+        useHeatPort: bool = ...,
+    ) -> None: ...
+
+class ElastoBacklash2(_Factory):
+    """Backlash connected in series to linear spring and damper (hard contact: events, torque jumps).
+
+    MSL class: ``Modelica.Mechanics.Rotational.Components.ElastoBacklash2``
 
     Parameters
     ----------
@@ -1151,6 +1213,221 @@ class Move(_Factory):
         useSupport: bool = ...,
     ) -> None: ...
 
+class EddyCurrentTorque(_Factory):
+    """Simple model of a rotational eddy current brake.
+
+    MSL class: ``Modelica.Mechanics.Rotational.Sources.EddyCurrentTorque``
+
+    Parameters
+    ----------
+    useTau_nominalInput : Boolean, default false
+        true: signal input tau_input for tau_nominal
+    tau_nominal : Real [N.m], default 0
+        Maximum torque (always braking)
+    w_nominal : Real [rad/s], required, > 0
+        Nominal speed (leads to maximum torque) at reference temperature
+    TRef : Real [K] (displayUnit degC), default 293.15 (20 degC), > 0
+        Reference temperature
+    alpha20 : Real [1/K], default 0
+        Temperature coefficient of material
+    useSupport : Boolean, default false
+        true: enable the support connector (else the housing is fixed at angle 0)
+    useHeatPort : Boolean, default false
+        true: enable the heatPort connector (else the loss power goes nowhere)
+    T : Real [K] (displayUnit degC), default 293.15 (20 degC), > 0
+        Fixed device temperature if useHeatPort = false
+
+    Ports
+    -----
+    - flange: flange
+    - support: flange (if useSupport = true)
+    - tau_input: signal input (if useTau_nominalInput = true)
+    - heatPort: heat port (if useHeatPort = true)
+
+    Variables
+    ---------
+    - tau [N.m]
+    - phi [rad] (displayUnit deg)
+    - w [rad/s]
+    - lossPower [W]
+    - flange.phi [rad] (displayUnit deg)
+    - flange.tau [N.m]
+    - support.phi [rad] (displayUnit deg)
+    - support.tau [N.m]
+    - heatPort.T [K] (displayUnit degC)
+    - heatPort.Q_flow [W]
+    """
+
+    def __init__(
+        self,
+        *,
+        useTau_nominalInput: bool = ...,
+        tau_nominal: float = ...,
+        w_nominal: float = ...,
+        TRef: float = ...,
+        alpha20: float = ...,
+        useSupport: bool = ...,
+        useHeatPort: bool = ...,
+        T: float = ...,
+    ) -> None: ...
+
+class Torque2(_Factory):
+    """Input signal acting as torque on two flanges.
+
+    MSL class: ``Modelica.Mechanics.Rotational.Sources.Torque2``
+
+    Ports
+    -----
+    - flange_a: flange
+    - flange_b: flange
+    - tau: signal input
+
+    Variables
+    ---------
+    - tau [N.m]
+    - flange_a.phi [rad] (displayUnit deg)
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad] (displayUnit deg)
+    - flange_b.tau [N.m]
+    """
+
+    def __init__(self) -> None: ...
+
+class Disc(_Factory):
+    """Rigid component without inertia, flange_b rotated by a fixed angle against flange_a.
+
+    MSL class: ``Modelica.Mechanics.Rotational.Components.Disc``
+
+    Parameters
+    ----------
+    deltaPhi : Real [rad] (displayUnit deg), default 0
+        Fixed rotation of flange_b with respect to flange_a (= flange_b.phi - flange_a.phi)
+
+    Ports
+    -----
+    - flange_a: flange
+    - flange_b: flange
+
+    Variables
+    ---------
+    - phi [rad] (displayUnit deg)
+    - flange_a.phi [rad] (displayUnit deg)
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad] (displayUnit deg)
+    - flange_b.tau [N.m]
+    """
+
+    def __init__(
+        self,
+        *,
+        deltaPhi: float = ...,
+    ) -> None: ...
+
+class RelativeStates(_Factory):
+    """Definition of relative state variables.
+
+    MSL class: ``Modelica.Mechanics.Rotational.Components.RelativeStates``
+
+    Parameters
+    ----------
+    phi_rel : start value [rad] (displayUnit deg), start (a guess unless given) 0
+        Relative rotation angle flange_b.phi - flange_a.phi (start value)
+    w_rel : start value [rad/s], start (a guess unless given) 0
+        Relative angular velocity der(phi_rel) (start value)
+
+    Ports
+    -----
+    - flange_a: flange
+    - flange_b: flange
+
+    Variables
+    ---------
+    - phi_rel [rad] (displayUnit deg)
+    - w_rel [rad/s]
+    - a_rel [rad/s2]
+    - flange_a.phi [rad] (displayUnit deg)
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad] (displayUnit deg)
+    - flange_b.tau [N.m]
+    """
+
+    def __init__(
+        self,
+        *,
+        phi_rel: float | StartValue = ...,
+        w_rel: float | StartValue = ...,
+    ) -> None: ...
+
+class GeneralTorqueToAngleAdaptor(_Factory):
+    """Signal adaptor for a rotational flange with angle, speed, and acceleration as outputs and torque as input (especially useful for FMUs).
+
+    MSL class: ``Modelica.Mechanics.Rotational.Components.GeneralTorqueToAngleAdaptor``
+
+    Parameters
+    ----------
+    use_pder : Boolean, default true
+        true: enable the output pder (angular velocity)
+    use_pder2 : Boolean, default true
+        true: enable the output pder2 (angular acceleration; only with use_pder)
+
+    Ports
+    -----
+    - flange: flange
+    - f: signal input
+
+    Variables
+    ---------
+    - f [N.m]
+    - p [rad] (displayUnit deg)
+    - pder [rad/s]
+    - pder2 [rad/s2]
+    - flange.phi [rad] (displayUnit deg)
+    - flange.tau [N.m]
+    """
+
+    def __init__(
+        self,
+        *,
+        use_pder: bool = ...,
+        use_pder2: bool = ...,
+    ) -> None: ...
+
+class GeneralAngleToTorqueAdaptor(_Factory):
+    """Signal adaptor for a rotational flange with torque as output and angle, speed and acceleration as input (especially useful for FMUs).
+
+    MSL class: ``Modelica.Mechanics.Rotational.Components.GeneralAngleToTorqueAdaptor``
+
+    Parameters
+    ----------
+    use_pder : Boolean, default true
+        true: enable the input pder (angular velocity)
+    use_pder2 : Boolean, default true
+        true: enable the input pder2 (angular acceleration; only with use_pder)
+
+    Ports
+    -----
+    - flange: flange
+    - p: signal input
+    - pder: signal input (if use_pder = true)
+    - pder2: signal input
+
+    Variables
+    ---------
+    - f [N.m]
+    - p [rad] (displayUnit deg)
+    - pder [rad/s]
+    - pder2 [rad/s2]
+    - flange.phi [rad] (displayUnit deg)
+    - flange.tau [N.m]
+    """
+
+    def __init__(
+        self,
+        *,
+        use_pder: bool = ...,
+        use_pder2: bool = ...,
+    ) -> None: ...
+
 class Brake(_Factory):
     """Brake based on Coulomb friction.
 
@@ -1947,11 +2224,11 @@ class IdealRollingWheel(_Factory):
     - flangeR.phi [rad] (displayUnit deg)
     - flangeR.tau [N.m]
     - flangeT.s [m]
-    - flangeT.f [N]
+    - flangeT.f [N.m]
     - supportR.phi [rad] (displayUnit deg)
     - supportR.tau [N.m]
     - supportT.s [m]
-    - supportT.f [N]
+    - supportT.f [N.m]
     """
 
     def __init__(
@@ -1988,11 +2265,11 @@ class IdealGearR2T(_Factory):
     - flangeR.phi [rad] (displayUnit deg)
     - flangeR.tau [N.m]
     - flangeT.s [m]
-    - flangeT.f [N]
+    - flangeT.f [N.m]
     - supportR.phi [rad] (displayUnit deg)
     - supportR.tau [N.m]
     - supportT.s [m]
-    - supportT.f [N]
+    - supportT.f [N.m]
     """
 
     def __init__(

@@ -39,6 +39,9 @@ MSL_CLASSES: dict[str, str] = {
             "Damper",
             "SpringDamper",
             "ElastoBacklash",
+            "ElastoBacklash2",
+            "Disc",
+            "RelativeStates",
             "IdealGear",
             "IdealPlanetary",
             "Brake",
@@ -50,6 +53,8 @@ MSL_CLASSES: dict[str, str] = {
             "AngleToTorqueAdaptor",
             "IdealRollingWheel",
             "IdealGearR2T",
+            "GeneralTorqueToAngleAdaptor",
+            "GeneralAngleToTorqueAdaptor",
         ]
     },
     **{
@@ -67,6 +72,8 @@ MSL_CLASSES: dict[str, str] = {
             "Position",
             "Accelerate",
             "Move",
+            "EddyCurrentTorque",
+            "Torque2",
         ]
     },
     **{

@@ -329,5 +329,16 @@ fn finish_thermal(b: &mut Builder) -> ModelResult<()> {
     for (k, cap) in net.capacities.iter().enumerate() {
         net.kind[cap.node] = NodeKind::Capacitive(k);
     }
+    for tap in &net.taps {
+        if let NodeKind::Algebraic(_) = net.kind[tap.node] {
+            return Err(ModelError::Component {
+                component: tap.owner.clone(),
+                message: format!(
+                    "its torque depends on the temperature of heat port '{}', which is neither a HeatCapacitor's nor fixed: it would depend on the component's own loss (an algebraic loop stiction does not solve); connect a HeatCapacitor or a FixedTemperature, or set useHeatPort = false",
+                    net.node_ports[tap.node].join(", ")
+                ),
+            });
+        }
+    }
     Ok(())
 }

@@ -17,7 +17,7 @@ const ATT_USE_W: &str = "use_w true: enable the input connector w (angular veloc
 const ATT_USE_A: &str = "use_a true: enable the input connector a (angular acceleration)";
 
 /// MSL `flange.tau = tau`: the input is the flange's cut torque, so it acts on the shaft as −tau.
-struct InputTorque(usize);
+pub(super) struct InputTorque(pub(super) usize);
 
 impl ForceLaw for InputTorque {
     fn tau(&self, x: &LawCtx) -> f64 {

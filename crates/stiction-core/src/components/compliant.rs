@@ -1,7 +1,8 @@
-//! `Spring`, `Damper`, `SpringDamper`, `ElastoBacklash`: torque laws between two flanges
-//! (spec §5.6, §5.10–5.12).
+//! `Spring`, `Damper`, `SpringDamper`, `ElastoBacklash`, `ElastoBacklash2`: torque laws
+//! between two flanges (spec §5.6, §5.10–5.12).
 
 use super::backlash::BacklashLaw;
+use super::backlash2::HardBacklashLaw;
 use super::decl::{PHI_REL, USE_HEAT_PORT, W_REL};
 use super::{heat_port, Component, Entry, Ports};
 use crate::error::ModelResult;
@@ -43,8 +44,10 @@ struct Compliant {
     has_damper: bool,
     has_spring: bool,
     use_heat_port: bool,
-    /// ElastoBacklash: the total backlash `b`.
+    /// ElastoBacklash(2): the total backlash `b`.
     backlash: Option<f64>,
+    /// ElastoBacklash2: the contact's torque jumps (MSL's hard contact with events).
+    hard_contact: bool,
 }
 
 impl Component for Compliant {
@@ -60,6 +63,9 @@ impl Component for Compliant {
         let (na, nb) = (b.node("flange_a")?, b.node("flange_b")?);
         let rel = Rel::between(na, nb);
         let law: Box<dyn ForceLaw> = match self.backlash {
+            Some(width) if self.hard_contact => {
+                Box::new(HardBacklashLaw::new(self.c, self.d, width, self.phi_rel0))
+            }
             Some(width) => Box::new(BacklashLaw::new(self.c, self.d, width, self.phi_rel0)),
             None => Box::new(SpringDamperLaw {
                 c: self.c,
@@ -137,6 +143,7 @@ fn linear(p: &Params, has_spring: bool, has_damper: bool) -> ModelResult<Box<dyn
         has_spring,
         use_heat_port,
         backlash: None,
+        hard_contact: false,
     }))
 }
 
@@ -153,6 +160,15 @@ fn spring_damper(p: &Params) -> ModelResult<Box<dyn Component>> {
 }
 
 fn elasto_backlash(p: &Params) -> ModelResult<Box<dyn Component>> {
+    backlash(p, false)
+}
+
+fn elasto_backlash2(p: &Params) -> ModelResult<Box<dyn Component>> {
+    backlash(p, true)
+}
+
+/// ElastoBacklash (soft contact) or ElastoBacklash2 (hard contact): the same parameters.
+fn backlash(p: &Params, hard_contact: bool) -> ModelResult<Box<dyn Component>> {
     let b = p.real("b [rad] Total backlash", 0.0)?;
     p.range("b", ">= 0");
     if b < 0.0 {
@@ -168,6 +184,7 @@ fn elasto_backlash(p: &Params) -> ModelResult<Box<dyn Component>> {
         has_spring: true,
         use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
         backlash: Some(b),
+        hard_contact,
     }))
 }
 
@@ -195,5 +212,11 @@ pub const REGISTRY: &[Entry] = &[
         "Modelica.Mechanics.Rotational.Components.ElastoBacklash",
         "Backlash connected in series to linear spring and damper (soft contact)",
         elasto_backlash,
+    ),
+    Entry::new(
+        "ElastoBacklash2",
+        "Modelica.Mechanics.Rotational.Components.ElastoBacklash2",
+        "Backlash connected in series to linear spring and damper (hard contact: events, torque jumps)",
+        elasto_backlash2,
     ),
 ];

@@ -5,15 +5,21 @@
 
 pub mod adaptors;
 pub mod backlash;
+pub mod backlash2;
 pub mod blocks;
 pub mod compliant;
+pub mod disc;
+pub mod eddy_current;
 pub mod friction;
 pub mod gears;
+pub mod general_adaptors;
 pub mod heat;
 pub mod inertia;
-pub mod sensors;
 pub mod motion;
+pub mod relative_states;
+pub mod sensors;
 pub mod sources;
+pub mod torque2;
 pub mod translational;
 
 #[cfg(test)]
@@ -181,6 +187,11 @@ pub fn registry() -> Vec<Entry> {
     r.extend(sensors::REGISTRY);
     r.extend(adaptors::REGISTRY);
     r.extend(motion::REGISTRY);
+    r.extend(eddy_current::REGISTRY);
+    r.extend(torque2::REGISTRY);
+    r.extend(disc::REGISTRY);
+    r.extend(relative_states::REGISTRY);
+    r.extend(general_adaptors::REGISTRY);
     r.extend(friction::REGISTRY);
     r.extend(friction::lossy_gear::REGISTRY);
     r.extend(blocks::REGISTRY);

@@ -92,6 +92,10 @@ fn solve(eqs: &[InitEq], sys: &System, what: &str) -> Result<Solved, ModelError>
         return Ok((Vec::new(), used));
     }
     let mut basis = RowBasis::new(n);
+    // A relation's offset (a grounded flange's angle, a Disc's deltaPhi) is an angle: its
+    // speed is 0, so a speed's start equation leaves it out.
+    let angles = what != "speed";
+    let rhs = |eq: &InitEq| eq.value.start - if angles { eq.rel.offset } else { 0.0 };
     let mut rows: Vec<(Vec<(usize, f64)>, f64)> = Vec::new();
     let mut fixed_names: Vec<&str> = Vec::new();
     // Constraints first, so a user's start value that a gear already implies is the one named.
@@ -111,14 +115,14 @@ fn solve(eqs: &[InitEq], sys: &System, what: &str) -> Result<Solved, ModelError>
                 fixed_names[..fixed_names.len() - 1].join(", ")
             )));
         }
-        rows.push((eq.rel.terms.clone(), eq.value.start - eq.rel.offset));
+        rows.push((eq.rel.terms.clone(), rhs(eq)));
     }
     for (k, eq) in eqs.iter().enumerate().filter(|(_, e)| !e.value.fixed) {
         if rows.len() == n {
             break;
         }
         if basis.accept(&eq.rel.terms) {
-            rows.push((eq.rel.terms.clone(), eq.value.start - eq.rel.offset));
+            rows.push((eq.rel.terms.clone(), rhs(eq)));
             used[k] = true;
         }
     }

@@ -277,6 +277,15 @@ impl Builder {
         Ok(self.heat_node[i].expect("heat port has a node"))
     }
 
+    /// A signal slot that holds the temperature of heat node `node` (a law's input).
+    pub fn temperature_tap(&mut self, node: usize) -> usize {
+        let slot = self.sys.signals.slots;
+        self.sys.signals.slots += 1;
+        let owner = self.name().to_string();
+        (self.sys.thermal.taps).push(crate::thermal::TemperatureTap { owner, node, slot });
+        slot
+    }
+
     pub fn add_heat_capacity(&mut self, node: usize, c: f64, init: InitValue) {
         self.capacitors.push(Capacity { node, c, init });
     }

@@ -16,9 +16,3 @@ MSL_DATA = DATA / "msl"  # MAP-LIB reference trajectories and MSL's signal lists
 FMI_HARNESS = TESTS / "fmi" / "harness.c"  # a C host for the FMU runtime
 EXAMPLES = REPO / "examples"
 MSL_EXAMPLES = EXAMPLES / "msl"
-
-# examples/msl/*.mo files (MSL's genuine structure) that need a component still being built
-# (issue 30): the tests skip them with this reason; the coordinator removes an entry when the
-# component is merged. Shared by every test that globs the shipped .mo files.
-AWAITING_COMPONENTS = {
-}

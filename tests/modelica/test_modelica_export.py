@@ -9,14 +9,14 @@ from typing import Any
 
 import numpy as np
 import pytest
-from paths import AWAITING_COMPONENTS, REPO
+from paths import REPO
 
 import stiction as st
 
 EXAMPLES = REPO / "examples" / "msl"
 SOURCES = [
     *sorted(EXAMPLES.glob("*.toml")),
-    *sorted(p for p in EXAMPLES.glob("*.mo") if p.stem not in AWAITING_COMPONENTS),
+    *sorted(p for p in EXAMPLES.glob("*.mo")),
     REPO / "examples" / "braked_flywheel.toml",
 ]
 

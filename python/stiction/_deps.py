@@ -16,7 +16,7 @@ import importlib
 from types import ModuleType
 from typing import Any
 
-__all__ = ["distributed", "figure", "pandas", "parquet", "pint", "pyarrow", "pyplot", "ticker", "tqdm_auto"]
+__all__ = ["distributed", "figure", "pandas", "parquet", "pint", "pyarrow", "pyplot", "scipy_optimize", "scipy_stats", "ticker", "tqdm_auto"]
 
 
 class _LazyModule(ModuleType):
@@ -53,4 +53,6 @@ ticker: Any = _LazyModule("matplotlib.ticker", "plot")
 figure: Any = _LazyModule("matplotlib.figure", "plot")
 distributed: Any = _LazyModule("distributed", "dask")
 tqdm_auto: Any = _LazyModule("tqdm.auto", "sweep")
+scipy_optimize: Any = _LazyModule("scipy.optimize", "fit")
+scipy_stats: Any = _LazyModule("scipy.stats", "fit")
 pint: Any = _LazyModule("pint", None)  # a dependency: a missing one is a broken install

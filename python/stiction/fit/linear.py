@@ -20,6 +20,9 @@ from stiction.model.model import Model
 __all__ = ["LinearPlan", "linear_plan", "solve_linear"]
 
 FRICTION_TYPES = ("Brake", "Clutch")
+#: samples a stuck stretch lasts at least: a noisy speed passing through zero while sliding
+#: looks stuck for a sample or two, a stick lasts longer
+MIN_STICK = 10
 
 
 @dataclass
@@ -127,7 +130,7 @@ def solve_linear(plan: LinearPlan, params: list[Param]) -> tuple[np.ndarray, Unc
         reasons |= mu_stats.unidentifiable
         sigma, dof = mu_stats.sigma, mu_stats.dof
     if peak is not None:
-        value, se, why = _peak(plan, table, sliding)
+        value, se, why = _peak(plan, table, sliding, eps)
         p = params[peak]
         if why:
             reasons[p.label] = why
@@ -142,18 +145,38 @@ def solve_linear(plan: LinearPlan, params: list[Param]) -> tuple[np.ndarray, Unc
     return x, Uncertainty(stderr, intervals, corr, reasons, sigma, dof), fitted
 
 
-def _peak(plan: LinearPlan, table: np.ndarray, sliding: np.ndarray) -> tuple[float, float, str]:
-    """peak from each break-away: the held torque just before the slip (extrapolated half a
-    sample on, the break's mean place between two samples) over mu(0)*cgeo*fn."""
+def _passing(w: np.ndarray, eps: float) -> bool:
+    """Whether a stretch of speeds within the noise band is the motion passing through it (a
+    trend across the band) rather than a stick (flat, but for its edges)."""
+    n = len(w)
+    slope = np.polyfit(np.arange(n), w, 1)[0]
+    return bool(abs(slope) * n > 0.5 * eps)
+
+
+def _peak(plan: LinearPlan, table: np.ndarray, sliding: np.ndarray, eps: float) -> tuple[float, float, str]:
+    """peak from each break-away: the largest torque held in the stuck stretch before a slip
+    (a noisy speed shows the slip a few samples late, the held torque peaks at the break;
+    extrapolated half a sample on, the break's mean place between two samples) over
+    mu(0)*cgeo*fn there."""
     stuck = ~sliding
-    starts = np.flatnonzero(stuck[1:-1] & stuck[:-2] & sliding[2:]) + 1
-    if len(starts) == 0:
+    ends = np.flatnonzero(stuck[1:-1] & stuck[:-2] & sliding[2:]) + 1
+    if len(ends) == 0:
         return 0.0, 0.0, (
             f"no break-away in the data: '{plan.comp}' never sticks and slides again, and peak acts only then"
         )
     mu0 = float(basis(np.zeros(1), table[:, 0], plan.extrapolation)[0] @ table[:, 1])
-    held = np.abs(plan.tau[starts])
-    held = held + 0.5 * (held - np.abs(plan.tau[starts - 1]))
-    ratios = held / (mu0 * plan.cgeo * plan.fn[starts])
-    se = float(np.std(ratios, ddof=1) / np.sqrt(len(ratios))) if len(ratios) > 1 else float("nan")
-    return float(np.mean(ratios)), se, ""
+    ratios = []
+    for end in ends:
+        begin = end
+        while begin > 0 and stuck[begin - 1]:
+            begin -= 1
+        if end - begin + 1 < MIN_STICK or _passing(plan.w[begin : end + 1], eps):
+            continue
+        held = np.abs(plan.tau[begin : end + 1]) / (mu0 * plan.cgeo * np.maximum(plan.fn[begin : end + 1], 1e-300))
+        k = int(np.argmax(held))
+        ratios.append(held[k] + (0.5 * (held[k] - held[k - 1]) if k > 0 else 0.0))
+    if not ratios:
+        return 0.0, 0.0, f"no break-away in the data: '{plan.comp}' never stays stuck and slides again, and peak acts only then"
+    values = np.array(ratios)
+    se = float(np.std(values, ddof=1) / np.sqrt(len(values))) if len(values) > 1 else float("nan")
+    return float(np.mean(values)), se, ""

@@ -35,8 +35,7 @@ from .errors import (
 _moved.install()  # the module paths before the package was split by job keep importing
 
 if TYPE_CHECKING:  # what ``__getattr__`` loads, spelled out for type checkers and IDEs
-    # END generated
-    from .fit.fit import fit
+    from .fit import fit
     from .fit.result import FitResult
     from .model.catalogue import ComponentInfo, describe
 
@@ -103,6 +102,8 @@ if TYPE_CHECKING:  # what ``__getattr__`` loads, spelled out for type checkers a
         TorqueStep,
         TorqueToAngleAdaptor,
     )
+
+    # END generated
     from .model.model import Model
     from .model.parameters import expr
     from .results.comparison import CompareReport, compare
@@ -288,7 +289,7 @@ _LAZY = {
     "compare": "results.comparison",
     "describe": "model.catalogue",
     "expr": "model.parameters",
-    "fit": "fit.fit",
+    "fit": "fit",
     "grid": "sweeps.variants",
     "mode_name": "results.modes",
     "sample": "sweeps.variants",

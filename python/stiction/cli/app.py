@@ -1,4 +1,4 @@
-"""The ``stiction`` command: simulate, check, compare against references, convert, sweep,
+"""The ``stiction`` command: simulate, check, compare against references, convert, sweep, fit,
 benchmark; one module per command, added to the group here.
 
 User mistakes (a bad model, a missing file, malformed TOML) and engine failures end in
@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import click
 
-from stiction.cli import bench, catalogue, check, compare, convert, simulate, sweep
+from stiction.cli import bench, catalogue, check, compare, convert, fit, simulate, sweep
 
 __all__ = ["main"]
 
@@ -31,6 +31,7 @@ for _command in (
     catalogue.describe,
     compare.compare_cmd,
     sweep.sweep_cmd,
+    fit.fit_cmd,
     bench.bench,
 ):
     main.add_command(_command)

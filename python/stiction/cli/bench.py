@@ -64,6 +64,7 @@ STIFF_BENCH = ("StiffShaft", "StiffHeatLosses", "HeatLosses")
     help="Compare the solvers (tsit45, bdf, esdirk34, auto) on the stiff examples and HeatLosses "
     "(or on MODEL_FILES) instead.",
 )
+@click.option("--fit", "fit_bench", is_flag=True, help="Time a fit of 4 parameters of a braked flywheel instead.")
 @friendly_errors
 def bench(
     model_files: tuple[Path, ...],
@@ -73,11 +74,17 @@ def bench(
     dask: bool,
     scale_sizes: str | None,
     stiff: bool,
+    fit_bench: bool,
 ) -> None:
     """Time whole runs of MODEL_FILES (default: MSL CoupledClutches, Friction, SimpleGearShift, HeatLosses)."""
     from stiction.cli.benchmarks import bench as run_bench
     from stiction.model.model import Model
 
+    if fit_bench:
+        from stiction.cli.bench_fit import print_fit
+
+        print_fit()
+        return
     if scale_sizes is not None:
         print_scale(scale_sizes)
         return

@@ -16,7 +16,19 @@ import importlib
 from types import ModuleType
 from typing import Any
 
-__all__ = ["distributed", "figure", "pandas", "parquet", "pint", "pyarrow", "pyplot", "scipy_optimize", "scipy_stats", "ticker", "tqdm_auto"]
+__all__ = [
+    "distributed",
+    "figure",
+    "pandas",
+    "parquet",
+    "pint",
+    "pyarrow",
+    "pyplot",
+    "scipy_optimize",
+    "scipy_stats",
+    "ticker",
+    "tqdm_auto",
+]
 
 
 class _LazyModule(ModuleType):

@@ -51,7 +51,13 @@ def test_clutch2_of_coupled_clutches_round_trip():
 def test_linear_and_output_error_paths_agree():
     measured = {"J.w": "speed", "brake.tau": "torque", "brake.fn": "force", "brake.w": "slip"}
     data = trace(flywheel(), measured, 0.002, seed=5)
-    linear = st.fit(START, data, PARAMS, outputs={"brake.tau": "torque", "brake.fn": "force", "brake.w": "slip"}, progress=False)
+    linear = st.fit(
+        START,
+        data,
+        PARAMS,
+        outputs={"brake.tau": "torque", "brake.fn": "force", "brake.w": "slip"},
+        progress=False,
+    )
     assert linear.method == "linear" and linear.runs == 0
     error = st.fit(START, data, PARAMS, outputs={"J.w": "speed"}, method="output-error", progress=False)
     _within(linear.estimates, TRUTH, 0.01)

@@ -9,7 +9,7 @@ import pytest
 from models import flywheel, trace
 
 import stiction as st
-import stiction.fit.problem  # noqa: F401  (the module whose runs the checks must precede)
+import stiction.fit.problem  # the module whose runs the checks must precede
 from stiction.errors import ModelError
 
 PARAMS = {"brake.mu_pos[:, 2]": (0.05, 1.0), "brake.peak": (1.0, 2.0)}
@@ -53,8 +53,19 @@ def test_bad_input_is_refused_by_name_before_any_run(no_runs, data, change, para
 
 def test_whole_table_and_start_values_and_top_level_parameters(data):
     model = flywheel(mu=[0.33, 0.27, 0.22], peak=1.2)
-    fit = st.fit(model, data, {"brake.mu_pos": (0.05, 1.0), "brake.peak": (1.0, 2.0)}, outputs={"J.w": "speed"}, progress=False)
-    assert list(fit.estimates) == ["brake.mu_pos[1,2]", "brake.mu_pos[2,2]", "brake.mu_pos[3,2]", "brake.peak"]
+    fit = st.fit(
+        model,
+        data,
+        {"brake.mu_pos": (0.05, 1.0), "brake.peak": (1.0, 2.0)},
+        outputs={"J.w": "speed"},
+        progress=False,
+    )
+    assert list(fit.estimates) == [
+        "brake.mu_pos[1,2]",
+        "brake.mu_pos[2,2]",
+        "brake.mu_pos[3,2]",
+        "brake.peak",
+    ]
     assert fit.estimates["brake.mu_pos[3,2]"] == pytest.approx(0.2, rel=0.01)
 
 
@@ -66,7 +77,11 @@ def test_a_data_column_drives_a_model_input():
     start.set("brake.fn_max", 80.0)
     start.set("press.k", 0.1)  # what drove the port before is cut off: the data drive it now
     fit = st.fit(
-        start, measured, {"brake.fn_max": (50.0, 200.0)}, outputs={"J.w": "speed"},
-        inputs={"brake.f_normalized": "pressure"}, progress=False,
+        start,
+        measured,
+        {"brake.fn_max": (50.0, 200.0)},
+        outputs={"J.w": "speed"},
+        inputs={"brake.f_normalized": "pressure"},
+        progress=False,
     )
     assert fit.estimates["brake.fn_max"] == pytest.approx(100.0, rel=1e-3)

@@ -64,7 +64,9 @@ STIFF_BENCH = ("StiffShaft", "StiffHeatLosses", "HeatLosses")
     help="Compare the solvers (tsit45, bdf, esdirk34, auto) on the stiff examples and HeatLosses "
     "(or on MODEL_FILES) instead.",
 )
-@click.option("--fit", "fit_bench", is_flag=True, help="Time a fit of 4 parameters of a braked flywheel instead.")
+@click.option(
+    "--fit", "fit_bench", is_flag=True, help="Time a fit of 4 parameters of a braked flywheel instead."
+)
 @friendly_errors
 def bench(
     model_files: tuple[Path, ...],

@@ -33,7 +33,9 @@ def _bounds(specs: tuple[str, ...]) -> dict[str, tuple[float, ...]]:
         name, sep, values = spec.partition("=")
         parts = values.split(":")
         if not sep or not name.strip() or len(parts) not in (2, 3):
-            raise click.BadParameter(f"'{spec}': write NAME=LOW:HIGH or NAME=LOW:START:HIGH", param_hint="--param")
+            raise click.BadParameter(
+                f"'{spec}': write NAME=LOW:HIGH or NAME=LOW:START:HIGH", param_hint="--param"
+            )
         try:
             out[name.strip()] = tuple(float(p) for p in parts)
         except ValueError:
@@ -45,9 +47,13 @@ def _bounds(specs: tuple[str, ...]) -> dict[str, tuple[float, ...]]:
 @click.argument("model_file", type=FILE)
 @click.argument("data_file", type=FILE)
 @click.option("--param", "params", multiple=True, required=True, help="NAME=LOW:HIGH or NAME=LOW:START:HIGH.")
-@click.option("--output", "outputs", multiple=True, help="MODEL_NAME=COLUMN to match (default: every column).")
+@click.option(
+    "--output", "outputs", multiple=True, help="MODEL_NAME=COLUMN to match (default: every column)."
+)
 @click.option("--input", "inputs", multiple=True, help="PORT=COLUMN: a column drives a model input.")
-@click.option("--method", type=click.Choice(["auto", "linear", "output-error"]), default="auto", show_default=True)
+@click.option(
+    "--method", type=click.Choice(["auto", "linear", "output-error"]), default="auto", show_default=True
+)
 @click.option("--loss", default="linear", show_default=True, help="linear, soft_l1, huber, cauchy or arctan.")
 @click.option("--starts", default=1, show_default=True, help="Starts (a Latin hypercube beyond the first).")
 @click.option("--workers", type=int, default=None, help="Threads for the model runs (default: every core).")
@@ -55,8 +61,17 @@ def _bounds(specs: tuple[str, ...]) -> dict[str, tuple[float, ...]]:
 @click.option("--table", type=FILE, default=None, help="Write the estimates as CSV.")
 @friendly_errors
 def fit_cmd(
-    model_file: Path, data_file: Path, params: tuple[str, ...], outputs: tuple[str, ...], inputs: tuple[str, ...],
-    method: str, loss: str, starts: int, workers: int | None, out: Path | None, table: Path | None,
+    model_file: Path,
+    data_file: Path,
+    params: tuple[str, ...],
+    outputs: tuple[str, ...],
+    inputs: tuple[str, ...],
+    method: str,
+    loss: str,
+    starts: int,
+    workers: int | None,
+    out: Path | None,
+    table: Path | None,
 ) -> None:
     """Estimate parameters of MODEL_FILE from DATA_FILE (CSV, .mat or Parquet with a time column)."""
     from stiction.fit import fit
@@ -64,9 +79,16 @@ def fit_cmd(
     model = load_model(model_file)
     try:
         result = fit(
-            model, data_file, _bounds(params), outputs=_pairs(outputs, "--output") or None,
-            inputs=_pairs(inputs, "--input") or None, method=method, workers=workers, progress=False,
-            loss=loss, starts=starts,
+            model,
+            data_file,
+            _bounds(params),
+            outputs=_pairs(outputs, "--output") or None,
+            inputs=_pairs(inputs, "--input") or None,
+            method=method,
+            workers=workers,
+            progress=False,
+            loss=loss,
+            starts=starts,
         )
     except ModelError as exc:
         raise in_file(model_file, exc) from None

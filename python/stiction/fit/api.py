@@ -73,12 +73,15 @@ def fit(
         if not isinstance(plan, str):
             x, stats, fitted_tau = solve_linear(plan, plist)
             name = f"{plan.comp}.tau"
-            return _result(model, plist, x, stats, "linear", 0, measured.time,
-                           {name: plan.tau}, {name: fitted_tau}, "")
+            return _result(
+                model, plist, x, stats, "linear", 0, measured.time, {name: plan.tau}, {name: fitted_tau}, ""
+            )
         if method == "linear":
             raise ModelError(f"fit: the linear path does not apply: {plan}")
     elif method == "linear":
-        raise ModelError("fit: the linear path takes measured outputs only (no inputs, weights or robust loss)")
+        raise ModelError(
+            "fit: the linear path takes measured outputs only (no inputs, weights or robust loss)"
+        )
     problem = Problem(fit_model(model, measured), plist, measured, weights, workers)
     return _output_error(model, plist, problem, loss, int(starts), seed, progress)
 
@@ -94,19 +97,26 @@ def _output_error(
     if starts > 1:
         lhs = _deps.scipy_stats.qmc.LatinHypercube(d=len(plist), seed=seed).random(starts - 1)
         points += list(low + lhs * (high - low))
-    bar = _deps.tqdm_auto.tqdm(total=len(points), disable=not progress, desc="fit", unit="start")
+    bar = _deps.tqdm_auto.tqdm(total=len(points), desc="fit", unit="start") if progress else None
     best = None
     try:
         for x0 in points:
             sol = least_squares(
-                problem.residual, x0, jac=problem.jacobian, bounds=(low, high), method="trf",
-                loss=loss, x_scale="jac",
+                problem.residual,
+                x0,
+                jac=problem.jacobian,
+                bounds=(low, high),
+                method="trf",
+                loss=loss,
+                x_scale="jac",
             )
             if best is None or sol.cost < best.cost:
                 best = sol
-            bar.update(1)
+            if bar is not None:
+                bar.update(1)
     finally:
-        bar.close()
+        if bar is not None:
+            bar.close()
     assert best is not None
     r = problem.residual(best.x)
     jac = best.jac if loss == "linear" else problem.jacobian(best.x)
@@ -120,34 +130,59 @@ def _output_error(
         with np.errstate(divide="ignore", invalid="ignore"):
             fitted[name] = np.where(np.asarray(scale) != 0, fitted_rows[at : at + n] / scale, np.nan)
         at += n
-    return _result(model, plist, best.x, stats, "output-error", problem.runs,
-                   problem.measured.time, measured, fitted, str(best.message))
+    return _result(
+        model,
+        plist,
+        best.x,
+        stats,
+        "output-error",
+        problem.runs,
+        problem.measured.time,
+        measured,
+        fitted,
+        str(best.message),
+    )
 
 
 def _result(
-    model: Model, plist: list[Param], x: np.ndarray, stats: Any, method: str, runs: int,
-    time: np.ndarray, measured: dict[str, np.ndarray], fitted: dict[str, np.ndarray], message: str,
+    model: Model,
+    plist: list[Param],
+    x: np.ndarray,
+    stats: Any,
+    method: str,
+    runs: int,
+    time: np.ndarray,
+    measured: dict[str, np.ndarray],
+    fitted: dict[str, np.ndarray],
+    message: str,
 ) -> FitResult:
     labels = [p.label for p in plist]
     known = [(p, v) for p, v in zip(plist, x, strict=True) if p.label not in stats.unidentifiable]
-    estimates = {p.label: (None if p.label in stats.unidentifiable else float(v)) for p, v in zip(plist, x, strict=True)}
-    return FitResult(
-        estimates=estimates,
-        stderr=stats.stderr,
-        intervals=stats.intervals,
-        correlation=stats.correlation,
-        unidentifiable=stats.unidentifiable,
-        model=_fitted_model(model, [p for p, _ in known], [v for _, v in known]),
-        method=method,
-        runs=runs,
-        time=time,
-        measured=measured,
-        fitted=fitted,
-        sigma=stats.sigma,
-        starts={p.label: p.start for p in plist},
-        bounds={p.label: (p.low, p.high) for p in plist},
-        message=message,
-    ) if labels else None  # type: ignore[return-value]
+    estimates = {
+        p.label: (None if p.label in stats.unidentifiable else float(v))
+        for p, v in zip(plist, x, strict=True)
+    }
+    return (
+        FitResult(
+            estimates=estimates,
+            stderr=stats.stderr,
+            intervals=stats.intervals,
+            correlation=stats.correlation,
+            unidentifiable=stats.unidentifiable,
+            model=_fitted_model(model, [p for p, _ in known], [v for _, v in known]),
+            method=method,
+            runs=runs,
+            time=time,
+            measured=measured,
+            fitted=fitted,
+            sigma=stats.sigma,
+            starts={p.label: p.start for p in plist},
+            bounds={p.label: (p.low, p.high) for p in plist},
+            message=message,
+        )
+        if labels
+        else None
+    )  # type: ignore[return-value]
 
 
 def _fitted_model(model: Model, plist: list[Param], values: list[float]) -> Model:

@@ -21,7 +21,7 @@ from stiction.results.result import Result
 if TYPE_CHECKING:
     import pandas
 
-__all__ = ["Measured", "read_data", "fit_model"]
+__all__ = ["Measured", "fit_model", "read_data"]
 
 TIME_NAMES = ("time", "Time", "t")
 
@@ -62,7 +62,9 @@ def _mapping(given: Mapping[str, str] | Sequence[str] | None, what: str) -> dict
 
 
 def read_data(
-    data: Any, outputs: Mapping[str, str] | Sequence[str] | None, inputs: Mapping[str, str] | Sequence[str] | None
+    data: Any,
+    outputs: Mapping[str, str] | Sequence[str] | None,
+    inputs: Mapping[str, str] | Sequence[str] | None,
 ) -> Measured:
     """Read and check ``data`` (see the module docstring); ``ModelError`` naming what is wrong."""
     frame = _frame(data)
@@ -76,7 +78,9 @@ def read_data(
     steps = np.diff(time)
     if not np.all(np.isfinite(time)) or np.any(steps <= 0):
         bad = int(np.flatnonzero(~(steps > 0))[0]) + 1 if np.any(~(steps > 0)) else 0
-        raise ModelError(f"fit data: times must increase row by row; row {bad + 1} has t = {time[bad]:g} after {time[max(bad - 1, 0)]:g}")
+        raise ModelError(
+            f"fit data: times must increase row by row; row {bad + 1} has t = {time[bad]:g} after {time[max(bad - 1, 0)]:g}"
+        )
     ins = _mapping(inputs, "inputs") or {}
     outs = _mapping(outputs, "outputs")
     if outs is None:  # every other column is an output of the same name
@@ -86,7 +90,9 @@ def read_data(
     columns = {**outs, **ins}
     for model_name, column in columns.items():
         if column not in names:
-            raise ModelError(f"fit data: no column '{column}' (for '{model_name}'); the columns are {', '.join(names)}")
+            raise ModelError(
+                f"fit data: no column '{column}' (for '{model_name}'); the columns are {', '.join(names)}"
+            )
 
     def values(column: str) -> np.ndarray:
         v = np.asarray(frame[column], dtype=float)
@@ -106,7 +112,9 @@ def fit_model(model: Model, measured: Measured) -> Model:
     t = measured.time
     fitted = Model(model.name, model.base_dir)
     fitted.experiment.update(model.experiment)
-    fitted.experiment.update(StartTime=float(t[0]), StopTime=float(t[-1]), Interval=float((t[-1] - t[0]) / (len(t) - 1)))
+    fitted.experiment.update(
+        StartTime=float(t[0]), StopTime=float(t[-1]), Interval=float((t[-1] - t[0]) / (len(t) - 1))
+    )
     for port in measured.inputs:
         comp, _, rest = port.partition(".")
         if comp not in model.components or not rest:

@@ -111,7 +111,9 @@ def solve_linear(plan: LinearPlan, params: list[Param]) -> tuple[np.ndarray, Unc
         b = tau[sliding] - phi[sliding][:, fixed] @ table[fixed, 1]
         if not np.any(sliding):
             raise ModelError(f"fit (linear): '{plan.comp}' never slides in the data; mu_pos cannot be fitted")
-        sol = lsq_linear(a, b, bounds=([params[i].low for i in mu_params], [params[i].high for i in mu_params]))
+        sol = lsq_linear(
+            a, b, bounds=([params[i].low for i in mu_params], [params[i].high for i in mu_params])
+        )
         x[mu_params] = sol.x
         table[rows, 1] = sol.x
         fitted[sliding] = phi[sliding] @ table[:, 1]
@@ -161,8 +163,12 @@ def _peak(plan: LinearPlan, table: np.ndarray, sliding: np.ndarray, eps: float) 
     stuck = ~sliding
     ends = np.flatnonzero(stuck[1:-1] & stuck[:-2] & sliding[2:]) + 1
     if len(ends) == 0:
-        return 0.0, 0.0, (
-            f"no break-away in the data: '{plan.comp}' never sticks and slides again, and peak acts only then"
+        return (
+            0.0,
+            0.0,
+            (
+                f"no break-away in the data: '{plan.comp}' never sticks and slides again, and peak acts only then"
+            ),
         )
     mu0 = float(basis(np.zeros(1), table[:, 0], plan.extrapolation)[0] @ table[:, 1])
     ratios = []
@@ -172,11 +178,17 @@ def _peak(plan: LinearPlan, table: np.ndarray, sliding: np.ndarray, eps: float) 
             begin -= 1
         if end - begin + 1 < MIN_STICK or _passing(plan.w[begin : end + 1], eps):
             continue
-        held = np.abs(plan.tau[begin : end + 1]) / (mu0 * plan.cgeo * np.maximum(plan.fn[begin : end + 1], 1e-300))
+        held = np.abs(plan.tau[begin : end + 1]) / (
+            mu0 * plan.cgeo * np.maximum(plan.fn[begin : end + 1], 1e-300)
+        )
         k = int(np.argmax(held))
         ratios.append(held[k] + (0.5 * (held[k] - held[k - 1]) if k > 0 else 0.0))
     if not ratios:
-        return 0.0, 0.0, f"no break-away in the data: '{plan.comp}' never stays stuck and slides again, and peak acts only then"
+        return (
+            0.0,
+            0.0,
+            f"no break-away in the data: '{plan.comp}' never stays stuck and slides again, and peak acts only then",
+        )
     values = np.array(ratios)
     se = float(np.std(values, ddof=1) / np.sqrt(len(values))) if len(values) > 1 else float("nan")
     return float(np.mean(values)), se, ""

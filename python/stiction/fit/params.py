@@ -16,12 +16,12 @@ from typing import Any
 
 from stiction.errors import ModelError
 from stiction.model.catalogue import describe
-from stiction.model.modelfile import EXPERIMENT_KEYS
 from stiction.model.model import Model
+from stiction.model.modelfile import EXPERIMENT_KEYS
 from stiction.model.names import split_last
 from stiction.model.parameters import evaluate_parameters
 
-__all__ = ["Param", "parse_params", "apply"]
+__all__ = ["Param", "apply", "parse_params"]
 
 _CELLS = re.compile(r"^(?P<name>[^\[\]]+)\[\s*(?P<row>[^,\]]+?)\s*,\s*(?P<col>[^,\]]+?)\s*\]$")
 _FITTABLE = ("Real", "start value", "Integer")
@@ -42,7 +42,9 @@ class Param:
 
 def _bounds(name: str, given: Any) -> tuple[float, float | None, float]:
     if not isinstance(given, tuple | list) or len(given) not in (2, 3):
-        raise ModelError(f"fit parameter '{name}': bounds are (low, high) or (low, start, high), got {given!r}")
+        raise ModelError(
+            f"fit parameter '{name}': bounds are (low, high) or (low, start, high), got {given!r}"
+        )
     try:
         values = [float(v) for v in given]
     except (TypeError, ValueError):
@@ -50,7 +52,9 @@ def _bounds(name: str, given: Any) -> tuple[float, float | None, float]:
     low, high = values[0], values[-1]
     start = values[1] if len(values) == 3 else None
     if any(math.isnan(v) for v in values) or not low < high:
-        raise ModelError(f"fit parameter '{name}': low must be below high, got low = {low:g}, high = {high:g}")
+        raise ModelError(
+            f"fit parameter '{name}': low must be below high, got low = {low:g}, high = {high:g}"
+        )
     if start is not None and not low <= start <= high:
         raise ModelError(f"fit parameter '{name}': start {start:g} is not within [{low:g}, {high:g}]")
     return low, start, high
@@ -60,12 +64,16 @@ def _current(model: Model, target: str) -> tuple[Any, str]:
     """The value ``target`` has in ``model`` (its default when not set) and its kind; refuses
     what a fit cannot vary (experiment settings, Booleans, choices, structure)."""
     if target in EXPERIMENT_KEYS:
-        raise ModelError(f"fit parameter '{target}': an experiment setting is not sweepable, not a parameter to fit")
+        raise ModelError(
+            f"fit parameter '{target}': an experiment setting is not sweepable, not a parameter to fit"
+        )
     model.check_name(target, "fit parameter")
     if target in model.parameters:
         value = evaluate_parameters(model.parameters).get(target)
         if isinstance(value, bool) or not isinstance(value, int | float):
-            raise ModelError(f"fit parameter '{target}': a top-level parameter that is not a number ({value!r})")
+            raise ModelError(
+                f"fit parameter '{target}': a top-level parameter that is not a number ({value!r})"
+            )
         return float(value), "Real"
     comp, param = split_last(target)
     info = describe(model.components[comp].type).parameter(param)
@@ -86,7 +94,9 @@ def _indices(text: str, size: int, what: str, name: str) -> list[int]:
     try:
         i = int(text)
     except ValueError:
-        raise ModelError(f"fit parameter '{name}': {what} index must be ':' or a number, got {text!r}") from None
+        raise ModelError(
+            f"fit parameter '{name}': {what} index must be ':' or a number, got {text!r}"
+        ) from None
     if not 1 <= i <= size:
         raise ModelError(f"fit parameter '{name}': {what} {i} is outside the table's 1..{size}")
     return [i - 1]
@@ -96,7 +106,9 @@ def _table_params(name: str, target: str, table: Any, rows: str, cols: str, boun
     try:
         cells = [[float(c) for c in row] for row in table]
     except (TypeError, ValueError):
-        raise ModelError(f"fit parameter '{name}': the table has expression cells; fit the parameters they read") from None
+        raise ModelError(
+            f"fit parameter '{name}': the table has expression cells; fit the parameters they read"
+        ) from None
     n_rows, n_cols = len(cells), len(cells[0]) if cells else 0
     row_ids = _indices(rows, n_rows, "row", name)
     col_ids = _indices(cols, n_cols, "column", name) if cols != "values" else list(range(1, n_cols))
@@ -105,7 +117,9 @@ def _table_params(name: str, target: str, table: Any, rows: str, cols: str, boun
     for i in row_ids:
         for j in col_ids:
             value = cells[i][j] if start is None else start
-            out.append(Param(f"{target}[{i + 1},{j + 1}]", target, (i, j), low, min(max(value, low), high), high))
+            out.append(
+                Param(f"{target}[{i + 1},{j + 1}]", target, (i, j), low, min(max(value, low), high), high)
+            )
     return out
 
 
@@ -124,7 +138,9 @@ def parse_params(model: Model, params: Mapping[str, Any]) -> list[Param]:
             rows, cols = (match.group("row"), match.group("col")) if match else (":", "values")
             out += _table_params(name, target, value, rows, cols, bounds)
         elif match:
-            raise ModelError(f"fit parameter '{name}': '{target}' is not a table; name it without [row, column]")
+            raise ModelError(
+                f"fit parameter '{name}': '{target}' is not a table; name it without [row, column]"
+            )
         else:
             low, start, high = bounds
             v = float(value) if start is None else start

@@ -46,7 +46,9 @@ class Problem:
         self.compiled.check_overrides(self._expand(apply(model, params, [q.start for q in params])))
         self.grid = np.asarray(self.compiled._core.grid(), dtype=float)
         t = measured.time
-        self.on_grid = len(self.grid) == len(t) and np.allclose(self.grid, t, rtol=0, atol=1e-9 * max(1.0, abs(t[-1])))
+        self.on_grid = len(self.grid) == len(t) and np.allclose(
+            self.grid, t, rtol=0, atol=1e-9 * max(1.0, abs(t[-1]))
+        )
         self.scales = _scales(measured, weights)
         self.data = np.concatenate([measured.outputs[o] * self.scales[o] for o in self.outputs])
         self.runs = 0
@@ -111,7 +113,9 @@ def _scales(measured: Measured, weights: Mapping[str, Any] | None) -> dict[str, 
     weights = dict(weights or {})
     for name in weights:
         if name not in measured.outputs:
-            raise ModelError(f"fit weights: '{name}' is not one of the outputs ({', '.join(measured.outputs)})")
+            raise ModelError(
+                f"fit weights: '{name}' is not one of the outputs ({', '.join(measured.outputs)})"
+            )
     for name, y in measured.outputs.items():
         if name in weights:
             w = np.asarray(weights[name], dtype=float)

@@ -55,7 +55,9 @@ class FitResult:
         """Measured minus fitted, one column per output, with ``time``."""
         pd = _deps.pandas
 
-        return pd.DataFrame({"time": self.time, **{k: self.measured[k] - self.fitted[k] for k in self.measured}})
+        return pd.DataFrame(
+            {"time": self.time, **{k: self.measured[k] - self.fitted[k] for k in self.measured}}
+        )
 
     @property
     def correlation_table(self) -> pandas.DataFrame:
@@ -94,7 +96,9 @@ class FitResult:
     def report(self) -> str:
         """A plain-text summary: the method, runs, residual size, each estimate with its
         interval, the unidentifiable ones with their reason, strong correlations."""
-        lines = [f"fit ({self.method}): {len(self.estimates)} parameters, {self.runs} model runs, residual sd {self.sigma:.4g} (scaled)"]
+        lines = [
+            f"fit ({self.method}): {len(self.estimates)} parameters, {self.runs} model runs, residual sd {self.sigma:.4g} (scaled)"
+        ]
         if self.message:
             lines.append(f"  {self.message}")
         width = max(len(n) for n in self.estimates)

@@ -39,7 +39,9 @@ def _reasons(labels: list[str], jac: np.ndarray) -> dict[str, str]:
             reasons[label] = "the fitted outputs do not change with it (zero sensitivity)"
             if label.endswith(".peak"):
                 comp = label.removesuffix(".peak")
-                reasons[label] += f": '{comp}' never sticks and breaks away in the data, and peak acts only then"
+                reasons[label] += (
+                    f": '{comp}' never sticks and breaks away in the data, and peak acts only then"
+                )
     keep = [i for i, label in enumerate(labels) if label not in reasons]
     if len(keep) > 1:
         scaled = jac[:, keep] / norms[keep]

@@ -101,3 +101,16 @@ def test_intervals_cover_the_truth_in_a_few_draws():
 @pytest.mark.slow
 def test_intervals_cover_the_truth_in_90_to_99_percent_of_50_draws():
     assert 0.90 <= _coverage(50) <= 0.99
+
+
+def test_plot_shows_measured_fitted_and_residuals():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    measured = {"brake.tau": "torque", "brake.fn": "force", "brake.w": "slip"}
+    data = trace(flywheel(), measured, 0.002, seed=5)
+    fit = st.fit(START, data, PARAMS, outputs=measured, progress=False)
+    axes = fit.plot()
+    assert axes.shape == (2, 1)
+    assert [line.get_label() for line in axes[0][0].get_lines()] == ["measured", "fitted"]
+    assert len(axes[1][0].get_lines()[0].get_xdata()) == len(data)

@@ -156,33 +156,28 @@ def _result(
     fitted: dict[str, np.ndarray],
     message: str,
 ) -> FitResult:
-    labels = [p.label for p in plist]
     known = [(p, v) for p, v in zip(plist, x, strict=True) if p.label not in stats.unidentifiable]
     estimates = {
         p.label: (None if p.label in stats.unidentifiable else float(v))
         for p, v in zip(plist, x, strict=True)
     }
-    return (
-        FitResult(
-            estimates=estimates,
-            stderr=stats.stderr,
-            intervals=stats.intervals,
-            correlation=stats.correlation,
-            unidentifiable=stats.unidentifiable,
-            model=_fitted_model(model, [p for p, _ in known], [v for _, v in known]),
-            method=method,
-            runs=runs,
-            time=time,
-            measured=measured,
-            fitted=fitted,
-            sigma=stats.sigma,
-            starts={p.label: p.start for p in plist},
-            bounds={p.label: (p.low, p.high) for p in plist},
-            message=message,
-        )
-        if labels
-        else None
-    )  # type: ignore[return-value]
+    return FitResult(
+        estimates=estimates,
+        stderr=stats.stderr,
+        intervals=stats.intervals,
+        correlation=stats.correlation,
+        unidentifiable=stats.unidentifiable,
+        model=_fitted_model(model, [p for p, _ in known], [v for _, v in known]),
+        method=method,
+        runs=runs,
+        time=time,
+        measured=measured,
+        fitted=fitted,
+        sigma=stats.sigma,
+        starts={p.label: p.start for p in plist},
+        bounds={p.label: (p.low, p.high) for p in plist},
+        message=message,
+    )
 
 
 def _fitted_model(model: Model, plist: list[Param], values: list[float]) -> Model:

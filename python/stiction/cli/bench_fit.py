@@ -39,7 +39,7 @@ def flywheel(mu: tuple[float, float, float], peak: float) -> Model:
 
 def print_fit(workers: int | None = None, seed: int = 1) -> None:
     """Make the trace, fit from a start 10 % off, print the numbers."""
-    from stiction.fit import fit
+    from stiction.fitting import fit
 
     pd = _deps.pandas
     result = flywheel((0.3, 0.25, 0.2), 1.3).simulate()

@@ -74,7 +74,7 @@ def fit_cmd(
     table: Path | None,
 ) -> None:
     """Estimate parameters of MODEL_FILE from DATA_FILE (CSV, .mat or Parquet with a time column)."""
-    from stiction.fit import fit
+    from stiction.fitting import fit
 
     model = load_model(model_file)
     try:

@@ -11,8 +11,8 @@ from typing import Any
 import numpy as np
 
 from stiction.errors import ModelError, SimulationError
-from stiction.fit.data import Measured
-from stiction.fit.params import Param, apply
+from stiction.fitting.data import Measured
+from stiction.fitting.params import Param, apply
 from stiction.model.model import Model, numbers_read
 from stiction.model.parameters import evaluate_parameters, expand_parameters
 from stiction.sweeps.runner import run_batch

@@ -2,10 +2,10 @@
 
 Every input is checked before any run: the data (a time column, increasing times, the named
 columns), the model names of outputs and inputs, each parameter (a sweepable number or table
-cell of the model) and its bounds. Then either the linear path (``stiction.fit.linear``) or the
+cell of the model) and its bounds. Then either the linear path (``stiction.fitting.linear``) or the
 output-error fit: ``scipy.optimize.least_squares`` (trust region reflective, within the
 bounds, ``loss`` "linear" or a robust one such as "soft_l1") on residuals whose Jacobian
-columns are variants of the compiled model run in parallel (``stiction.fit.problem``), from
+columns are variants of the compiled model run in parallel (``stiction.fitting.problem``), from
 the given start and, with ``starts > 1``, from a Latin hypercube of further starts.
 """
 
@@ -19,12 +19,12 @@ import numpy as np
 
 from stiction import _deps
 from stiction.errors import ModelError
-from stiction.fit.data import fit_model, read_data
-from stiction.fit.linear import linear_plan, solve_linear
-from stiction.fit.params import Param, apply, parse_params
-from stiction.fit.problem import Problem
-from stiction.fit.result import FitResult
-from stiction.fit.stats import uncertainty
+from stiction.fitting.data import fit_model, read_data
+from stiction.fitting.linear import linear_plan, solve_linear
+from stiction.fitting.params import Param, apply, parse_params
+from stiction.fitting.problem import Problem
+from stiction.fitting.result import FitResult
+from stiction.fitting.stats import uncertainty
 from stiction.model.model import Model
 
 __all__ = ["fit"]

@@ -12,9 +12,9 @@ import numpy as np
 
 from stiction import _deps
 from stiction.errors import ModelError
-from stiction.fit.data import Measured
-from stiction.fit.params import Param, _current
-from stiction.fit.stats import Uncertainty, uncertainty
+from stiction.fitting.data import Measured
+from stiction.fitting.params import Param, _current
+from stiction.fitting.stats import Uncertainty, uncertainty
 from stiction.model.model import Model
 
 __all__ = ["LinearPlan", "linear_plan", "solve_linear"]

@@ -9,7 +9,7 @@ import pytest
 from models import flywheel, trace
 
 import stiction as st
-import stiction.fit.problem  # the module whose runs the checks must precede
+import stiction.fitting.problem  # the module whose runs the checks must precede
 from stiction.errors import ModelError
 
 PARAMS = {"brake.mu_pos[:, 2]": (0.05, 1.0), "brake.peak": (1.0, 2.0)}
@@ -22,7 +22,7 @@ def no_runs(monkeypatch):
     def refuse(*args, **kwargs):
         raise AssertionError("a model ran before the input was checked")
 
-    monkeypatch.setattr(sys.modules["stiction.fit.problem"], "run_batch", refuse)
+    monkeypatch.setattr(sys.modules["stiction.fitting.problem"], "run_batch", refuse)
 
 
 @pytest.fixture(scope="module")

@@ -8,7 +8,7 @@ use super::translational::compliant::GapLaw;
 use super::{heat_port, Component, Entry, Ports};
 use crate::error::ModelResult;
 use crate::model::{InitValue, Params};
-use crate::system::{Builder, EnergyRole, ForceLaw, LawCtx, Out, Rel};
+use crate::system::{Builder, EnergyRole, ForceLaw, LawCtx, Out};
 
 /// `tau = c·(phi_rel − phi_rel0) + d·w_rel`.
 struct SpringDamperLaw {
@@ -123,7 +123,8 @@ impl Component for Compliant {
 
     fn build(&self, b: &mut Builder) -> ModelResult<()> {
         let (na, nb) = (b.node("flange_a")?, b.node("flange_b")?);
-        let rel = Rel::between(na, nb);
+        // b.rel: the flanges' own positions (a translational Mass's flanges sit L/2 off its node)
+        let rel = b.rel(&[("flange_b", 1.0), ("flange_a", -1.0)])?;
         let law: Box<dyn ForceLaw> = match self.backlash {
             _ if self.gap.is_some() => Box::new(GapLaw::new(self, self.gap.unwrap_or(1.0))),
             Some(width) if self.hard_contact => {

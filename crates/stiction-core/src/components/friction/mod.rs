@@ -212,7 +212,7 @@ impl Component for Brake {
 
     fn build(&self, b: &mut Builder) -> ModelResult<()> {
         let (na, ns) = (b.node("flange_a")?, b.node("support")?);
-        let rel = Rel::of(&[(na, 1.0), (ns, -1.0)]);
+        let rel = b.rel(&[("flange_a", 1.0), ("support", -1.0)])?;
         if rel.is_zero() {
             return Err(
                 b.error("its flange is rigidly connected to its support: it can never slip")

@@ -91,6 +91,34 @@ fn a_braked_block_stops_at_the_closed_form_distance_and_instant() {
     audit_closes(&r);
 }
 
+#[test]
+fn the_braked_blocks_energy_heats_the_brake_through_its_heat_port() {
+    // the same stop with the brake's heatPort on a heat capacitor: ½·m·v0² raises it by 1/C
+    let (m, v0, mu, c) = (2.0, 3.0, 0.5, 4.5);
+    let text = braked_block(m, v0, mu)
+        .replace(
+            r#"["press.y", "road.f_normalized"]]"#,
+            r#"["press.y", "road.f_normalized"], ["road.heatPort", "disc.port"]]"#,
+        )
+        .replace(
+            "mu_pos = [[0.0, 0.5]] }",
+            &format!(
+                "mu_pos = [[0.0, 0.5]], useHeatPort = true }}\ndisc = {{ type = \"HeatCapacitor\", C = {c}, T = 293.15 }}"
+            ),
+        );
+    assert!(text.contains("useHeatPort"), "{text}");
+    let r = run(&text);
+    let heat = 0.5 * m * v0 * v0;
+    assert_close("disc.T", last(&r, "disc.T"), 293.15 + heat / c, 1e-9);
+    assert_close(
+        "road.heatPort.T",
+        last(&r, "road.heatPort.T"),
+        293.15 + heat / c,
+        1e-9,
+    );
+    audit_closes(&r);
+}
+
 /// A mass on a spring to a wall, with Coulomb friction against its support (`SupportFriction`,
 /// a constant `f_pos`), released at rest at s = x0 from the spring's rest position.
 fn friction_oscillator(x0: f64) -> String {

@@ -20,5 +20,4 @@ MSL_EXAMPLES = EXAMPLES / "msl"
 # examples/msl/*.mo files (MSL's genuine structure) that need a component still being built
 # (issue 30): the tests skip them with this reason; the coordinator removes an entry when the
 # component is merged. Shared by every test that globs the shipped .mo files.
-AWAITING_COMPONENTS = {
-}
+AWAITING_COMPONENTS = {}

@@ -29,7 +29,7 @@ fn simulated(example: &str) -> SimResult {
 fn check_example(example: &str) {
     let result = simulated(example);
     let reference = Reference::read(data(&format!("{example}.csv"))).expect("a reference");
-    let listed = read_signal_list(&data(&format!("{example}.signals.txt"))).expect("a list");
+    let listed = read_signal_list(data(&format!("{example}.signals.txt"))).expect("a list");
     assert!(listed.len() >= 3, "{example}: {listed:?}");
     let report = compare(&result, &reference, &listed, MSL_TOLERANCE).expect("comparable");
     assert_eq!(report.len(), listed.len(), "{example}");

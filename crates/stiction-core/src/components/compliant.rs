@@ -4,7 +4,7 @@
 use super::backlash::BacklashLaw;
 use super::backlash2::HardBacklashLaw;
 use super::decl::{PHI_REL, USE_HEAT_PORT, W_REL};
-use super::translational::compliant::GapLaw;
+use super::elasto_gap::GapLaw;
 use super::{heat_port, Component, Entry, Ports};
 use crate::error::ModelResult;
 use crate::model::{InitValue, Params};
@@ -126,7 +126,12 @@ impl Component for Compliant {
         // b.rel: the flanges' own positions (a translational Mass's flanges sit L/2 off its node)
         let rel = b.rel(&[("flange_b", 1.0), ("flange_a", -1.0)])?;
         let law: Box<dyn ForceLaw> = match self.backlash {
-            _ if self.gap.is_some() => Box::new(GapLaw::new(self, self.gap.unwrap_or(1.0))),
+            _ if self.gap.is_some() => Box::new(GapLaw::new(
+                self.c,
+                self.d,
+                self.phi_rel0,
+                self.gap.unwrap_or(1.0),
+            )),
             Some(width) if self.hard_contact => {
                 Box::new(HardBacklashLaw::new(self.c, self.d, width, self.phi_rel0))
             }

@@ -1,68 +1,12 @@
 //! Translational `Spring`, `Damper`, `SpringDamper` and `ElastoGap` — the rotational compliant
 //! elements (`components::compliant::Compliant`) under MSL's translational names (`s_rel`,
-//! `v_rel`, `f`) — and `Rod`, a massless rigid connection with a length.
+//! `v_rel`, `f`; ElastoGap's contact law is `components::elasto_gap`) — and `Rod`, a massless rigid connection with a length.
 
-use crate::components::compliant::{read_linear, Compliant, TRANSLATIONAL};
+use crate::components::compliant::{read_linear, TRANSLATIONAL};
 use crate::components::{Component, Entry, Ports};
 use crate::error::ModelResult;
 use crate::model::Params;
-use crate::system::{Builder, EnergyRole, ForceLaw, LawCtx, Out};
-
-/// MSL's ElastoGap: a spring-damper that only pushes. In contact (`s_rel < s_rel0`)
-/// `f_c = −c·|s_rel − s_rel0|^n`, the damper force is bounded by it (`|f_d| ≤ |f_c|`, so the
-/// force is continuous at touch-down and never pulls), `f = f_c + f_d`; out of contact 0.
-/// MSL writes it with `noEvent`: no events, as here.
-pub(crate) struct GapLaw {
-    c: f64,
-    d: f64,
-    s_rel0: f64,
-    n: f64,
-}
-
-impl GapLaw {
-    pub fn new(e: &Compliant, n: f64) -> Self {
-        Self {
-            c: e.c,
-            d: e.d,
-            s_rel0: e.phi_rel0,
-            n,
-        }
-    }
-
-    /// `(f_c, f_d)` at a relative position and speed.
-    fn forces(&self, s_rel: f64, v_rel: f64) -> (f64, f64) {
-        let gap = s_rel - self.s_rel0;
-        if gap >= 0.0 {
-            return (0.0, 0.0);
-        }
-        let f_c = -self.c * gap.abs().powf(self.n);
-        let f_d2 = self.d * v_rel;
-        // f_c <= 0: the damper force lies in [f_c, −f_c]
-        (f_c, f_d2.clamp(f_c, -f_c))
-    }
-}
-
-impl ForceLaw for GapLaw {
-    fn tau(&self, x: &LawCtx) -> f64 {
-        let (f_c, f_d) = self.forces(x.phi_rel, x.w_rel);
-        f_c + f_d
-    }
-    fn role(&self) -> EnergyRole {
-        EnergyRole::Conservative
-    }
-    /// The work stored by the contact spring: `c·|s_rel − s_rel0|^(n+1)/(n+1)` in contact.
-    fn potential(&self, x: &LawCtx) -> f64 {
-        let gap = x.phi_rel - self.s_rel0;
-        if gap >= 0.0 {
-            0.0
-        } else {
-            self.c * gap.abs().powf(self.n + 1.0) / (self.n + 1.0)
-        }
-    }
-    fn loss_power(&self, x: &LawCtx, _tau: f64) -> f64 {
-        self.forces(x.phi_rel, x.w_rel).1 * x.w_rel
-    }
-}
+use crate::system::{Builder, Out};
 
 fn spring(p: &Params) -> ModelResult<Box<dyn Component>> {
     Ok(Box::new(read_linear(p, true, false, &TRANSLATIONAL)?))

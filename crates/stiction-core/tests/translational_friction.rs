@@ -272,6 +272,18 @@ fn bad_parameters_are_refused_by_name_before_any_run() {
             "friction",
             "v_small",
         ),
+        (
+            r#""Translational.Spring", c = 100"#,
+            r#""Translational.ElastoGap", c = 100, d = 1.0, n = 0.5"#,
+            "spring",
+            "n",
+        ),
+        (
+            r#""Translational.Spring", c = 100"#,
+            r#""Translational.SpringDamper", c = 100, d = -1.0"#,
+            "spring",
+            "d",
+        ),
     ] {
         let text = osc.replace(from, to);
         assert_ne!(text, osc, "{to}");

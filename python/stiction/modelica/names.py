@@ -91,7 +91,20 @@ MSL_CLASSES: dict[str, str] = {
         ]
     },
     # the translational types are named Translational.<MSL name> (Translational.Fixed)
-    **{f"Translational.{t}": f"{_TRANS}.Components.{t}" for t in ["Mass", "Fixed"]},
+    **{
+        f"Translational.{t}": f"{_TRANS}.Components.{t}"
+        for t in [
+            "Mass",
+            "Fixed",
+            "Spring",
+            "Damper",
+            "SpringDamper",
+            "ElastoGap",
+            "Rod",
+            "Brake",
+            "SupportFriction",
+        ]
+    },
     **{
         f"Translational.{t}": f"{_TRANS}.Sources.{t}"
         for t in ["Force", "ConstantForce", "LinearSpeedDependentForce", "QuadraticSpeedDependentForce"]

@@ -10,6 +10,7 @@ pub mod blocks;
 pub mod compliant;
 pub mod disc;
 pub mod eddy_current;
+pub mod elasto_gap;
 pub mod friction;
 pub mod gears;
 pub mod general_adaptors;

@@ -14,14 +14,48 @@ use crate::switching::logic::{self, Discrete};
 use crate::system::outputs::SwitchVar as V;
 use crate::system::{Builder, Out, Rel};
 
-struct FrictionParams {
-    mu_pos: Table1D,
-    peak: f64,
-    cgeo: f64,
-    fn_max: f64,
-    w_small: f64,
-    use_heat_port: bool,
+pub(crate) struct FrictionParams {
+    pub mu_pos: Table1D,
+    pub peak: f64,
+    pub cgeo: f64,
+    pub fn_max: f64,
+    pub w_small: f64,
+    pub use_heat_port: bool,
 }
+
+/// The names a friction element reports under, by domain (MSL's Rotational and Translational
+/// `PartialFriction`): the stick/slip machinery is one, its vocabulary two.
+pub(crate) struct FrictionNames {
+    pub tau: &'static str,
+    pub tau0: &'static str,
+    pub tau0_max: &'static str,
+    /// The absolute position, speed of a Brake's shaft.
+    pub pos: &'static str,
+    pub speed: &'static str,
+    /// BearingFriction's table (the friction torque or force itself).
+    pub bearing_table: &'static str,
+    pub translational: bool,
+}
+
+pub(crate) const ROTATIONAL: FrictionNames = FrictionNames {
+    tau: "tau",
+    tau0: "tau0",
+    tau0_max: "tau0_max",
+    pos: "phi",
+    speed: "w",
+    bearing_table: "tau_pos",
+    translational: false,
+};
+
+pub(crate) const TRANSLATIONAL: FrictionNames = FrictionNames {
+    tau: "f",
+    tau0: "f0",
+    tau0_max: "f0_max",
+    pos: "s",
+    speed: "v",
+    bearing_table: "f_pos",
+    translational: true,
+};
 
 const CGEO: &str =
     "cgeo [1] Geometry constant with the friction distribution, N*(ro + ri)/2 (a length)";
@@ -57,7 +91,7 @@ const EXTRAPOLATION: &str = "extrapolation How the friction table continues beyo
 /// negative coefficient would make the friction drive the motion —, its abscissa increasing,
 /// and its value at w = 0 (`mu0`, extrapolated if the first row is not at 0) not negative
 /// either; then `extrapolation`.
-fn friction_table(
+pub(crate) fn friction_table(
     p: &Params,
     decl: &'static str,
     default: &[&[f64]],
@@ -97,6 +131,7 @@ fn friction_outputs(
     slot: Option<usize>,
     heat: Option<usize>,
     one_way: bool,
+    names: &FrictionNames,
 ) {
     if let Some(slot) = slot {
         b.output("mu", Out::Switch(k, V::Mu));
@@ -122,12 +157,12 @@ fn friction_outputs(
         ]
     };
     for &(name, var) in [
-        ("tau", V::Tau),
+        (names.tau, V::Tau),
         ("lossPower", V::LossPower),
         ("locked", V::Locked),
         ("sa", V::Sa),
-        ("tau0", V::Tau0),
-        ("tau0_max", V::Tau0Max),
+        (names.tau0, V::Tau0),
+        (names.tau0_max, V::Tau0Max),
     ]
     .iter()
     .chain(logic)
@@ -145,11 +180,12 @@ fn friction_outputs(
 
 /// Brake and BearingFriction: friction between a shaft and its support.
 // Ports alike in shape to IdealGear and LossyGear (see gears.rs).
-struct Brake {
-    p: FrictionParams,
-    use_support: bool,
+pub(crate) struct Brake {
+    pub p: FrictionParams,
+    pub use_support: bool,
     /// BearingFriction: no `f_normalized`; `mu_pos` holds `tau_pos`.
-    bearing: bool,
+    pub bearing: bool,
+    pub names: &'static FrictionNames,
 }
 
 impl Component for Brake {
@@ -157,6 +193,11 @@ impl Component for Brake {
         let mech = with_support(&["flange_a", "flange_b"], self.use_support);
         Ports {
             must_connect: mech.clone(),
+            translational: if self.names.translational {
+                mech.clone()
+            } else {
+                vec![]
+            },
             mech,
             joins: vec![("flange_a", "flange_b")],
             signal_in: if self.bearing {
@@ -171,7 +212,7 @@ impl Component for Brake {
 
     fn build(&self, b: &mut Builder) -> ModelResult<()> {
         let (na, ns) = (b.node("flange_a")?, b.node("support")?);
-        let rel = Rel::of(&[(na, 1.0), (ns, -1.0)]);
+        let rel = b.rel(&[("flange_a", 1.0), ("support", -1.0)])?;
         if rel.is_zero() {
             return Err(
                 b.error("its flange is rigidly connected to its support: it can never slip")
@@ -182,9 +223,9 @@ impl Component for Brake {
         } else {
             Kind::Brake
         };
-        let k = add_elem(b, &self.p, rel.clone(), kind)?;
-        b.output("phi", Out::Angle(rel));
-        b.output("w", Out::Switch(k, V::W));
+        let k = add_elem(b, &self.p, rel.clone(), kind, self.names)?;
+        b.output(self.names.pos, Out::Angle(rel));
+        b.output(self.names.speed, Out::Switch(k, V::W));
         b.output("a", Out::Switch(k, V::A));
         b.flange("flange_a", na, None)?;
         b.flange("flange_b", na, None)?;
@@ -214,7 +255,13 @@ enum Kind {
     },
 }
 
-fn add_elem(b: &mut Builder, p: &FrictionParams, rel: Rel, kind: Kind) -> ModelResult<usize> {
+fn add_elem(
+    b: &mut Builder,
+    p: &FrictionParams,
+    rel: Rel,
+    kind: Kind,
+    names: &FrictionNames,
+) -> ModelResult<usize> {
     let slot = if kind == Kind::Bearing {
         None
     } else {
@@ -248,7 +295,7 @@ fn add_elem(b: &mut Builder, p: &FrictionParams, rel: Rel, kind: Kind) -> ModelR
         rel,
         mu0,
         table_name: if kind == Kind::Bearing {
-            "tau_pos"
+            names.bearing_table
         } else {
             "mu_pos"
         },
@@ -264,7 +311,7 @@ fn add_elem(b: &mut Builder, p: &FrictionParams, rel: Rel, kind: Kind) -> ModelR
         one_way,
         initial,
     }));
-    friction_outputs(b, k, slot, heat, one_way.is_some());
+    friction_outputs(b, k, slot, heat, one_way.is_some(), names);
     Ok(k)
 }
 
@@ -273,6 +320,7 @@ fn brake(p: &Params) -> ModelResult<Box<dyn Component>> {
         p: read_params(p)?,
         use_support: p.boolean(USE_SUPPORT, false)?,
         bearing: false,
+        names: &ROTATIONAL,
     }))
 }
 
@@ -297,6 +345,7 @@ fn bearing_friction(p: &Params) -> ModelResult<Box<dyn Component>> {
         p: params,
         use_support: p.boolean(USE_SUPPORT, false)?,
         bearing: true,
+        names: &ROTATIONAL,
     }))
 }
 
@@ -334,7 +383,7 @@ impl Component for Clutch {
             },
             None => Kind::Clutch,
         };
-        let k = add_elem(b, &self.p, rel.clone(), kind)?;
+        let k = add_elem(b, &self.p, rel.clone(), kind, &ROTATIONAL)?;
         b.init_angle(rel.clone(), self.phi_rel, "phi_rel");
         b.init_speed(rel.clone(), self.w_rel, "w_rel");
         b.output("phi_rel", Out::Angle(rel));

@@ -4,7 +4,9 @@
 //! types are named `Translational.<MSL name>` where the rotational library has the same name
 //! (`Translational.Fixed`), and so, for one rule, all of them.
 
+pub mod compliant;
 pub mod conversion;
+pub mod friction;
 pub mod mass;
 pub mod sources;
 
@@ -14,6 +16,8 @@ use super::Entry;
 pub fn registry() -> Vec<Entry> {
     let mut r = Vec::new();
     r.extend(mass::REGISTRY);
+    r.extend(compliant::REGISTRY);
+    r.extend(friction::REGISTRY);
     r.extend(sources::REGISTRY);
     r.extend(conversion::REGISTRY);
     r

@@ -57,7 +57,7 @@ const EXTRAPOLATION: &str = "extrapolation How the friction table continues beyo
 /// negative coefficient would make the friction drive the motion —, its abscissa increasing,
 /// and its value at w = 0 (`mu0`, extrapolated if the first row is not at 0) not negative
 /// either; then `extrapolation`.
-fn friction_table(
+pub(crate) fn friction_table(
     p: &Params,
     decl: &'static str,
     default: &[&[f64]],

@@ -6,6 +6,7 @@
 
 pub mod conversion;
 pub mod mass;
+pub mod slip_wheel;
 pub mod sources;
 
 use super::Entry;
@@ -16,5 +17,6 @@ pub fn registry() -> Vec<Entry> {
     r.extend(mass::REGISTRY);
     r.extend(sources::REGISTRY);
     r.extend(conversion::REGISTRY);
+    r.extend(slip_wheel::REGISTRY);
     r
 }

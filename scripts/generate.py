@@ -215,7 +215,7 @@ def docs() -> str:
     ]
     out += [f"- [{n}](#{n.lower().replace('.', '')})" for n in catalogue()]
     for info in catalogue().values():
-        origin = "stiction's own component, not in the MSL" if info.msl_class.startswith("stiction.") else ""
+        origin = "stiction's own component, not in the MSL." if info.msl_class.startswith("stiction.") else ""
         python = python_name(info.name)
         out += ["", f"## {info.name}", "", f"{info.description}. {origin or f'MSL: `{info.msl_class}`'}", ""]
         if python:

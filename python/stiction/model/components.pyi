@@ -2282,7 +2282,7 @@ class IdealGearR2T(_Factory):
     ) -> None: ...
 
 class SlipWheel(_Factory):
-    """Wheel whose road contact is Coulomb friction (rolling = stuck, skidding = sliding); stiction's own, not in MSL.
+    """Wheel whose road contact is Coulomb friction (rolling = stuck, skidding = sliding).
 
     stiction's own component (not in the MSL).
 

@@ -192,7 +192,7 @@ fn slip_wheel(p: &Params) -> ModelResult<Box<dyn Component>> {
 pub const REGISTRY: &[Entry] = &[Entry::new(
     "SlipWheel",
     "stiction.SlipWheel",
-    "Wheel whose road contact is Coulomb friction (rolling = stuck, skidding = sliding); \
-     stiction's own, not in MSL",
+    // stiction's own: the class says so, and the docs and help() from it
+    "Wheel whose road contact is Coulomb friction (rolling = stuck, skidding = sliding)",
     slip_wheel,
 )];

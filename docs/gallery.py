@@ -1,7 +1,8 @@
 """The gallery and the tutorial's output, made by running the examples at documentation build.
 
 Each model file in examples/ and examples/msl/ is simulated with its own experiment and its
-main signals plotted; examples/vehicle_launch.py (the tutorial's model) is run as a script.
+main signals plotted; examples/vehicle_launch.py (the tutorial's model) and
+examples/vehicle_stop.py (a brake test's report) are run as scripts.
 Everything goes to docs/_generated (not committed).
 """
 
@@ -47,6 +48,17 @@ def _tutorial(out: Path) -> None:
     )
 
 
+def _vehicle_stop(out: Path) -> list[str]:
+    """examples/vehicle_stop.py run as a script: its brake-test report and speed, distance."""
+    buffer = io.StringIO()
+    with contextlib.redirect_stdout(buffer):
+        result = runpy.run_path(str(ROOT / "examples" / "vehicle_stop.py"))["main"]()
+    result.plot("car.v", "car.s", "disc.T", path=out / "vehicle_stop_report.png").clear()
+    report = ["```text", *buffer.getvalue().splitlines(), "```"]
+    title = "## vehicle_stop.py: braking a quarter car from 100 km/h"
+    return [title, "", *report, "", "![vehicle_stop report](vehicle_stop_report.png)", ""]
+
+
 def write_gallery(docs: Path) -> None:
     """Run every example into ``docs/_generated``: gallery.md, the plots, the tutorial output."""
     out = docs / "_generated"
@@ -54,5 +66,6 @@ def write_gallery(docs: Path) -> None:
     lines = ["# Gallery", "", "Every example, run when the documentation is built (`make docs`).", ""]
     for path in _model_files():
         lines += _entry(path, out)
+    lines += _vehicle_stop(out)
     (out / "gallery.md").write_text("\n".join(lines))
     _tutorial(out)

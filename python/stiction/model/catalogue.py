@@ -198,7 +198,7 @@ class ComponentInfo:
 
     def docstring(self) -> str:
         """The class docstring: description, MSL class, parameters, ports, variables."""
-        lines = [f"{self.description}.", "", f"MSL class: ``{self.msl_class}``", ""]
+        lines = [f"{self.description}.", "", self.origin(), ""]
         if self.parameters:
             lines += ["Parameters", "----------"]
             for p in self.parameters:
@@ -208,6 +208,12 @@ class ComponentInfo:
         lines += ["Variables", "---------"]
         lines += [f"- {v.name}{_unit_text(v.unit)}" for v in self.variables]
         return "\n".join(lines)
+
+    def origin(self) -> str:
+        """Where the type comes from: its MSL class, or stiction's own (``stiction.SlipWheel``)."""
+        if self.msl_class.startswith("stiction."):
+            return "stiction's own component (not in the MSL)."
+        return f"MSL class: ``{self.msl_class}``"
 
     def signature(self) -> inspect.Signature:
         """Keyword-only parameters with their types; MSL defaults shown, required ones bare."""

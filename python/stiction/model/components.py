@@ -11,6 +11,7 @@ expression text (``in_si``; ``stiction.model.quantities``, ``stiction.model.para
 from __future__ import annotations
 
 import functools
+import importlib
 import numbers
 import os
 from collections.abc import Mapping, Sequence
@@ -131,7 +132,8 @@ class Component:
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
-        cls.type_name = cls.__name__
+        # a namespaced class (``stiction.translational.Mass``) names its dotted type itself
+        cls.type_name = cls.__dict__.get("_type_name", cls.__name__)
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, Component):
@@ -141,7 +143,8 @@ class Component:
     def __repr__(self) -> str:
         if type(self).type_name == self.type:
             args = ", ".join(f"{k}={v!r}" for k, v in self.params.items())
-            return f"{type(self).__name__}({args})"
+            space, _, name = self.type.rpartition(".")
+            return f"{NAMESPACES.get(space, space) + '.' if space else ''}{name}({args})"
         return f"Component({self.type!r}, {self.params!r})"
 
 
@@ -227,17 +230,37 @@ class _Factory(Component):
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)
-        FACTORIES[cls.__name__] = cls
+        FACTORIES[cls.type_name or cls.__name__] = cls
 
 
 FACTORIES: dict[str, type[Component]] = {}
 
+# The dotted type names' prefixes that are Python namespaces (``Translational.Mass`` is
+# ``stiction.translational.Mass``), and each namespace's module.
+NAMESPACES = {"Translational": "translational"}
 
-def _make_class(info: ComponentInfo) -> type[Component]:
-    """The class of one engine type: its docstring and signature come from the catalogue."""
-    cls = type(info.name, (_Factory,), {"__doc__": info.docstring(), "__module__": __name__})
+
+def _make_class(info: ComponentInfo, module: str = __name__) -> type[Component]:
+    """The class of one engine type: its docstring and signature come from the catalogue; a
+    dotted type (``Translational.Mass``) is the class ``Mass`` of its namespace ``module``."""
+    short = info.name.rpartition(".")[2]
+    body = {"__doc__": info.docstring(), "__module__": module, "_type_name": info.name}
+    cls = type(short, (_Factory,), body)
     cls.__signature__ = info.signature()  # type: ignore[attr-defined]  # help(), IDEs
     return cls
+
+
+def namespace_classes(space: str) -> dict[str, type[Component]]:
+    """The classes of the types ``space.X`` (``Translational``), by their short names, made
+    once: ``stiction.translational`` is these."""
+    known = _known_types() or {}
+    module = f"stiction.{NAMESPACES[space]}"
+    classes = {}
+    for name, info in known.items():
+        head, _, short = name.rpartition(".")
+        if head == space and short.isidentifier():
+            classes[short] = FACTORIES.get(name) or _make_class(info, module)
+    return classes
 
 
 def _make_classes() -> dict[str, type[Component]]:
@@ -265,6 +288,11 @@ def factory(type_name: str) -> type[Component]:
     """Give the factory class of a type; engine types without one get one made."""
     if type_name in FACTORIES:
         return FACTORIES[type_name]
+    space = type_name.rpartition(".")[0]
+    if space in NAMESPACES:  # its namespace module makes the class (``Translational.Mass``)
+        importlib.import_module(f"stiction.{NAMESPACES[space]}")
+        if type_name in FACTORIES:
+            return FACTORIES[type_name]
     known = component_types()
     if known is None or type_name not in known or not type_name.isidentifier():
         raise AttributeError(type_name)

@@ -77,6 +77,7 @@ __all__ = [
     "RelativeStates",
     "SignTorque",
     "Sine",
+    "SlipWheel",
     "Speed",
     "SpeedSensor",
     "Spring",
@@ -2224,11 +2225,11 @@ class IdealRollingWheel(_Factory):
     - flangeR.phi [rad] (displayUnit deg)
     - flangeR.tau [N.m]
     - flangeT.s [m]
-    - flangeT.f [N.m]
+    - flangeT.f [N]
     - supportR.phi [rad] (displayUnit deg)
     - supportR.tau [N.m]
     - supportT.s [m]
-    - supportT.f [N.m]
+    - supportT.f [N]
     """
 
     def __init__(
@@ -2265,17 +2266,91 @@ class IdealGearR2T(_Factory):
     - flangeR.phi [rad] (displayUnit deg)
     - flangeR.tau [N.m]
     - flangeT.s [m]
-    - flangeT.f [N.m]
+    - flangeT.f [N]
     - supportR.phi [rad] (displayUnit deg)
     - supportR.tau [N.m]
     - supportT.s [m]
-    - supportT.f [N.m]
+    - supportT.f [N]
     """
 
     def __init__(
         self,
         *,
         ratio: float = ...,
+        useSupportR: bool = ...,
+        useSupportT: bool = ...,
+    ) -> None: ...
+
+class SlipWheel(_Factory):
+    """Wheel whose road contact is Coulomb friction (rolling = stuck, skidding = sliding).
+
+    stiction's own component (not in the MSL).
+
+    Parameters
+    ----------
+    radius : Real [m], default 0.3, > 0
+        Wheel radius
+    mu_pos : table [:, 2] [m/s, 1], default [[0, 0.8]], coefficients >= 0
+        Tyre-road sliding friction coefficient over the slip speed |R*w - v|: rows [v_slip, mu] for v_slip >= 0, linear between rows; beyond the last row as `extrapolation` says
+    extrapolation : choice, default 'LastTwoPoints'
+        How the friction table continues beyond its rows: LastTwoPoints (MSL's CombiTable1D: linearly through the first or last two rows; a run whose slip reaches a speed where that value falls below 0 stops there with an error) or HoldLastPoint (the first or last row's value)
+    peak : Real [1], default 1, >= 1
+        Peak for maximum friction force at v_slip = 0: f0_max = peak*f0
+    useNormalForceInput : Boolean, default false
+        true: the normal force is the signal input fN (the vehicle's weight share, a load transfer); false: the constant fNConstant
+    fNConstant : Real [N], default 3924, > 0
+        Normal force of the road on the wheel, when useNormalForceInput = false (the default: a 400 kg quarter car, 400*9.81)
+    v_small : Real [m/s], default 1e+10, > 0
+        Slip speed above which a speed jump reverses sliding directly
+    useSupportR : Boolean, default false
+        true: enable the rotational support connector (the hub; else fixed at angle 0)
+    useSupportT : Boolean, default false
+        true: enable the translational support connector (the road; else fixed at position 0)
+
+    Ports
+    -----
+    - flangeR: flange
+    - flangeT: translational flange
+    - supportR: flange (if useSupportR = true)
+    - supportT: translational flange (if useSupportT = true)
+    - fN: signal input (if useNormalForceInput = true)
+
+    Variables
+    ---------
+    - fN [N]
+    - free
+    - v_slip [m/s]
+    - a_slip [m/s2]
+    - f [N]
+    - mu [1]
+    - lossPower [W]
+    - locked
+    - sa [N]
+    - f0 [N]
+    - f0_max [N]
+    - mode
+    - startForward
+    - startBackward
+    - flangeR.phi [rad] (displayUnit deg)
+    - flangeR.tau [N.m]
+    - flangeT.s [m]
+    - flangeT.f [N]
+    - supportR.phi [rad] (displayUnit deg)
+    - supportR.tau [N.m]
+    - supportT.s [m]
+    - supportT.f [N]
+    """
+
+    def __init__(
+        self,
+        *,
+        radius: float = ...,
+        mu_pos: Sequence[Sequence[float | str]] = ...,
+        extrapolation: Literal["LastTwoPoints", "HoldLastPoint"] = ...,
+        peak: float = ...,
+        useNormalForceInput: bool = ...,
+        fNConstant: float = ...,
+        v_small: float = ...,
         useSupportR: bool = ...,
         useSupportT: bool = ...,
     ) -> None: ...

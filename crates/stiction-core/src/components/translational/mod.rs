@@ -8,6 +8,7 @@ pub mod compliant;
 pub mod conversion;
 pub mod friction;
 pub mod mass;
+pub mod slip_wheel;
 pub mod sources;
 
 use super::Entry;
@@ -20,5 +21,6 @@ pub fn registry() -> Vec<Entry> {
     r.extend(friction::REGISTRY);
     r.extend(sources::REGISTRY);
     r.extend(conversion::REGISTRY);
+    r.extend(slip_wheel::REGISTRY);
     r
 }

@@ -6,7 +6,10 @@
 
 pub mod conversion;
 pub mod mass;
+pub mod motion;
+pub mod sensors;
 pub mod sources;
+pub mod vehicle;
 
 use super::Entry;
 
@@ -16,5 +19,8 @@ pub fn registry() -> Vec<Entry> {
     r.extend(mass::REGISTRY);
     r.extend(sources::REGISTRY);
     r.extend(conversion::REGISTRY);
+    r.extend(sensors::REGISTRY);
+    r.extend(motion::REGISTRY);
+    r.extend(vehicle::REGISTRY);
     r
 }

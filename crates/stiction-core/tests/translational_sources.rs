@@ -41,7 +41,7 @@ fn last(r: &SimResult, name: &str) -> f64 {
 fn in_the_tube(name: &str) {
     let data = repo().join("tests/data/msl-translational");
     let reference = Reference::read(data.join(format!("{name}.csv"))).unwrap();
-    let listed = read_signal_list(&data.join(format!("{name}.signals.txt"))).unwrap();
+    let listed = read_signal_list(data.join(format!("{name}.signals.txt"))).unwrap();
     let result = example(name);
     let report = compare(&result, &reference, &listed, 2e-3).unwrap();
     assert_eq!(report.len(), listed.len());

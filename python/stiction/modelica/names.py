@@ -99,7 +99,16 @@ MSL_CLASSES: dict[str, str] = {
     **{f"Translational.{t}": f"{_TRANS}.Components.{t}" for t in ["Vehicle", "RollingResistance"]},
     **{
         f"Translational.{t}": f"{_TRANS}.Sources.{t}"
-        for t in ["Position", "Speed", "Accelerate", "Move", "Force2", "ForceStep", "SignForce", "EddyCurrentForce"]
+        for t in [
+            "Position",
+            "Speed",
+            "Accelerate",
+            "Move",
+            "Force2",
+            "ForceStep",
+            "SignForce",
+            "EddyCurrentForce",
+        ]
     },
     **{
         f"Translational.{t}": f"{_TRANS}.Sensors.{t}"

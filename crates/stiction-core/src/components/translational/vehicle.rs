@@ -86,7 +86,7 @@ impl ForceLaw for DragLaw {
     fn role(&self) -> EnergyRole {
         // with wind, the air (MSL's windSpeed source) works on the vehicle too
         match self.wind {
-            Source::Value(v) if v == 0.0 => EnergyRole::Dissipative,
+            Source::Value(0.0) => EnergyRole::Dissipative,
             _ => EnergyRole::Source,
         }
     }

@@ -134,3 +134,31 @@ def test_vehicle_example_runs_as_an_fmu_in_fmpy(tmp_path: Path) -> None:
     for name in ["vehicle.v", "trailer.s"]:
         expected = np.interp(out["time"], ref.time, ref[name])
         assert np.max(np.abs(out[name] - expected)) < 2e-3 * np.ptp(ref[name]), name
+
+
+def test_the_genuine_vehicle_file_is_refused_at_its_two_column_table() -> None:
+    """MSL's Vehicle example drives torque and inclination from one two-column CombiTimeTable
+    (y[1], y[2]); stiction's TimeTable has one output, so the import names the table and its
+    connection at their places (the TOML twin writes it as two TimeTables)."""
+    with pytest.raises(st.ModelError) as info:
+        st.Model.from_modelica(DIR / "Vehicle.mo")
+    message = str(info.value)
+    assert "56:5" in message and "only one output column is supported, the table has 2" in message, message
+    assert "73:11" in message and "array connectors are not supported" in message, message
+
+
+def test_a_sweep_of_coasting_vehicles_matches_the_closed_form_per_variant() -> None:
+    """Flat road, no drag: (m + J/R²)·v' = −Cr·m·g, so v(T) = v0 − Cr·m·g·T/(m + J/R²)."""
+    m = st.Model.from_modelica("""model Coast
+  Modelica.Mechanics.Translational.Components.Vehicle car(m=1000, J=2, R=0.3, A=0, Cd=0.3,
+    CrConstant=0.01, s(fixed=true), v(start=20, fixed=true));
+end Coast;
+""")
+    variants = st.grid({"car.m": [500.0, 1500.0], "car.CrConstant": [0.01, 0.03]})
+    m.experiment.update(StopTime=5.0, Tolerance=1e-10)
+    result = st.sweep(m, variants, ["final(car.v)"], progress=False, workers=2)
+    assert list(result.table["status"]) == ["ok"] * 4
+    for _, row in result.table.iterrows():
+        mass, cr = row["car.m"], row["car.CrConstant"]
+        expected = 20.0 - cr * mass * G_N * 5.0 / (mass + 2.0 / 0.3**2)
+        assert row["final(car.v)"] == pytest.approx(expected, rel=1e-9)

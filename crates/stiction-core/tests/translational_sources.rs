@@ -311,3 +311,28 @@ fn a_vehicle_with_impossible_data_is_refused_by_name() {
         );
     }
 }
+
+#[test]
+fn every_element_of_the_translational_examples_balances_its_power() {
+    // as tests/audit.rs for examples/msl: the power entering each element through its flanges
+    // is what its own equations take (½·m·v² and ½·J·w² stored, drag, rolling and eddy losses)
+    for name in ["Vehicle", "EddyCurrentBrake"] {
+        let r = example(name);
+        let audits = r.audit();
+        assert!(audits.len() >= 2, "{name}");
+        let scale = audits.iter().map(|a| a.scale).fold(1.0, f64::max);
+        for a in &audits {
+            eprintln!(
+                "{name} {}: residual {:.2e} of {:.3} W, min dissipation {:.2e}, dissipated {:.4} J",
+                a.component, a.residual, a.scale, a.min_dissipation, a.dissipated
+            );
+            assert!(
+                a.residual <= 1e-9 * scale,
+                "{name} {}: {:.3e}",
+                a.component,
+                a.residual
+            );
+            assert!(a.min_dissipation >= -1e-9 * scale, "{name} {}", a.component);
+        }
+    }
+}

@@ -162,3 +162,16 @@ end Coast;
         mass, cr = row["car.m"], row["car.CrConstant"]
         expected = 20.0 - cr * mass * G_N * 5.0 / (mass + 2.0 / 0.3**2)
         assert row["final(car.v)"] == pytest.approx(expected, rel=1e-9)
+
+
+def test_the_catalogue_gives_each_variable_the_unit_of_its_domain() -> None:
+    """A mixed component's flange variables are in the flange's domain, its own in its type's."""
+    from stiction.model.catalogue import catalogue
+
+    units = {v.name: v.unit for v in catalogue()["Translational.Vehicle"].variables}
+    assert units["a"] == "m/s2" and units["fDrag.f"] == "N" and units["flangeT.f"] == "N"
+    assert units["flangeR.tau"] == "N.m" and units["flangeR.phi"] == "rad"
+    wheel = {v.name: v.unit for v in catalogue()["IdealRollingWheel"].variables}
+    assert wheel["flangeT.f"] == "N" and wheel["flangeR.tau"] == "N.m"
+    speed = {v.name: v.unit for v in catalogue()["Translational.Speed"].variables}
+    assert speed["v_ref"] == "m/s" and speed["a"] == "m/s2"

@@ -85,7 +85,7 @@ fn describe_entry(entry: &Entry) -> TypeInfo {
         name: entry.name,
         class: entry.class,
         description: entry.description,
-        variables: variables(entry, &params, &full, translational(&full)),
+        variables: variables(entry, &params, &full, translational_type(entry, &full)),
         params,
         ports,
     }
@@ -141,6 +141,12 @@ fn translational(ports: &Ports) -> bool {
     !ports.mech.is_empty() && ports.mech.iter().all(|p| ports.translational.contains(p))
 }
 
+/// A component whose own variables are translational: all its flanges are, or it is one of
+/// MSL's Translational classes with a rotational flange too (a Vehicle's `flangeR`).
+fn translational_type(entry: &Entry, ports: &Ports) -> bool {
+    translational(ports) || entry.name.starts_with("Translational.")
+}
+
 fn variables(
     entry: &Entry,
     params: &[ParamInfo],
@@ -154,12 +160,21 @@ fn variables(
         .outputs
         .iter()
         .filter_map(|(name, _)| name.strip_prefix("x."))
-        .map(|name| VariableInfo {
-            name: name.to_string(),
-            unit: match translational {
-                true => translational_unit(name),
-                false => variable_unit(name),
-            },
+        .map(|name| {
+            // a flange's variables are in its own domain (a wheel's flangeT.f in N), the
+            // component's own in the component's (a Vehicle's a in m/s2)
+            let port = name.split('.').next().filter(|p| ports.mech.contains(p));
+            let translational = match port {
+                Some(p) => ports.domain_of(p) == Domain::Translational,
+                None => translational,
+            };
+            VariableInfo {
+                name: name.to_string(),
+                unit: match translational {
+                    true => translational_unit(name),
+                    false => variable_unit(name),
+                },
+            }
         })
         .collect()
 }
@@ -255,8 +270,11 @@ pub fn variable_unit(name: &str) -> &'static str {
 pub fn translational_unit(name: &str) -> &'static str {
     let last = name.rsplit('.').next().unwrap_or(name);
     match last {
-        "a" | "a_rel" => "m/s2",
-        "f" => "N",
+        "a" | "a_rel" | "a_ref" | "u[3]" => "m/s2",
+        "f" | "f_input" => "N",
+        "s_ref" | "u[1]" => "m",
+        "v_ref" | "vWind" | "u[2]" => "m/s",
+        "inclination" | "cr" => "1",
         _ => variable_unit(name),
     }
 }

@@ -2224,11 +2224,11 @@ class IdealRollingWheel(_Factory):
     - flangeR.phi [rad] (displayUnit deg)
     - flangeR.tau [N.m]
     - flangeT.s [m]
-    - flangeT.f [N.m]
+    - flangeT.f [N]
     - supportR.phi [rad] (displayUnit deg)
     - supportR.tau [N.m]
     - supportT.s [m]
-    - supportT.f [N.m]
+    - supportT.f [N]
     """
 
     def __init__(
@@ -2265,11 +2265,11 @@ class IdealGearR2T(_Factory):
     - flangeR.phi [rad] (displayUnit deg)
     - flangeR.tau [N.m]
     - flangeT.s [m]
-    - flangeT.f [N.m]
+    - flangeT.f [N]
     - supportR.phi [rad] (displayUnit deg)
     - supportR.tau [N.m]
     - supportT.s [m]
-    - supportT.f [N.m]
+    - supportT.f [N]
     """
 
     def __init__(

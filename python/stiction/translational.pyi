@@ -6,20 +6,98 @@ from typing import Literal
 from stiction.model.components import StartValue, _Factory
 
 __all__ = [
+    "AccSensor",
+    "Accelerate",
     "Brake",
     "ConstantForce",
     "Damper",
+    "EddyCurrentForce",
     "ElastoGap",
     "Fixed",
     "Force",
+    "Force2",
+    "ForceSensor",
+    "ForceStep",
     "LinearSpeedDependentForce",
     "Mass",
+    "Move",
+    "MultiSensor",
+    "Position",
+    "PositionSensor",
+    "PowerSensor",
     "QuadraticSpeedDependentForce",
+    "RelAccSensor",
+    "RelPositionSensor",
+    "RelSpeedSensor",
     "Rod",
+    "RollingResistance",
+    "SignForce",
+    "Speed",
+    "SpeedSensor",
     "Spring",
     "SpringDamper",
     "SupportFriction",
+    "Vehicle",
 ]
+
+class AccSensor(_Factory):
+    """Ideal sensor to measure the absolute acceleration.
+
+    MSL class: ``Modelica.Mechanics.Translational.Sensors.AccSensor``
+
+    Ports
+    -----
+    - flange: translational flange
+    - a: signal output
+
+    Variables
+    ---------
+    - flange.s [m]
+    - flange.f [N]
+    - a [m/s2]
+    """
+
+    def __init__(self) -> None: ...
+
+class Accelerate(_Factory):
+    """Forced movement of a flange according to an acceleration signal.
+
+    MSL class: ``Modelica.Mechanics.Translational.Sources.Accelerate``
+
+    Parameters
+    ----------
+    s : start value [m], start (a guess unless given) 0
+        Distance between flange and support (= flange.s - support.s) (start value)
+    v : start value [m/s], start (a guess unless given) 0
+        Velocity of flange with respect to support (= der(s)) (start value)
+    useSupport : Boolean, default false
+        true: enable the support connector (else the housing is fixed at position 0)
+
+    Ports
+    -----
+    - flange: translational flange
+    - support: translational flange (if useSupport = true)
+    - a_ref: signal input
+
+    Variables
+    ---------
+    - s [m]
+    - v [m/s]
+    - a [m/s2]
+    - a_ref [m/s2]
+    - flange.s [m]
+    - flange.f [N]
+    - support.s [m]
+    - support.f [N]
+    """
+
+    def __init__(
+        self,
+        *,
+        s: float | StartValue = ...,
+        v: float | StartValue = ...,
+        useSupport: bool = ...,
+    ) -> None: ...
 
 class Brake(_Factory):
     """Brake based on Coulomb friction.
@@ -175,6 +253,64 @@ class Damper(_Factory):
         useHeatPort: bool = ...,
     ) -> None: ...
 
+class EddyCurrentForce(_Factory):
+    """Simple model of a translational eddy current brake.
+
+    MSL class: ``Modelica.Mechanics.Translational.Sources.EddyCurrentForce``
+
+    Parameters
+    ----------
+    useF_nominalInput : Boolean, default false
+        true: signal input f_input for f_nominal
+    f_nominal : Real [N], default 0
+        Constant maximum force (always braking)
+    v_nominal : Real [m/s], required, > 0
+        Nominal speed (leads to maximum force) at reference temperature
+    TRef : Real [K] (displayUnit degC), default 293.15 (20 degC), > 0
+        Reference temperature
+    alpha20 : Real [1/K], default 0
+        Temperature coefficient of material
+    useSupport : Boolean, default false
+        true: enable the support connector (else the housing is fixed at position 0)
+    useHeatPort : Boolean, default false
+        true: enable the heatPort connector (else the loss power goes nowhere)
+    T : Real [K] (displayUnit degC), default 293.15 (20 degC), > 0
+        Fixed device temperature if useHeatPort = false
+
+    Ports
+    -----
+    - flange: translational flange
+    - support: translational flange (if useSupport = true)
+    - f_input: signal input (if useF_nominalInput = true)
+    - heatPort: heat port (if useHeatPort = true)
+
+    Variables
+    ---------
+    - f [N]
+    - s [m]
+    - v [m/s]
+    - lossPower [W]
+    - flange.s [m]
+    - flange.f [N]
+    - support.s [m]
+    - support.f [N]
+    - heatPort.T [K] (displayUnit degC)
+    - heatPort.Q_flow [W]
+    """
+
+    def __init__(
+        self,
+        *,
+        useF_nominalInput: bool = ...,
+        f_nominal: float = ...,
+        v_nominal: float = ...,
+        TRef: float = ...,
+        alpha20: float = ...,
+        useSupport: bool = ...,
+        useHeatPort: bool = ...,
+        T: float = ...,
+    ) -> None: ...
+
 class ElastoGap(_Factory):
     """1D translational spring damper combination with gap.
 
@@ -289,6 +425,91 @@ class Force(_Factory):
         useSupport: bool = ...,
     ) -> None: ...
 
+class Force2(_Factory):
+    """Input signal acting as torque on two flanges.
+
+    MSL class: ``Modelica.Mechanics.Translational.Sources.Force2``
+
+    Ports
+    -----
+    - flange_a: translational flange
+    - flange_b: translational flange
+    - f: signal input
+
+    Variables
+    ---------
+    - f [N]
+    - flange_a.s [m]
+    - flange_a.f [N]
+    - flange_b.s [m]
+    - flange_b.f [N]
+    """
+
+    def __init__(self) -> None: ...
+
+class ForceSensor(_Factory):
+    """Ideal sensor to measure the force between two flanges (= flange_a.f).
+
+    MSL class: ``Modelica.Mechanics.Translational.Sensors.ForceSensor``
+
+    Ports
+    -----
+    - flange_a: translational flange
+    - flange_b: translational flange
+    - f: signal output
+
+    Variables
+    ---------
+    - flange_a.s [m]
+    - flange_a.f [N]
+    - flange_b.s [m]
+    - flange_b.f [N]
+    - f [N]
+    """
+
+    def __init__(self) -> None: ...
+
+class ForceStep(_Factory):
+    """Constant force, not dependent on speed.
+
+    MSL class: ``Modelica.Mechanics.Translational.Sources.ForceStep``
+
+    Parameters
+    ----------
+    startTime : Real [s], default 0
+        Time of the force step
+    stepForce : Real [N], default 1
+        Height of the force step (negative: acting as load in positive direction of motion)
+    offsetForce : Real [N], default 0
+        Offset of the force
+    useSupport : Boolean, default false
+        true: enable the support connector (else the housing is fixed at position 0)
+
+    Ports
+    -----
+    - flange: translational flange
+    - support: translational flange (if useSupport = true)
+
+    Variables
+    ---------
+    - f [N]
+    - s [m]
+    - v [m/s]
+    - flange.s [m]
+    - flange.f [N]
+    - support.s [m]
+    - support.f [N]
+    """
+
+    def __init__(
+        self,
+        *,
+        startTime: float = ...,
+        stepForce: float = ...,
+        offsetForce: float = ...,
+        useSupport: bool = ...,
+    ) -> None: ...
+
 class LinearSpeedDependentForce(_Factory):
     """Linear dependency of force versus speed.
 
@@ -371,6 +592,152 @@ class Mass(_Factory):
         v: float | StartValue = ...,
     ) -> None: ...
 
+class Move(_Factory):
+    """Forced movement of a flange according to a position, velocity and acceleration signal.
+
+    MSL class: ``Modelica.Mechanics.Translational.Sources.Move``
+
+    Parameters
+    ----------
+    useSupport : Boolean, default false
+        true: enable the support connector (else the housing is fixed at position 0)
+
+    Ports
+    -----
+    - flange: translational flange
+    - support: translational flange (if useSupport = true)
+    - u[1]: signal input
+    - u[2]: signal input
+    - u[3]: signal input
+
+    Variables
+    ---------
+    - s [m]
+    - u[1] [m]
+    - u[2] [m/s]
+    - u[3] [m/s2]
+    - flange.s [m]
+    - flange.f [N]
+    - support.s [m]
+    - support.f [N]
+    """
+
+    def __init__(
+        self,
+        *,
+        useSupport: bool = ...,
+    ) -> None: ...
+
+class MultiSensor(_Factory):
+    """Ideal sensor to measure the absolute velocity, force and power between two flanges.
+
+    MSL class: ``Modelica.Mechanics.Translational.Sensors.MultiSensor``
+
+    Ports
+    -----
+    - flange_a: translational flange
+    - flange_b: translational flange
+    - power: signal output
+    - v: signal output
+    - f: signal output
+
+    Variables
+    ---------
+    - flange_a.s [m]
+    - flange_a.f [N]
+    - flange_b.s [m]
+    - flange_b.f [N]
+    - power [W]
+    - v [m/s]
+    - f [N]
+    """
+
+    def __init__(self) -> None: ...
+
+class Position(_Factory):
+    """Forced movement of a flange according to a reference position.
+
+    MSL class: ``Modelica.Mechanics.Translational.Sources.Position``
+
+    Parameters
+    ----------
+    exact : Boolean, default false
+        true: follow the input signal exactly (needs its time derivatives), false: filter it
+    f_crit : Real [Hz], default 50, > 0
+        If exact=false, critical frequency of filter to filter input signal
+    v : start value [m/s], start (a guess unless given) 0
+        Velocity of flange with respect to support (= der(s)) (start value)
+    useSupport : Boolean, default false
+        true: enable the support connector (else the housing is fixed at position 0)
+
+    Ports
+    -----
+    - flange: translational flange
+    - support: translational flange (if useSupport = true)
+    - s_ref: signal input
+
+    Variables
+    ---------
+    - s [m]
+    - v [m/s]
+    - a [m/s2]
+    - s_ref [m]
+    - flange.s [m]
+    - flange.f [N]
+    - support.s [m]
+    - support.f [N]
+    """
+
+    def __init__(
+        self,
+        *,
+        exact: bool = ...,
+        f_crit: float = ...,
+        v: float | StartValue = ...,
+        useSupport: bool = ...,
+    ) -> None: ...
+
+class PositionSensor(_Factory):
+    """Ideal sensor to measure the absolute position.
+
+    MSL class: ``Modelica.Mechanics.Translational.Sensors.PositionSensor``
+
+    Ports
+    -----
+    - flange: translational flange
+    - s: signal output
+
+    Variables
+    ---------
+    - flange.s [m]
+    - flange.f [N]
+    - s [m]
+    """
+
+    def __init__(self) -> None: ...
+
+class PowerSensor(_Factory):
+    """Ideal sensor to measure the power between two flanges (= flange_a.f*der(flange_a.s)).
+
+    MSL class: ``Modelica.Mechanics.Translational.Sensors.PowerSensor``
+
+    Ports
+    -----
+    - flange_a: translational flange
+    - flange_b: translational flange
+    - power: signal output
+
+    Variables
+    ---------
+    - flange_a.s [m]
+    - flange_a.f [N]
+    - flange_b.s [m]
+    - flange_b.f [N]
+    - power [W]
+    """
+
+    def __init__(self) -> None: ...
+
 class QuadraticSpeedDependentForce(_Factory):
     """Quadratic dependency of force versus speed.
 
@@ -412,6 +779,72 @@ class QuadraticSpeedDependentForce(_Factory):
         useSupport: bool = ...,
     ) -> None: ...
 
+class RelAccSensor(_Factory):
+    """Ideal sensor to measure the relative acceleration between two flanges.
+
+    MSL class: ``Modelica.Mechanics.Translational.Sensors.RelAccSensor``
+
+    Ports
+    -----
+    - flange_a: translational flange
+    - flange_b: translational flange
+    - a_rel: signal output
+
+    Variables
+    ---------
+    - flange_a.s [m]
+    - flange_a.f [N]
+    - flange_b.s [m]
+    - flange_b.f [N]
+    - a_rel [m/s2]
+    """
+
+    def __init__(self) -> None: ...
+
+class RelPositionSensor(_Factory):
+    """Ideal sensor to measure the relative position between two flanges.
+
+    MSL class: ``Modelica.Mechanics.Translational.Sensors.RelPositionSensor``
+
+    Ports
+    -----
+    - flange_a: translational flange
+    - flange_b: translational flange
+    - s_rel: signal output
+
+    Variables
+    ---------
+    - flange_a.s [m]
+    - flange_a.f [N]
+    - flange_b.s [m]
+    - flange_b.f [N]
+    - s_rel [m]
+    """
+
+    def __init__(self) -> None: ...
+
+class RelSpeedSensor(_Factory):
+    """Ideal sensor to measure the relative speed between two flanges.
+
+    MSL class: ``Modelica.Mechanics.Translational.Sensors.RelSpeedSensor``
+
+    Ports
+    -----
+    - flange_a: translational flange
+    - flange_b: translational flange
+    - v_rel: signal output
+
+    Variables
+    ---------
+    - flange_a.s [m]
+    - flange_a.f [N]
+    - flange_b.s [m]
+    - flange_b.f [N]
+    - v_rel [m/s]
+    """
+
+    def __init__(self) -> None: ...
+
 class Rod(_Factory):
     """Rod without inertia.
 
@@ -441,6 +874,165 @@ class Rod(_Factory):
         *,
         L: float = ...,
     ) -> None: ...
+
+class RollingResistance(_Factory):
+    """Resistance of a rolling wheel.
+
+    MSL class: ``Modelica.Mechanics.Translational.Components.RollingResistance``
+
+    Parameters
+    ----------
+    fWeight : Real [N], required, >= 0
+        Wheel load due to gravity
+    useCrInput : Boolean, default false
+        true: signal input cr for the rolling resistance coefficient
+    CrConstant : Real [1], default 0.01, >= 0
+        Constant rolling resistance coefficient
+    useInclinationInput : Boolean, default false
+        true: signal input inclination = tan(angle) for the inclination
+    inclinationConstant : Real [1], default 0
+        Constant inclination = tan(angle)
+    reg : choice, default 'Exp'
+        Type of regularization: Exp, Sine, Linear or CoSine
+    v0 : Real [m/s], default 0.1, > 0
+        Regularization below v0
+    useSupport : Boolean, default false
+        true: enable the support connector (else the housing is fixed at position 0)
+
+    Ports
+    -----
+    - flange: translational flange
+    - support: translational flange (if useSupport = true)
+    - inclination: signal input (if useInclinationInput = true)
+    - cr: signal input (if useCrInput = true)
+
+    Variables
+    ---------
+    - f [N]
+    - s [m]
+    - v [m/s]
+    - lossPower [W]
+    - flange.s [m]
+    - flange.f [N]
+    - support.s [m]
+    - support.f [N]
+    """
+
+    def __init__(
+        self,
+        *,
+        fWeight: float = ...,
+        useCrInput: bool = ...,
+        CrConstant: float = ...,
+        useInclinationInput: bool = ...,
+        inclinationConstant: float = ...,
+        reg: Literal["Exp", "Sine", "Linear", "CoSine"] = ...,
+        v0: float = ...,
+        useSupport: bool = ...,
+    ) -> None: ...
+
+class SignForce(_Factory):
+    """Constant force changing sign with speed.
+
+    MSL class: ``Modelica.Mechanics.Translational.Sources.SignForce``
+
+    Parameters
+    ----------
+    reg : choice, default 'Exp'
+        Type of regularization: Exp, Sine, Linear or CoSine
+    f_nominal : Real [N], required
+        Nominal force (negative: acting as load in positive direction of motion)
+    v0 : Real [m/s], default 0.1, > 0
+        Regularization below v0
+    useSupport : Boolean, default false
+        true: enable the support connector (else the housing is fixed at position 0)
+
+    Ports
+    -----
+    - flange: translational flange
+    - support: translational flange (if useSupport = true)
+
+    Variables
+    ---------
+    - f [N]
+    - s [m]
+    - v [m/s]
+    - flange.s [m]
+    - flange.f [N]
+    - support.s [m]
+    - support.f [N]
+    """
+
+    def __init__(
+        self,
+        *,
+        reg: Literal["Exp", "Sine", "Linear", "CoSine"] = ...,
+        f_nominal: float = ...,
+        v0: float = ...,
+        useSupport: bool = ...,
+    ) -> None: ...
+
+class Speed(_Factory):
+    """Forced movement of a flange according to a reference speed.
+
+    MSL class: ``Modelica.Mechanics.Translational.Sources.Speed``
+
+    Parameters
+    ----------
+    exact : Boolean, default false
+        true: follow the input signal exactly (needs its time derivatives), false: filter it
+    f_crit : Real [Hz], default 50, > 0
+        If exact=false, critical frequency of filter to filter input signal
+    s : start value [m], start (a guess unless given) 0
+        Distance between flange and support (= flange.s - support.s) (start value)
+    useSupport : Boolean, default false
+        true: enable the support connector (else the housing is fixed at position 0)
+
+    Ports
+    -----
+    - flange: translational flange
+    - support: translational flange (if useSupport = true)
+    - v_ref: signal input
+
+    Variables
+    ---------
+    - s [m]
+    - v [m/s]
+    - a [m/s2]
+    - v_ref [m/s]
+    - flange.s [m]
+    - flange.f [N]
+    - support.s [m]
+    - support.f [N]
+    """
+
+    def __init__(
+        self,
+        *,
+        exact: bool = ...,
+        f_crit: float = ...,
+        s: float | StartValue = ...,
+        useSupport: bool = ...,
+    ) -> None: ...
+
+class SpeedSensor(_Factory):
+    """Ideal sensor to measure the absolute velocity.
+
+    MSL class: ``Modelica.Mechanics.Translational.Sensors.SpeedSensor``
+
+    Ports
+    -----
+    - flange: translational flange
+    - v: signal output
+
+    Variables
+    ---------
+    - flange.s [m]
+    - flange.f [N]
+    - v [m/s]
+    """
+
+    def __init__(self) -> None: ...
 
 class Spring(_Factory):
     """Linear 1D translational spring.
@@ -593,4 +1185,87 @@ class SupportFriction(_Factory):
         v_small: float = ...,
         useHeatPort: bool = ...,
         useSupport: bool = ...,
+    ) -> None: ...
+
+class Vehicle(_Factory):
+    """Simple vehicle model.
+
+    MSL class: ``Modelica.Mechanics.Translational.Components.Vehicle``
+
+    Parameters
+    ----------
+    m : Real [kg], required, > 0
+        Total mass of vehicle
+    g : Real [m/s2], default 9.80665, > 0
+        Constant gravity acceleration
+    J : Real [kg.m2], required, >= 0
+        Total rotational inertia of drive train
+    R : Real [m], required, > 0
+        Wheel radius
+    A : Real [m2], default 1, >= 0
+        Cross section of vehicle
+    Cd : Real [1], default 0.5, >= 0
+        Drag resistance coefficient
+    rho : Real [kg/m3], default 1.2, >= 0
+        Density of air
+    useWindInput : Boolean, default false
+        true: signal input vWind for the wind velocity
+    vWindConstant : Real [m/s], default 0
+        Constant wind velocity
+    useCrInput : Boolean, default false
+        true: signal input cr for the rolling resistance coefficient
+    CrConstant : Real [1], default 0.015, >= 0
+        Constant rolling resistance coefficient
+    vReg : Real [m/s], default 0.001, > 0
+        Velocity for regularization around 0
+    useInclinationInput : Boolean, default false
+        true: signal input inclination = tan(angle) for the inclination
+    inclinationConstant : Real [1], default 0
+        Constant inclination = tan(angle)
+    s : start value [m], start (a guess unless given) 0
+        Position of vehicle (start value)
+    v : start value [m/s], start (a guess unless given) 0
+        Velocity of vehicle (start value)
+
+    Ports
+    -----
+    - flangeR: flange
+    - flangeT: translational flange
+    - inclination: signal input (if useInclinationInput = true)
+    - cr: signal input (if useCrInput = true)
+    - vWind: signal input (if useWindInput = true)
+
+    Variables
+    ---------
+    - s [m]
+    - v [m/s]
+    - a [m/s2]
+    - fDrag.f [N]
+    - fRoll.f [N]
+    - fGrav.f [N]
+    - flangeR.phi [rad] (displayUnit deg)
+    - flangeR.tau [N.m]
+    - flangeT.s [m]
+    - flangeT.f [N]
+    """
+
+    def __init__(
+        self,
+        *,
+        m: float = ...,
+        g: float = ...,
+        J: float = ...,
+        R: float = ...,
+        A: float = ...,
+        Cd: float = ...,
+        rho: float = ...,
+        useWindInput: bool = ...,
+        vWindConstant: float = ...,
+        useCrInput: bool = ...,
+        CrConstant: float = ...,
+        vReg: float = ...,
+        useInclinationInput: bool = ...,
+        inclinationConstant: float = ...,
+        s: float | StartValue = ...,
+        v: float | StartValue = ...,
     ) -> None: ...

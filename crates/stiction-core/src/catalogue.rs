@@ -85,7 +85,7 @@ fn describe_entry(entry: &Entry) -> TypeInfo {
         name: entry.name,
         class: entry.class,
         description: entry.description,
-        variables: variables(entry, &params, &full, translational(&full)),
+        variables: variables(entry, &params, &full, translational_type(entry, &full)),
         params,
         ports,
     }
@@ -139,6 +139,12 @@ fn instance(entry: &Entry, params: &[ParamInfo]) -> ComponentSpec {
 /// in m/s2, an Inertia's in rad/s2; a wheel's flanges say their domain in their names).
 fn translational(ports: &Ports) -> bool {
     !ports.mech.is_empty() && ports.mech.iter().all(|p| ports.translational.contains(p))
+}
+
+/// A component whose own variables are translational: all its flanges are, or it is one of
+/// MSL's Translational classes with a rotational flange too (a Vehicle's `flangeR`).
+fn translational_type(entry: &Entry, ports: &Ports) -> bool {
+    translational(ports) || entry.name.starts_with("Translational.")
 }
 
 fn variables(
@@ -268,8 +274,11 @@ pub fn variable_unit(name: &str) -> &'static str {
 pub fn translational_unit(name: &str) -> &'static str {
     let last = name.rsplit('.').next().unwrap_or(name);
     match last {
-        "a" | "a_rel" => "m/s2",
-        "f" | "sa" | "f0" | "f0_max" | "fN" => "N",
+        "a" | "a_rel" | "a_ref" | "u[3]" => "m/s2",
+        "f" | "f_input" | "sa" | "f0" | "f0_max" | "fN" => "N",
+        "s_ref" | "u[1]" => "m",
+        "v_ref" | "vWind" | "u[2]" => "m/s",
+        "inclination" | "cr" => "1",
         // SlipWheel's slip speed R·w − v
         "v_slip" => "m/s",
         "a_slip" => "m/s2",

@@ -109,6 +109,34 @@ MSL_CLASSES: dict[str, str] = {
         f"Translational.{t}": f"{_TRANS}.Sources.{t}"
         for t in ["Force", "ConstantForce", "LinearSpeedDependentForce", "QuadraticSpeedDependentForce"]
     },
+    **{f"Translational.{t}": f"{_TRANS}.Components.{t}" for t in ["Vehicle", "RollingResistance"]},
+    **{
+        f"Translational.{t}": f"{_TRANS}.Sources.{t}"
+        for t in [
+            "Position",
+            "Speed",
+            "Accelerate",
+            "Move",
+            "Force2",
+            "ForceStep",
+            "SignForce",
+            "EddyCurrentForce",
+        ]
+    },
+    **{
+        f"Translational.{t}": f"{_TRANS}.Sensors.{t}"
+        for t in [
+            "PositionSensor",
+            "SpeedSensor",
+            "AccSensor",
+            "ForceSensor",
+            "PowerSensor",
+            "MultiSensor",
+            "RelPositionSensor",
+            "RelSpeedSensor",
+            "RelAccSensor",
+        ]
+    },
     **{t: f"Modelica.Blocks.Sources.{t}" for t in ["Constant", "Step", "Ramp", "Sine", "Pulse", "TimeTable"]},
     **{t: f"Modelica.Blocks.Math.{t}" for t in ["Product", "Feedback", "Add", "Gain"]},
     **{t: f"{_HEAT}.Components.{t}" for t in ["HeatCapacitor", "ThermalConductor", "Convection"]},

@@ -34,6 +34,9 @@ def combi_time_table(name: str, decl: Declaration, params: dict[str, Any]) -> tu
         raise refuse("smoothness", "only smoothness = LinearSegments is supported")
     if "table" not in params:
         raise refuse("table", "missing 'table'")
+    widths = {len(row) for row in params["table"] if isinstance(row, list)}
+    if widths and max(widths) > 2:
+        raise refuse("table", f"only one output column is supported, the table has {max(widths) - 1}")
     out: dict[str, Any] = {"table": params["table"]}
     extrapolation = params.get("extrapolation", "LastTwoPoints")
     if extrapolation not in ("LastTwoPoints", "HoldLastPoint"):

@@ -57,6 +57,8 @@ impl ForceLaw for EddyLaw {
 }
 
 struct EddyCurrentTorque {
+    /// `EddyCurrentForce`: translational flange, MSL's names `f_input`, `f`, `s`, `v`.
+    translational: bool,
     use_input: bool,
     tau_nominal: f64,
     w_nominal: f64,
@@ -67,12 +69,28 @@ struct EddyCurrentTorque {
     t_fixed: f64,
 }
 
+impl EddyCurrentTorque {
+    /// The names of the input, the force, the position and the speed.
+    fn names(&self) -> [&'static str; 4] {
+        match self.translational {
+            true => ["f_input", "f", "s", "v"],
+            false => ["tau_input", "tau", "phi", "w"],
+        }
+    }
+}
+
 impl Component for EddyCurrentTorque {
     fn ports(&self) -> Ports {
+        let mech = with_support(&["flange"], self.use_support);
         Ports {
-            mech: with_support(&["flange"], self.use_support),
+            translational: if self.translational {
+                mech.clone()
+            } else {
+                vec![]
+            },
+            mech,
             signal_in: if self.use_input {
-                vec!["tau_input"]
+                vec![self.names()[0]]
             } else {
                 vec![]
             },
@@ -85,7 +103,7 @@ impl Component for EddyCurrentTorque {
         let (nf, ns) = (b.node("flange")?, b.node("support")?);
         let rel = Rel::of(&[(nf, 1.0), (ns, -1.0)]);
         let tau_nominal = match self.use_input {
-            true => Source::Slot(b.signal_in("tau_input")?),
+            true => Source::Slot(b.signal_in(self.names()[0])?),
             false => Source::Value(self.tau_nominal),
         };
         let heat = match self.use_heat_port {
@@ -106,9 +124,10 @@ impl Component for EddyCurrentTorque {
                 alpha_ref: self.alpha_ref,
             }),
         );
-        b.output("tau", Out::LawTau(law, 1.0));
-        b.output("phi", Out::Angle(rel.clone()));
-        b.output("w", Out::Speed(rel));
+        let [_, tau, phi, w] = self.names();
+        b.output(tau, Out::LawTau(law, 1.0));
+        b.output(phi, Out::Angle(rel.clone()));
+        b.output(w, Out::Speed(rel));
         b.output("lossPower", Out::LawLoss(law));
         b.flange("flange", nf, Some(Out::LawTau(law, 1.0)))?;
         if self.use_support {
@@ -126,18 +145,37 @@ impl Component for EddyCurrentTorque {
     }
 }
 
-fn eddy_current_torque(p: &Params) -> ModelResult<Box<dyn Component>> {
-    let use_input = p.boolean(
-        "useTau_nominalInput true: signal input tau_input for tau_nominal",
-        false,
-    )?;
-    let tau_nominal = p.real("tau_nominal [N.m] Maximum torque (always braking)", 0.0)?;
-    let w_nominal = p.positive(
+/// The declarations that differ between the torque and the force.
+pub(crate) struct Decls {
+    pub(crate) use_input: &'static str,
+    pub(crate) nominal: &'static str,
+    pub(crate) speed: (&'static str, &'static str),
+    pub(crate) use_support: &'static str,
+}
+
+const TORQUE: Decls = Decls {
+    use_input: "useTau_nominalInput true: signal input tau_input for tau_nominal",
+    nominal: "tau_nominal [N.m] Maximum torque (always braking)",
+    speed: (
         "w_nominal",
-        p.required(
-            "w_nominal [rad/s] Nominal speed (leads to maximum torque) at reference temperature",
-        )?,
-    )?;
+        "w_nominal [rad/s] Nominal speed (leads to maximum torque) at reference temperature",
+    ),
+    use_support: USE_SUPPORT,
+};
+
+fn eddy_current_torque(p: &Params) -> ModelResult<Box<dyn Component>> {
+    eddy_current(p, &TORQUE, false)
+}
+
+/// `EddyCurrentTorque`, or `EddyCurrentForce` with `translational` and its declarations.
+pub(crate) fn eddy_current(
+    p: &Params,
+    d: &Decls,
+    translational: bool,
+) -> ModelResult<Box<dyn Component>> {
+    let use_input = p.boolean(d.use_input, false)?;
+    let tau_nominal = p.real(d.nominal, 0.0)?;
+    let w_nominal = p.positive(d.speed.0, p.required(d.speed.1)?)?;
     let t_ref = p.positive("TRef", p.real("TRef [K] Reference temperature", T20)?)?;
     let alpha20 = p.real("alpha20 [1/K] Temperature coefficient of material", 0.0)?;
     let scale = 1.0 + alpha20 * (t_ref - T20);
@@ -146,17 +184,19 @@ fn eddy_current_torque(p: &Params) -> ModelResult<Box<dyn Component>> {
         return Err(p.error("alpha20", message));
     }
     let alpha_ref = alpha20 / scale;
-    let use_support = p.boolean(USE_SUPPORT, false)?;
+    let use_support = p.boolean(d.use_support, false)?;
     let use_heat_port = p.boolean(USE_HEAT_PORT, false)?;
     let t_fixed = p.positive(
         "T",
         p.real("T [K] Fixed device temperature if useHeatPort = false", T20)?,
     )?;
     if 1.0 + alpha_ref * (t_fixed - t_ref) <= 0.0 && !use_heat_port {
-        let message = "at this temperature w_nominal·(1 + alphaRef·(T − TRef)) is not positive";
+        let message =
+            "at this temperature the nominal speed·(1 + alphaRef·(T − TRef)) is not positive";
         return Err(p.error("T", message));
     }
     Ok(Box::new(EddyCurrentTorque {
+        translational,
         use_input,
         tau_nominal,
         w_nominal,

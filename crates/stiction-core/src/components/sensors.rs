@@ -14,7 +14,7 @@ use crate::system::{Builder, NodeRef, Out, Rel};
 
 /// Which sensor: what it measures and where.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Kind {
+pub(crate) enum Kind {
     Angle,
     Speed,
     Acc,
@@ -35,8 +35,21 @@ impl Kind {
         matches!(self, Kind::Torque | Kind::Power | Kind::Multi)
     }
 
-    /// The output connectors, in MSL's declaration order.
-    fn outputs(self) -> Vec<&'static str> {
+    /// The output connectors, in MSL's declaration order (Translational: `s`, `v`, `f`, …).
+    fn outputs(self, translational: bool) -> Vec<&'static str> {
+        if translational {
+            return match self {
+                Kind::Angle => vec!["s"],
+                Kind::Speed => vec!["v"],
+                Kind::Acc => vec!["a"],
+                Kind::RelAngle => vec!["s_rel"],
+                Kind::RelSpeed => vec!["v_rel"],
+                Kind::RelAcc => vec!["a_rel"],
+                Kind::Torque => vec!["f"],
+                Kind::Power => vec!["power"],
+                Kind::Multi => vec!["power", "v", "f"],
+            };
+        }
         match self {
             Kind::Angle => vec!["phi"],
             Kind::Speed => vec!["w"],
@@ -51,64 +64,80 @@ impl Kind {
     }
 }
 
-struct Sensor(Kind);
+/// One sensor in either domain: a translational sensor measures `s`, `v`, `a` and `f` by the
+/// same rows and stages as the rotational one measures `phi`, `w`, `a` and `tau`.
+pub(crate) struct Sensor {
+    pub(crate) kind: Kind,
+    pub(crate) translational: bool,
+}
 
 impl Component for Sensor {
     fn ports(&self) -> Ports {
-        let mech = match self.0.absolute() {
+        let mech = match self.kind.absolute() {
             true => vec!["flange"],
             false => vec!["flange_a", "flange_b"],
         };
         Ports {
+            translational: if self.translational {
+                mech.clone()
+            } else {
+                vec![]
+            },
             mech,
-            signal_out: self.0.outputs(),
+            signal_out: self.kind.outputs(self.translational),
             ..Ports::default()
         }
     }
 
     fn build(&self, b: &mut Builder) -> ModelResult<()> {
-        let kind = self.0;
+        let kind = self.kind;
+        let names = kind.outputs(self.translational);
         if kind.absolute() {
             let node = b.node("flange")?;
             let rel = Rel::of(&[(node, 1.0)]);
             b.flange("flange", node, Some(Out::Const(0.0)))?;
-            let (port, measure) = match kind {
-                Kind::Angle => ("phi", Measure::Angle(rel)),
-                Kind::Speed => ("w", Measure::Speed(rel)),
-                _ => ("a", Measure::Accel(rel)),
+            let measure = match kind {
+                Kind::Angle => Measure::Angle(rel),
+                Kind::Speed => Measure::Speed(rel),
+                _ => Measure::Accel(rel),
             };
-            return b.add_sensor(port, measure);
+            return b.add_sensor(names[0], measure);
         }
         let (na, nb) = (b.node("flange_a")?, b.node("flange_b")?);
         if kind.cut() {
-            return cut_sensor(b, kind, na, nb);
+            return cut_sensor(b, &names, na, nb);
         }
         b.flange("flange_a", na, Some(Out::Const(0.0)))?;
         b.flange("flange_b", nb, Some(Out::Const(0.0)))?;
         // phi_rel = flange_b.phi − flange_a.phi
         let rel = Rel::between(na, nb);
-        let (port, measure) = match kind {
-            Kind::RelAngle => ("phi_rel", Measure::Angle(rel)),
-            Kind::RelSpeed => ("w_rel", Measure::Speed(rel)),
-            _ => ("a_rel", Measure::Accel(rel)),
+        let measure = match kind {
+            Kind::RelAngle => Measure::Angle(rel),
+            Kind::RelSpeed => Measure::Speed(rel),
+            _ => Measure::Accel(rel),
         };
-        b.add_sensor(port, measure)
+        b.add_sensor(names[0], measure)
     }
 }
 
 /// The rigid row `phi_a − phi_b = 0`, whose multiplier λ is `flange_a.tau` (force on the nodes
 /// = −λ·row: −λ on flange_a's shaft, the torque the sensor takes from it), and the outputs.
-fn cut_sensor(b: &mut Builder, kind: Kind, na: NodeRef, nb: NodeRef) -> ModelResult<()> {
+fn cut_sensor(
+    b: &mut Builder,
+    names: &[&'static str],
+    na: NodeRef,
+    nb: NodeRef,
+) -> ModelResult<()> {
     let row = || Rel::of(&[(na, 1.0), (nb, -1.0)]);
     let k = b.add_constraint(row(), false)?;
     b.init_constraint(row());
     b.flange("flange_a", na, Some(Out::ConstraintTau(k, 1.0)))?;
     b.flange("flange_b", nb, Some(Out::ConstraintTau(k, -1.0)))?;
     let w = Rel::of(&[(na, 1.0)]);
-    for port in kind.outputs() {
+    for &port in names {
         let measure = match port {
-            "tau" => Measure::Torque(k, 1.0),
-            "w" => Measure::Speed(w.clone()),
+            "tau" | "f" => Measure::Torque(k, 1.0),
+            "w" | "v" => Measure::Speed(w.clone()),
             _ => Measure::Power(k, 1.0, w.clone()),
         };
         b.add_sensor(port, measure)?;
@@ -116,33 +145,40 @@ fn cut_sensor(b: &mut Builder, kind: Kind, na: NodeRef, nb: NodeRef) -> ModelRes
     Ok(())
 }
 
+fn rotational(kind: Kind) -> ModelResult<Box<dyn Component>> {
+    Ok(Box::new(Sensor {
+        kind,
+        translational: false,
+    }))
+}
+
 // One constructor per type: the registry names a function, and sensors have no parameters.
 fn angle(_: &Params) -> ModelResult<Box<dyn Component>> {
-    Ok(Box::new(Sensor(Kind::Angle)))
+    rotational(Kind::Angle)
 }
 fn speed(_: &Params) -> ModelResult<Box<dyn Component>> {
-    Ok(Box::new(Sensor(Kind::Speed)))
+    rotational(Kind::Speed)
 }
 fn acc(_: &Params) -> ModelResult<Box<dyn Component>> {
-    Ok(Box::new(Sensor(Kind::Acc)))
+    rotational(Kind::Acc)
 }
 fn rel_angle(_: &Params) -> ModelResult<Box<dyn Component>> {
-    Ok(Box::new(Sensor(Kind::RelAngle)))
+    rotational(Kind::RelAngle)
 }
 fn rel_speed(_: &Params) -> ModelResult<Box<dyn Component>> {
-    Ok(Box::new(Sensor(Kind::RelSpeed)))
+    rotational(Kind::RelSpeed)
 }
 fn rel_acc(_: &Params) -> ModelResult<Box<dyn Component>> {
-    Ok(Box::new(Sensor(Kind::RelAcc)))
+    rotational(Kind::RelAcc)
 }
 fn torque(_: &Params) -> ModelResult<Box<dyn Component>> {
-    Ok(Box::new(Sensor(Kind::Torque)))
+    rotational(Kind::Torque)
 }
 fn power(_: &Params) -> ModelResult<Box<dyn Component>> {
-    Ok(Box::new(Sensor(Kind::Power)))
+    rotational(Kind::Power)
 }
 fn multi(_: &Params) -> ModelResult<Box<dyn Component>> {
-    Ok(Box::new(Sensor(Kind::Multi)))
+    rotational(Kind::Multi)
 }
 
 pub const REGISTRY: &[Entry] = &[

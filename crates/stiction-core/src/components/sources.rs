@@ -43,11 +43,38 @@ pub(super) enum Kind {
 }
 
 #[derive(Clone, Copy, PartialEq)]
-pub(super) enum Reg {
+pub(crate) enum Reg {
     Exp,
     Sine,
     Linear,
     CoSine,
+}
+
+/// MSL's `Regularization` of `sign(w)` below `w0` (SignTorque's, RollingResistance's);
+/// `outside` is the frozen relation `|w| >= w0` (Exp has none).
+pub(crate) fn regularized_sign(reg: Reg, w: f64, w0: f64, outside: bool) -> f64 {
+    match reg {
+        Reg::Exp => 2.0 / (1.0 + (-w / (0.01 * w0)).exp()) - 1.0,
+        _ if outside => w.signum(),
+        Reg::Sine => (std::f64::consts::FRAC_PI_2 * w / w0).sin(),
+        Reg::Linear => w / w0,
+        Reg::CoSine => w.signum() * (1.0 - (std::f64::consts::FRAC_PI_2 * w / w0).cos()),
+    }
+}
+
+/// The regularization parameter `reg`, as MSL's `Modelica.Blocks.Types.Regularization`.
+pub(crate) fn regularization(p: &Params) -> ModelResult<Reg> {
+    let choice = p.choice(
+        "reg Type of regularization: Exp, Sine, Linear or CoSine",
+        &["Exp", "Sine", "Linear", "CoSine"],
+        "Exp",
+    )?;
+    Ok(match choice.as_str() {
+        "Sine" => Reg::Sine,
+        "Linear" => Reg::Linear,
+        "CoSine" => Reg::CoSine,
+        _ => Reg::Exp,
+    })
 }
 
 /// The accelerating torque `tau` of the source; the element torque along `flange − support` is −tau.
@@ -100,16 +127,7 @@ impl SourceLaw {
                 w0,
             } => {
                 let outside = x.relations.first().copied().unwrap_or(false); // |w| >= w0
-                tau_nominal
-                    * match reg {
-                        Reg::Exp => 2.0 / (1.0 + (-w / (0.01 * w0)).exp()) - 1.0,
-                        _ if outside => w.signum(),
-                        Reg::Sine => (std::f64::consts::FRAC_PI_2 * w / w0).sin(),
-                        Reg::Linear => w / w0,
-                        Reg::CoSine => {
-                            w.signum() * (1.0 - (std::f64::consts::FRAC_PI_2 * w / w0).cos())
-                        }
-                    }
+                tau_nominal * regularized_sign(reg, w, w0, outside)
             }
             Kind::Inverse {
                 tau_nominal,
@@ -273,19 +291,7 @@ fn quadratic(p: &Params) -> ModelResult<Box<dyn Component>> {
 }
 
 fn sign(p: &Params) -> ModelResult<Box<dyn Component>> {
-    let reg = match p
-        .choice(
-            "reg Type of regularization: Exp, Sine, Linear or CoSine",
-            &["Exp", "Sine", "Linear", "CoSine"],
-            "Exp",
-        )?
-        .as_str()
-    {
-        "Sine" => Reg::Sine,
-        "Linear" => Reg::Linear,
-        "CoSine" => Reg::CoSine,
-        _ => Reg::Exp,
-    };
+    let reg = regularization(p)?;
     let kind = Kind::Sign {
         tau_nominal: p.required("tau_nominal [N.m] Nominal torque (negative: acting as load)")?,
         reg,

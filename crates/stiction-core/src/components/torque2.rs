@@ -18,22 +18,41 @@ impl ForceLaw for InputTorque {
     }
 }
 
-struct Torque2;
+/// `Torque2`, or with translational flanges MSL's `Translational.Sources.Force2` (input `f`).
+pub(crate) struct Torque2 {
+    pub(crate) translational: bool,
+}
+
+impl Torque2 {
+    fn input(&self) -> &'static str {
+        if self.translational {
+            "f"
+        } else {
+            "tau"
+        }
+    }
+}
 
 impl Component for Torque2 {
     fn ports(&self) -> Ports {
+        let mech = vec!["flange_a", "flange_b"];
         Ports {
-            mech: vec!["flange_a", "flange_b"],
-            signal_in: vec!["tau"],
+            translational: if self.translational {
+                mech.clone()
+            } else {
+                vec![]
+            },
+            mech,
+            signal_in: vec![self.input()],
             ..Ports::default()
         }
     }
 
     fn build(&self, b: &mut Builder) -> ModelResult<()> {
         let (na, nb) = (b.node("flange_a")?, b.node("flange_b")?);
-        let slot = b.signal_in("tau")?;
+        let slot = b.signal_in(self.input())?;
         let law = b.add_law(Rel::between(na, nb), Box::new(InputTorque(slot)));
-        b.output("tau", Out::Signal(slot));
+        b.output(self.input(), Out::Signal(slot));
         b.flange("flange_a", na, Some(Out::LawTau(law, -1.0)))?;
         b.flange("flange_b", nb, Some(Out::LawTau(law, 1.0)))?;
         Ok(())
@@ -41,7 +60,9 @@ impl Component for Torque2 {
 }
 
 fn torque2(_p: &Params) -> ModelResult<Box<dyn Component>> {
-    Ok(Box::new(Torque2))
+    Ok(Box::new(Torque2 {
+        translational: false,
+    }))
 }
 
 pub const REGISTRY: &[Entry] = &[Entry::new(

@@ -9,7 +9,10 @@ pub mod conversion;
 pub mod friction;
 pub mod mass;
 pub mod slip_wheel;
+pub mod motion;
+pub mod sensors;
 pub mod sources;
+pub mod vehicle;
 
 use super::Entry;
 
@@ -22,5 +25,8 @@ pub fn registry() -> Vec<Entry> {
     r.extend(sources::REGISTRY);
     r.extend(conversion::REGISTRY);
     r.extend(slip_wheel::REGISTRY);
+    r.extend(sensors::REGISTRY);
+    r.extend(motion::REGISTRY);
+    r.extend(vehicle::REGISTRY);
     r
 }

@@ -2,7 +2,9 @@
 //! grounded unless `useSupport`). The force laws are the rotational sources' own
 //! (`components::sources::SourceLaw`): one implementation acts as a torque or as a force.
 
-use crate::components::sources::{Kind, SourceLaw};
+use crate::components::eddy_current::{eddy_current, Decls};
+use crate::components::sources::{regularization, Kind, SourceLaw};
+use crate::components::torque2::Torque2;
 use crate::components::{with_support, Component, Entry, Ports};
 use crate::error::ModelResult;
 use crate::model::Params;
@@ -17,6 +19,8 @@ struct ForceSource {
     /// `Force`: the input signal `f` is the accelerating force (`flange.f = -f`); the others
     /// report MSL's `PartialForce.f = flange.f`, the opposite sign.
     input: bool,
+    /// `ForceStep`'s step instant.
+    events: Vec<f64>,
 }
 
 impl Component for ForceSource {
@@ -49,6 +53,10 @@ impl Component for ForceSource {
         }
         Ok(())
     }
+
+    fn time_events(&self, _from: f64, _until: f64) -> Vec<f64> {
+        self.events.clone()
+    }
 }
 
 fn source(p: &Params, kind: Kind, input: bool) -> ModelResult<Box<dyn Component>> {
@@ -56,6 +64,7 @@ fn source(p: &Params, kind: Kind, input: bool) -> ModelResult<Box<dyn Component>
         kind,
         use_support: p.boolean(USE_SUPPORT, false)?,
         input,
+        events: vec![],
     }))
 }
 
@@ -103,7 +112,81 @@ fn quadratic(p: &Params) -> ModelResult<Box<dyn Component>> {
     speed_dependent(p, true)
 }
 
+fn force2(_: &Params) -> ModelResult<Box<dyn Component>> {
+    Ok(Box::new(Torque2 {
+        translational: true,
+    }))
+}
+
+fn force_step(p: &Params) -> ModelResult<Box<dyn Component>> {
+    let start = p.real("startTime [s] Time of the force step", 0.0)?;
+    let kind = Kind::Step {
+        step: p.real(
+            "stepForce [N] Height of the force step (negative: acting as load in positive direction of motion)",
+            1.0,
+        )?,
+        offset: p.real("offsetForce [N] Offset of the force", 0.0)?,
+        start,
+    };
+    Ok(Box::new(ForceSource {
+        kind,
+        use_support: p.boolean(USE_SUPPORT, false)?,
+        input: false,
+        events: vec![start],
+    }))
+}
+
+fn sign_force(p: &Params) -> ModelResult<Box<dyn Component>> {
+    let reg = regularization(p)?;
+    let kind = Kind::Sign {
+        tau_nominal: p.required(
+            "f_nominal [N] Nominal force (negative: acting as load in positive direction of motion)",
+        )?,
+        reg,
+        w0: p.positive("v0", p.real("v0 [m/s] Regularization below v0", 0.1)?)?,
+    };
+    source(p, kind, false)
+}
+
+const EDDY: Decls = Decls {
+    use_input: "useF_nominalInput true: signal input f_input for f_nominal",
+    nominal: "f_nominal [N] Constant maximum force (always braking)",
+    speed: (
+        "v_nominal",
+        "v_nominal [m/s] Nominal speed (leads to maximum force) at reference temperature",
+    ),
+    use_support: USE_SUPPORT,
+};
+
+fn eddy_current_force(p: &Params) -> ModelResult<Box<dyn Component>> {
+    eddy_current(p, &EDDY, true)
+}
+
 pub const REGISTRY: &[Entry] = &[
+    Entry::new(
+        "Translational.Force2",
+        "Modelica.Mechanics.Translational.Sources.Force2",
+        "Input signal acting as torque on two flanges",
+        force2,
+    ),
+    Entry::new(
+        "Translational.ForceStep",
+        "Modelica.Mechanics.Translational.Sources.ForceStep",
+        "Constant force, not dependent on speed",
+        force_step,
+    ),
+    Entry::new(
+        "Translational.SignForce",
+        "Modelica.Mechanics.Translational.Sources.SignForce",
+        "Constant force changing sign with speed",
+        sign_force,
+    ),
+    Entry::new(
+        "Translational.EddyCurrentForce",
+        "Modelica.Mechanics.Translational.Sources.EddyCurrentForce",
+        "Simple model of a translational eddy current brake",
+        eddy_current_force,
+    ),
     Entry::new(
         "Translational.Force",
         "Modelica.Mechanics.Translational.Sources.Force",

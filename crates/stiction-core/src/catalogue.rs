@@ -115,9 +115,11 @@ fn instance(entry: &Entry, params: &[ParamInfo]) -> ComponentSpec {
         match p.kind {
             // every conditional port enabled; but `exact = true` (a prescribed motion that
             // follows its input exactly) needs the input's derivative, which a model input
-            // lacks: the variables are the same names either way
+            // lacks: the variables are the same names either way; InitializeFlange refuses
+            // `use_a_start = true` in a run (its port is listed all the same)
             ParamKind::Boolean => {
-                table.insert(p.name.clone(), (p.name != "exact").into());
+                let on = p.name != "exact" && p.name != "use_a_start";
+                table.insert(p.name.clone(), on.into());
             }
             ParamKind::Real if p.required => {
                 table.insert(p.name.clone(), 1.0.into());

@@ -80,7 +80,11 @@ impl AngleToTorque {
 }
 
 /// An enabled input that nothing drives: name the parameter that enabled it.
-pub(super) fn conditional_input(b: &mut Builder, port: &str, parameter: &str) -> ModelResult<usize> {
+pub(super) fn conditional_input(
+    b: &mut Builder,
+    port: &str,
+    parameter: &str,
+) -> ModelResult<usize> {
     let name = b.name().to_string();
     b.signal_in(port).map_err(|_| ModelError::Component {
         component: name,

@@ -58,16 +58,15 @@ impl Component for Gearbox {
             support,
             heat,
         ];
-        b.within("lossyGear", &gear_ports.concat(), self.lossy_gear.as_ref())?;
+        b.within("lossyGear", &gear_ports.concat(), |b| {
+            self.lossy_gear.build(b)
+        })?;
         let backlash_ports = [
             [("flange_a", BACKLASH_A), ("flange_b", "flange_b")].as_slice(),
             heat,
         ];
-        b.within(
-            "elastoBacklash",
-            &backlash_ports.concat(),
-            self.elasto_backlash.as_ref(),
-        )?;
+        let backlash = |b: &mut Builder| self.elasto_backlash.build(b);
+        b.within("elastoBacklash", &backlash_ports.concat(), backlash)?;
         b.output("phi_rel", Out::Angle(rel.clone()));
         b.output("w_rel", Out::Speed(rel.clone()));
         b.output("a_rel", Out::Accel(rel));

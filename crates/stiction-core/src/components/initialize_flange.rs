@@ -49,11 +49,11 @@ impl Component for InitializeFlange {
         let nf = b.node("flange")?;
         let rel = Rel::of(&[(nf, 1.0)]);
         if self.use_phi_start {
-            let slot = super::adaptors::conditional_input(b, "phi_start", "use_phi_start")?;
+            let slot = b.signal_in("phi_start")?;
             b.init_angle_from(rel.clone(), slot, "phi_flange");
         }
         if self.use_w_start {
-            let slot = super::adaptors::conditional_input(b, "w_start", "use_w_start")?;
+            let slot = b.signal_in("w_start")?;
             b.init_speed_from(rel.clone(), slot, "w_flange");
         }
         b.output("phi_flange", Out::Angle(rel.clone()));

@@ -137,21 +137,21 @@ impl Builder {
         }
     }
 
-    /// Builds `part` of a composite component as its own component named `composite.name`,
+    /// Builds `part` of a composite component (its `build`) as a component named `composite.name`,
     /// whose ports are the composite's as `ports` maps them (`(part's, composite's)`); a
     /// port left out is undeclared (an unmapped `support` is the implicit ground).
     pub fn within(
         &mut self,
         name: &str,
         ports: &[(&'static str, &'static str)],
-        part: &dyn crate::components::Component,
+        part: impl FnOnce(&mut Builder) -> ModelResult<()>,
     ) -> ModelResult<()> {
         let scope = Scope {
             name: format!("{}.{name}", self.names[self.comp]),
             ports: ports.to_vec(),
         };
         let outer = self.scope.replace(scope);
-        let built = part.build(self);
+        let built = part(self);
         self.scope = outer;
         built
     }

@@ -97,3 +97,37 @@ def test_fmu_matches_simulate(tmp_path: Path) -> None:
     for name in outputs:
         ref = np.interp(res["time"], r.time, r[name])
         assert np.abs(res[name] - ref).max() < 1e-3 * np.ptp(r[name]), name
+
+
+def test_support_and_heat_port_close_momentum_and_heat() -> None:
+    """With useSupport and useHeatPort: the housing takes the reaction (total angular momentum is
+    the motor's impulse) and the heat capacitor warms by the integrated lossPower over C."""
+    m = st.Model("g")
+    m.add("sine", st.Sine(amplitude=30.0, f=0.5, offset=5.0))
+    m.add("motor", st.Torque())
+    m.add("J1", st.Inertia(J=0.5, phi=0.0, w=0.0))
+    table = [[0, 0.9, 0.8, 0.5, 0.3]]
+    m.add(
+        "gear",
+        st.Gearbox(ratio=2.0, lossTable=table, c=5000.0, d=10.0, b=0.02, useHeatPort=True, useSupport=True),
+    )
+    m.add("J2", st.Inertia(J=4.0))
+    m.add("house", st.Inertia(J=10.0))
+    m.add("cap", st.HeatCapacitor(C=100.0, T=293.15))
+    for a, b in [
+        ("sine.y", "motor.tau"),
+        ("motor.flange", "J1.flange_a"),
+        ("J1.flange_b", "gear.flange_a"),
+        ("gear.flange_b", "J2.flange_a"),
+        ("gear.support", "house.flange_a"),
+        ("gear.heatPort", "cap.port"),
+    ]:
+        m.connect(a, b)
+    r = m.simulate(StopTime=2.0, Interval=0.001, Tolerance=1e-9)
+    momentum = 0.5 * r["J1.w"] + 4.0 * r["J2.w"] + 10.0 * r["house.w"]
+    impulse = np.concatenate([[0.0], np.cumsum(np.diff(r.time) * 0.5 * (r["sine.y"][1:] + r["sine.y"][:-1]))])
+    np.testing.assert_allclose(momentum, impulse, atol=1e-4)
+    heat = np.trapezoid(r["gear.lossPower"], r.time)
+    assert heat > 10.0
+    assert r["cap.T"][-1] - 293.15 == pytest.approx(heat / 100.0, rel=1e-4)
+    np.testing.assert_allclose(r["gear.heatPort.Q_flow"], -r["gear.lossPower"])

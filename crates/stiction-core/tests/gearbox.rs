@@ -145,21 +145,29 @@ fn stiff_gearbox_without_backlash_is_its_lossy_gear() {
         r#"["J1.flange_b", "gear.flange_a"], ["gear.flange_b", "J2.flange_a"]"#,
         4.0,
     ));
-    let range = col(&lossy, "J2.w")
-        .iter()
-        .fold(0.0_f64, |m, w| m.max(w.abs()));
+    let peak = |r: &SimResult, name: &str| col(r, name).iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    let range = peak(&lossy, "J2.w");
     assert!(range > 1.0, "the load moves: {range}");
-    for (name, tol) in [("J2.w", 2e-3), ("J1.w", 4e-3), ("J2.phi", 1e-3)] {
+    // The angles differ by the elastic angle (below 1e-4 rad, twice that allowed); the speeds by
+    // the spring's short transients after each of the gear's mode changes: 1e-4 of the speed
+    // range is 10× the elastic angle over the transient's 2 ms, and twice the measured 4.7e-5.
+    for (name, tol) in [
+        ("J2.phi", 2e-4),
+        ("J2.w", 1e-4 * range),
+        ("J1.w", 2.0 * 1e-4 * range),
+    ] {
         let diff = max_diff(&gearbox, name, &lossy, name);
         assert!(diff <= tol, "{name}: {diff}");
     }
+    // the loss follows the gear torque: 1e-3 of its peak (measured 4.3e-4 of it)
     let diff = max_diff(
         &gearbox,
         "gear.lossyGear.lossPower",
         &lossy,
         "gear.lossPower",
     );
-    assert!(diff < 0.05 * range.max(1.0) * 10.0, "lossPower {diff}");
+    let loss_peak = peak(&lossy, "gear.lossPower");
+    assert!(diff <= 1e-3 * loss_peak, "lossPower {diff} of {loss_peak}");
     // the Gearbox's own elastic angle is the spring's deflection
     let phi_rel = col(&gearbox, "gear.phi_rel");
     assert!(phi_rel.iter().all(|p| p.abs() < 2e-4), "phi_rel");

@@ -36,7 +36,7 @@ FREE_COUPLINGS = (
     "ElastoBacklash2",
     "Damper",
 )
-COUPLINGS = (*FREE_COUPLINGS, "IdealGear", "LossyGear")
+COUPLINGS = (*FREE_COUPLINGS, "IdealGear", "LossyGear", "Gearbox")
 
 
 def _force(draw: Any) -> tuple[str, dict[str, float]]:
@@ -147,6 +147,13 @@ def _coupling(draw: Any, kind: str) -> st.Component:
     if kind == "IdealGear":
         return st.IdealGear(ratio=ratio)
     eta = draw(hs.floats(0.5, 1.0))
+    if kind == "Gearbox":  # LossyGear + ElastoBacklash through a shaft without inertia
+        elastic = {
+            "c": draw(hs.floats(1e2, 1e4)),
+            "d": draw(hs.floats(0.0, 5.0)),
+            "b": draw(hs.floats(0.0, 0.2)),
+        }
+        return st.Gearbox(ratio=ratio, lossTable=[[0.0, eta, eta, 0.0, 0.0]], **elastic)
     return st.LossyGear(ratio=ratio, lossTable=[[0.0, eta, eta, 0.0, 0.0]])
 
 

@@ -115,9 +115,11 @@ fn instance(entry: &Entry, params: &[ParamInfo]) -> ComponentSpec {
         match p.kind {
             // every conditional port enabled; but `exact = true` (a prescribed motion that
             // follows its input exactly) needs the input's derivative, which a model input
-            // lacks: the variables are the same names either way
+            // lacks: the variables are the same names either way; InitializeFlange refuses
+            // `use_a_start = true` in a run (its port is listed all the same)
             ParamKind::Boolean => {
-                table.insert(p.name.clone(), (p.name != "exact").into());
+                let on = p.name != "exact" && p.name != "use_a_start";
+                table.insert(p.name.clone(), on.into());
             }
             ParamKind::Real if p.required => {
                 table.insert(p.name.clone(), 1.0.into());
@@ -172,7 +174,12 @@ fn alone(entry: &Entry, params: &[ParamInfo], ports: &Ports, heat_boundary: bool
         component: component.into(),
         port: port.into(),
     };
-    let mut components = vec![instance(entry, params)];
+    let own = instance(entry, params);
+    // the instance's own ports: a Boolean the instance leaves false (`use_a_start`) has none
+    let ports = &components::create(&own, &PathBuf::from("."))
+        .map(|c| c.ports())
+        .unwrap_or_else(|_| ports.clone());
+    let mut components = vec![own];
     let mut connections = Vec::new();
     // a friction element's flanges must be connected: an inertia on each
     for (k, flange) in ports.must_connect.iter().enumerate() {
@@ -248,6 +255,10 @@ pub fn variable_unit(name: &str) -> &'static str {
         "phi" | "phi_rel" | "phi_a" | "phi_b" | "phi_ref" | "u[1]" => "rad",
         "w" | "w_rel" | "w_a" | "w_b" | "w_ref" | "u[2]" => "rad/s",
         "a" | "a_rel" | "a_a" | "a_b" | "a_ref" | "u[3]" => "rad/s2",
+        // InitializeFlange's inputs and flange variables
+        "phi_start" | "phi_flange" => "rad",
+        "w_start" | "w_flange" => "rad/s",
+        "a_start" => "rad/s2",
         "tau" | "tau_c" | "tau_d" | "sa" | "tau0" | "tau0_max" | "tauLoss" | "tau_eta"
         | "tau_bf1" | "tau_bf2" | "tau_bf_a" | "tauLossMax_p" | "tauLossMin_m" => "N.m",
         "s" | "s_rel" | "s0" => "m",

@@ -50,6 +50,7 @@ __all__ = [
     "Fixed",
     "FixedTemperature",
     "Gain",
+    "Gearbox",
     "GeneralAngleToTorqueAdaptor",
     "GeneralTorqueToAngleAdaptor",
     "HeatCapacitor",
@@ -58,6 +59,7 @@ __all__ = [
     "IdealPlanetary",
     "IdealRollingWheel",
     "Inertia",
+    "InitializeFlange",
     "InverseSpeedDependentTorque",
     "LinearSpeedDependentTorque",
     "LossyGear",
@@ -1427,6 +1429,149 @@ class GeneralAngleToTorqueAdaptor(_Factory):
         *,
         use_pder: bool = ...,
         use_pder2: bool = ...,
+    ) -> None: ...
+
+class InitializeFlange(_Factory):
+    """Initializes a flange with pre-defined angle, speed and angular acceleration (usually, this is reference data from a control bus).
+
+    MSL class: ``Modelica.Mechanics.Rotational.Components.InitializeFlange``
+
+    Parameters
+    ----------
+    use_phi_start : Boolean, default true
+        true: initial angle is defined by input phi_start
+    use_w_start : Boolean, default true
+        true: initial speed is defined by input w_start
+    use_a_start : Boolean, default true
+        true: initial angular acceleration is defined by input a_start (refused: the acceleration at the start follows from the torques; set it false)
+
+    Ports
+    -----
+    - flange: flange
+    - phi_start: signal input (if use_phi_start = true)
+    - w_start: signal input (if use_w_start = true)
+    - a_start: signal input (if use_a_start = true)
+
+    Variables
+    ---------
+    - phi_flange [rad] (displayUnit deg)
+    - w_flange [rad/s]
+    - phi_start [rad] (displayUnit deg)
+    - w_start [rad/s]
+    - flange.phi [rad] (displayUnit deg)
+    - flange.tau [N.m]
+    """
+
+    def __init__(
+        self,
+        *,
+        use_phi_start: bool = ...,
+        use_w_start: bool = ...,
+        use_a_start: bool = ...,
+    ) -> None: ...
+
+class Gearbox(_Factory):
+    """Realistic model of a gearbox (based on LossyGear).
+
+    MSL class: ``Modelica.Mechanics.Rotational.Components.Gearbox``
+
+    Parameters
+    ----------
+    ratio : Real [1], default 1, != 0
+        Transmission ratio flange_a.phi/flange_b.phi
+    lossTable : table [:, 5] [rad/s, 1, 1, N.m, N.m], default [[0, 1, 1, 0, 0]], eta_mf1, eta_mf2 in (0, 1]
+        Rows [abs(w_a), eta_mf1, eta_mf2, tau_bf1, tau_bf2], linear between rows and beyond them linearly through the first or last two rows (MSL's CombiTable1D, LastTwoPoints): give rows up to the speeds the run reaches
+    c : Real [N.m/rad], default 100000, > 0
+        Gear elasticity (spring constant)
+    d : Real [N.m.s/rad], default 0, >= 0
+        Gear damping (relative damping)
+    b : Real [rad] (displayUnit deg), default 0, >= 0
+        Total backlash
+    phi_rel : start value [rad] (displayUnit deg), start (a guess unless given) 0
+        Relative rotation angle over gear elasticity flange_b.phi - lossyGear.flange_b.phi (start value)
+    w_rel : start value [rad/s], start (a guess unless given) 0
+        Relative angular velocity over gear elasticity der(phi_rel) (start value)
+    useSupport : Boolean, default false
+        true: enable the support connector (else the housing is fixed at angle 0)
+    useHeatPort : Boolean, default false
+        true: enable the heatPort connector (else the loss power goes nowhere)
+
+    Ports
+    -----
+    - flange_a: flange
+    - flange_b: flange
+    - support: flange (if useSupport = true)
+    - heatPort: heat port (if useHeatPort = true)
+
+    Variables
+    ---------
+    - lossyGear.phi_a [rad] (displayUnit deg)
+    - lossyGear.phi_b [rad] (displayUnit deg)
+    - lossyGear.w_a [rad/s]
+    - lossyGear.a_a [rad/s2]
+    - lossyGear.sa [N.m]
+    - lossyGear.tauLoss [N.m]
+    - lossyGear.tau_eta [N.m]
+    - lossyGear.eta_mf1 [1]
+    - lossyGear.eta_mf2 [1]
+    - lossyGear.tau_bf1 [N.m]
+    - lossyGear.tau_bf2 [N.m]
+    - lossyGear.tau_bf_a [N.m]
+    - lossyGear.tauLossMax_p [N.m]
+    - lossyGear.tauLossMin_m [N.m]
+    - lossyGear.lossPower [W]
+    - lossyGear.mode
+    - lossyGear.locked
+    - lossyGear.startForward
+    - lossyGear.startBackward
+    - lossyGear.tau_etaPos
+    - lossyGear.tau_aPos
+    - lossyGear.ideal
+    - lossyGear.flange_a.phi [rad] (displayUnit deg)
+    - lossyGear.flange_a.tau [N.m]
+    - lossyGear.flange_b.phi [rad] (displayUnit deg)
+    - lossyGear.flange_b.tau [N.m]
+    - lossyGear.support.phi [rad] (displayUnit deg)
+    - lossyGear.support.tau [N.m]
+    - lossyGear.heatPort.T [K] (displayUnit degC)
+    - lossyGear.heatPort.Q_flow [W]
+    - elastoBacklash.phi_rel [rad] (displayUnit deg)
+    - elastoBacklash.w_rel [rad/s]
+    - elastoBacklash.a_rel [rad/s2]
+    - elastoBacklash.tau [N.m]
+    - elastoBacklash.lossPower [W]
+    - elastoBacklash.flange_a.phi [rad] (displayUnit deg)
+    - elastoBacklash.flange_a.tau [N.m]
+    - elastoBacklash.flange_b.phi [rad] (displayUnit deg)
+    - elastoBacklash.flange_b.tau [N.m]
+    - elastoBacklash.heatPort.T [K] (displayUnit degC)
+    - elastoBacklash.heatPort.Q_flow [W]
+    - phi_rel [rad] (displayUnit deg)
+    - w_rel [rad/s]
+    - a_rel [rad/s2]
+    - lossPower [W]
+    - flange_a.phi [rad] (displayUnit deg)
+    - flange_a.tau [N.m]
+    - flange_b.phi [rad] (displayUnit deg)
+    - flange_b.tau [N.m]
+    - support.phi [rad] (displayUnit deg)
+    - support.tau [N.m]
+    - heatPort.T [K] (displayUnit degC)
+    - heatPort.Q_flow [W]
+    """
+
+    def __init__(
+        self,
+        *,
+        ratio: float = ...,
+        lossTable: Sequence[Sequence[float | str]] = ...,
+        c: float = ...,
+        d: float = ...,
+        b: float = ...,
+        phi_rel: float | StartValue = ...,
+        w_rel: float | StartValue = ...,
+        useSupport: bool = ...,
+        useHeatPort: bool = ...,
     ) -> None: ...
 
 class Brake(_Factory):

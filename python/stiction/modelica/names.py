@@ -55,6 +55,8 @@ MSL_CLASSES: dict[str, str] = {
             "IdealGearR2T",
             "GeneralTorqueToAngleAdaptor",
             "GeneralAngleToTorqueAdaptor",
+            "InitializeFlange",
+            "Gearbox",
         ]
     },
     **{

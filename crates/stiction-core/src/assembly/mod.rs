@@ -211,6 +211,7 @@ fn builder(spec: &SpecView, topo: &Topology) -> Builder {
         capacitors: Vec::new(),
         signal_reads: Vec::new(),
         block_owners: Vec::new(),
+        scope: None,
     }
 }
 

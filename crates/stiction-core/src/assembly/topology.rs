@@ -139,6 +139,15 @@ impl Topology {
                     domain: decl.domain_of(name),
                 });
             }
+            for &name in &decl.internal {
+                index.insert((ci, name), ports.len());
+                ports.push(PortInfo {
+                    component: ci,
+                    name,
+                    kind: PortKind::Mechanical,
+                    domain: decl.domain_of(name),
+                });
+            }
         }
         let names: Vec<String> = spec.components.iter().map(|c| c.name.clone()).collect();
         Topology {

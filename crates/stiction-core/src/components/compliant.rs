@@ -283,6 +283,31 @@ fn backlash(p: &Params, hard_contact: bool) -> ModelResult<Box<dyn Component>> {
     }))
 }
 
+/// An ElastoBacklash of checked parameters whose relative angle and speed start free at 0 (a
+/// Gearbox's part: MSL sets only these four and useHeatPort).
+pub(crate) fn elasto_backlash_part(
+    c: f64,
+    d: f64,
+    b: f64,
+    phi_rel0: f64,
+    use_heat_port: bool,
+) -> Box<dyn Component> {
+    Box::new(Compliant {
+        names: &ROTATIONAL,
+        gap: None,
+        c,
+        d,
+        phi_rel0,
+        phi_rel: InitValue::guess(0.0),
+        w_rel: InitValue::guess(0.0),
+        has_damper: true,
+        has_spring: true,
+        use_heat_port,
+        backlash: Some(b),
+        hard_contact: false,
+    })
+}
+
 pub const REGISTRY: &[Entry] = &[
     Entry::new(
         "Spring",

@@ -12,10 +12,12 @@ pub mod disc;
 pub mod eddy_current;
 pub mod elasto_gap;
 pub mod friction;
+pub mod gearbox;
 pub mod gears;
 pub mod general_adaptors;
 pub mod heat;
 pub mod inertia;
+pub mod initialize_flange;
 pub mod motion;
 pub mod relative_states;
 pub mod sensors;
@@ -53,6 +55,10 @@ pub struct Ports {
     /// element's): alone, such a port's shaft has no inertia and nothing determines its
     /// motion once the element slips, so the assembly refuses it by name.
     pub must_connect: Vec<&'static str>,
+    /// Flanges inside a composite component (a Gearbox's shaft between its parts, named
+    /// `lossyGear.flange_b`): each gets a node as any flange does, but nothing outside can
+    /// connect to it, and it is not listed among the component's ports.
+    pub internal: Vec<&'static str>,
 }
 
 impl Ports {
@@ -193,6 +199,8 @@ pub fn registry() -> Vec<Entry> {
     r.extend(disc::REGISTRY);
     r.extend(relative_states::REGISTRY);
     r.extend(general_adaptors::REGISTRY);
+    r.extend(initialize_flange::REGISTRY);
+    r.extend(gearbox::REGISTRY);
     r.extend(friction::REGISTRY);
     r.extend(friction::lossy_gear::REGISTRY);
     r.extend(blocks::REGISTRY);

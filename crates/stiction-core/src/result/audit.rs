@@ -223,5 +223,18 @@ fn parts_of(sys: &System) -> Vec<Parts> {
         parts[k].switching.push(i);
     }
     parts.retain(|p| !p.ports.is_empty());
+    // A composite (a Gearbox) is audited through its parts (`gearbox.lossyGear`, …), which
+    // report the same flanges: the composite's own entry would hold the flanges alone.
+    let names: Vec<String> = parts.iter().map(|p| format!("{}.", p.name)).collect();
+    let composite = |p: &Parts| {
+        let empty = p.masses.is_empty() && p.laws.is_empty();
+        let empty = empty && p.constraints.is_empty() && p.switching.is_empty();
+        let prefix = format!("{}.", p.name);
+        empty
+            && names
+                .iter()
+                .any(|n| n.len() > prefix.len() && n.starts_with(&prefix))
+    };
+    parts.retain(|p| !composite(p));
     parts
 }

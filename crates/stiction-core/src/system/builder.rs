@@ -117,11 +117,52 @@ pub struct Builder {
     pub(crate) signal_reads: Vec<(usize, String, usize)>,
     /// The components that added blocks (their inputs feed only other signals).
     pub(crate) block_owners: Vec<usize>,
+    /// While a composite builds one of its parts (`within`): the part's name and ports.
+    pub(crate) scope: Option<Scope>,
+}
+
+/// A part of a composite component (MSL's `Gearbox.lossyGear`): its outputs and messages go
+/// under `composite.part`, and its port names map onto the composite's ports.
+pub(crate) struct Scope {
+    name: String,
+    /// (the part's port, the composite's port it is)
+    ports: Vec<(&'static str, &'static str)>,
 }
 
 impl Builder {
     pub fn name(&self) -> &str {
-        &self.names[self.comp]
+        match &self.scope {
+            Some(scope) => &scope.name,
+            None => &self.names[self.comp],
+        }
+    }
+
+    /// Builds `part` of a composite component (its `build`) as a component named `composite.name`,
+    /// whose ports are the composite's as `ports` maps them (`(part's, composite's)`); a
+    /// port left out is undeclared (an unmapped `support` is the implicit ground).
+    pub fn within(
+        &mut self,
+        name: &str,
+        ports: &[(&'static str, &'static str)],
+        part: impl FnOnce(&mut Builder) -> ModelResult<()>,
+    ) -> ModelResult<()> {
+        let scope = Scope {
+            name: format!("{}.{name}", self.names[self.comp]),
+            ports: ports.to_vec(),
+        };
+        let outer = self.scope.replace(scope);
+        let built = part(self);
+        self.scope = outer;
+        built
+    }
+
+    /// The expression of an output this component (or one of its parts) reported as
+    /// `name` (relative to the component).
+    pub fn reported(&self, name: &str) -> Option<Out> {
+        let full = format!("{}.{name}", self.names[self.comp]);
+        (self.sys.outputs.iter().rev())
+            .find(|(n, _)| *n == full)
+            .map(|(_, out)| out.clone())
     }
 
     pub fn error(&self, message: impl Into<String>) -> ModelError {
@@ -132,6 +173,10 @@ impl Builder {
     }
 
     fn port(&self, port: &str) -> Option<usize> {
+        let port = match &self.scope {
+            Some(scope) => scope.ports.iter().find(|(p, _)| *p == port)?.1,
+            None => port,
+        };
         // the map is covariant in its key, so a shorter-lived name looks it up directly
         let index: &HashMap<(usize, &str), usize> = &self.index;
         index.get(&(self.comp, port)).copied()

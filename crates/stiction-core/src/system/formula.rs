@@ -24,6 +24,14 @@ pub(super) enum Node {
 }
 
 impl<L> Formula<L> {
+    /// The sum of the leaves (a composite's `lossPower`, its parts' added).
+    pub fn sum(leaves: Vec<L>) -> Self {
+        let root = (1..leaves.len()).fold(Node::Leaf(0), |acc, k| {
+            Node::Bin(BinOp::Add, Box::new(acc), Box::new(Node::Leaf(k)))
+        });
+        Self { root, leaves }
+    }
+
     /// The value at one row, given each leaf's value there.
     #[inline]
     pub fn eval(&self, leaf: impl Fn(usize) -> f64) -> f64 {

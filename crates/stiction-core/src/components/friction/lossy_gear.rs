@@ -115,8 +115,8 @@ impl Component for LossyGear {
     }
 }
 
-fn lossy_gear(p: &Params) -> ModelResult<Box<dyn Component>> {
-    let ratio = gear_ratio(p)?;
+/// MSL's `lossTable` parameter, checked: speeds increasing, efficiencies in (0, 1].
+pub(crate) fn loss_table(p: &Params) -> ModelResult<Vec<Vec<f64>>> {
     let table = p.matrix(
         "lossTable [rad/s, 1, 1, N.m, N.m] Rows [abs(w_a), eta_mf1, eta_mf2, tau_bf1, tau_bf2], \
          linear between rows and beyond them linearly through the first or last two rows \
@@ -139,18 +139,39 @@ fn lossy_gear(p: &Params) -> ModelResult<Box<dyn Component>> {
             }
         }
     }
+    Ok(table)
+}
+
+/// A LossyGear of a checked `ratio` and `table` (a Gearbox's part, or the component itself).
+pub(crate) fn part(
+    ratio: f64,
+    table: Vec<Vec<f64>>,
+    use_support: bool,
+    use_heat_port: bool,
+) -> Box<dyn Component> {
     let ideal = table.len() == 1
         && table[0]
             .iter()
             .zip([0.0, 1.0, 1.0, 0.0, 0.0])
             .all(|(v, ideal)| (v - ideal).abs() <= 1e-15);
-    Ok(Box::new(LossyGear {
+    Box::new(LossyGear {
         ratio,
         table,
         ideal,
-        use_support: p.boolean(USE_SUPPORT, false)?,
-        use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
-    }))
+        use_support,
+        use_heat_port,
+    })
+}
+
+fn lossy_gear(p: &Params) -> ModelResult<Box<dyn Component>> {
+    let ratio = gear_ratio(p)?;
+    let table = loss_table(p)?;
+    Ok(part(
+        ratio,
+        table,
+        p.boolean(USE_SUPPORT, false)?,
+        p.boolean(USE_HEAT_PORT, false)?,
+    ))
 }
 
 pub const REGISTRY: &[Entry] = &[Entry::new(

@@ -2436,7 +2436,7 @@ class SlipWheel(_Factory):
     radius : Real [m], default 0.3, > 0
         Wheel radius
     mu_pos : table [:, 2] [m/s, 1], default [[0, 0.8]], coefficients >= 0
-        Tyre-road sliding friction coefficient over the slip speed |R*w - v|: rows [v_slip, mu] for v_slip >= 0, linear between rows; beyond the last row as `extrapolation` says
+        Tyre-road sliding friction coefficient over the magnitude of the slip speed R*w - v: rows [v_slip, mu] for v_slip >= 0, linear between rows; beyond the last row as `extrapolation` says
     extrapolation : choice, default 'LastTwoPoints'
         How the friction table continues beyond its rows: LastTwoPoints (MSL's CombiTable1D: linearly through the first or last two rows; a run whose slip reaches a speed where that value falls below 0 stops there with an error) or HoldLastPoint (the first or last row's value)
     peak : Real [1], default 1, >= 1

@@ -141,7 +141,7 @@ fn slip_wheel(p: &Params) -> ModelResult<Box<dyn Component>> {
     let radius = p.positive("radius", p.real("radius [m] Wheel radius", 0.3)?)?;
     let mu_pos = friction_table(
         p,
-        "mu_pos [m/s, 1] Tyre-road sliding friction coefficient over the slip speed |R*w - v|: \
+        "mu_pos [m/s, 1] Tyre-road sliding friction coefficient over the magnitude of the slip speed R*w - v: \
          rows [v_slip, mu] for v_slip >= 0, linear between rows; beyond the last row as \
          `extrapolation` says",
         &[&[0.0, 0.8]],

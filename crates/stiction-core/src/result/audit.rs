@@ -41,7 +41,8 @@ pub struct ElementAudit {
     /// The least power it dissipated over the rows [W] (negative: it delivered energy).
     pub min_dissipation: f64,
     /// Energy that entered through the flanges and energy dissipated over the run [J]
-    /// (trapezoid rule over the rows).
+    /// (trapezoid rule over the rows: off by order `Interval²` where a power oscillates within
+    /// an interval, 0.18 % on a Gearbox at 0.01 s; `system.dissipatedEnergy` is exact).
     pub energy_in: f64,
     pub dissipated: f64,
 }

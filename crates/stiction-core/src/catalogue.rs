@@ -286,7 +286,7 @@ pub fn translational_unit(name: &str) -> &'static str {
     let last = name.rsplit('.').next().unwrap_or(name);
     match last {
         "a" | "a_rel" | "a_ref" | "u[3]" => "m/s2",
-        "f" | "f_input" | "sa" | "f0" | "f0_max" | "fN" => "N",
+        "f" | "f_c" | "f_d" | "f_input" | "sa" | "f0" | "f0_max" | "fN" => "N",
         "s_ref" | "u[1]" => "m",
         "v_ref" | "vWind" | "u[2]" => "m/s",
         "inclination" | "cr" => "1",

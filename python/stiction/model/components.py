@@ -24,7 +24,6 @@ from stiction.model.parameters import table_cells
 from stiction.model.quantities import to_si
 
 __all__ = [
-    "time_table_ports",
     "FACTORIES",
     "START_VARIABLES",
     "Component",
@@ -34,6 +33,7 @@ __all__ = [
     "factory",
     "in_si",
     "si_overrides",
+    "time_table_ports",
 ]
 
 StartValue = Mapping[str, float | bool]

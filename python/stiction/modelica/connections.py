@@ -261,7 +261,11 @@ def _table_output(ref: Ref, comp: str, component: Component) -> str:
     count = len(time_table_ports(component.params))
     if not ref.subscripts and count == 1:
         return f"{comp}.y"
-    index = ref.subscripts[0].value if len(ref.subscripts) == 1 and isinstance(ref.subscripts[0], Literal) else None
+    index = (
+        ref.subscripts[0].value
+        if len(ref.subscripts) == 1 and isinstance(ref.subscripts[0], Literal)
+        else None
+    )
     if type(index) is not int or not 1 <= index <= count:
         raise ModelicaError(
             ref.pos,

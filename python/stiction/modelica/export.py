@@ -92,8 +92,10 @@ def _is_combi(model: Model, name: str) -> bool:
         return False
     table = comp.params.get("table")
     wide = isinstance(table, list) and any(isinstance(r, list) and len(r) > 2 for r in table)
-    return wide or isinstance(comp.params.get("offset"), list) or any(
-        key in comp.params for key in ("file", "extrapolation", "columns")
+    return (
+        wide
+        or isinstance(comp.params.get("offset"), list)
+        or any(key in comp.params for key in ("file", "extrapolation", "columns"))
     )
 
 

@@ -8,9 +8,9 @@ pub mod compliant;
 pub mod conversion;
 pub mod friction;
 pub mod mass;
-pub mod slip_wheel;
 pub mod motion;
 pub mod sensors;
+pub mod slip_wheel;
 pub mod sources;
 pub mod vehicle;
 

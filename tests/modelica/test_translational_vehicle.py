@@ -136,15 +136,17 @@ def test_vehicle_example_runs_as_an_fmu_in_fmpy(tmp_path: Path) -> None:
         assert np.max(np.abs(out[name] - expected)) < 2e-3 * np.ptp(ref[name]), name
 
 
-def test_the_genuine_vehicle_file_is_refused_at_its_two_column_table() -> None:
+def test_the_genuine_vehicle_file_reads_its_two_column_table_as_one_time_table() -> None:
     """MSL's Vehicle example drives torque and inclination from one two-column CombiTimeTable
-    (y[1], y[2]); stiction's TimeTable has one output, so the import names the table and its
-    connection at their places (the TOML twin writes it as two TimeTables)."""
-    with pytest.raises(st.ModelError) as info:
-        st.Model.from_modelica(DIR / "Vehicle.mo")
-    message = str(info.value)
-    assert "56:5" in message and "only one output column is supported, the table has 2" in message, message
-    assert "73:11" in message and "array connectors are not supported" in message, message
+    (y[1], y[2]): it imports as one TimeTable whose y[1] feeds the gain and whose y[2] is the
+    road's inclination for all three vehicles."""
+    m = st.Model.from_modelica(DIR / "Vehicle.mo")
+    table = m.components["timeTableTorqueInclination"]
+    assert table.type == "TimeTable" and len(table.params["table"][0]) == 3
+    pairs = {frozenset(p) for p in m.connections}
+    assert frozenset(("timeTableTorqueInclination.y[1]", "gain.u")) in pairs
+    for car in ("vehicle", "vehicle1", "trailer"):
+        assert frozenset(("timeTableTorqueInclination.y[2]", f"{car}.inclination")) in pairs
 
 
 def test_a_sweep_of_coasting_vehicles_matches_the_closed_form_per_variant() -> None:

@@ -32,6 +32,7 @@ _ANNOTATIONS = {
     "start value": "float | StartValue",
     "Boolean start value": "bool | StartValue",
     "String": "str | os.PathLike[str]",
+    "vector": "float | Sequence[float]",
 }
 
 

@@ -33,6 +33,7 @@ __all__ = [
     "factory",
     "in_si",
     "si_overrides",
+    "time_table_ports",
 ]
 
 StartValue = Mapping[str, float | bool]
@@ -302,3 +303,15 @@ def factory(type_name: str) -> type[Component]:
         {"__doc__": f"{type_name} (engine type).", "__module__": __name__},
     )
     return cls
+
+
+def time_table_ports(params: Mapping[str, Any]) -> list[str]:
+    """A TimeTable's outputs: ``y`` for one output column, ``y[1]``…``y[k]`` for its
+    ``columns`` (default: every value column of its table)."""
+    if isinstance(params.get("columns"), list):
+        count = len(params["columns"])
+    else:
+        table = params.get("table")
+        rows = [r for r in table if isinstance(r, list)] if isinstance(table, list) else []
+        count = max(len(rows[0]) - 1, 1) if rows else 1
+    return ["y"] if count == 1 else [f"y[{i}]" for i in range(1, count + 1)]

@@ -2203,13 +2203,15 @@ class TimeTable(_Factory):
     Parameters
     ----------
     file : String, required
-        CSV file of rows time, y (relative to the model file); instead of table
+        CSV file of rows time, y1, y2… (relative to the model file); instead of table
     table : table [:, 2] [s, 1], default [[0, 0]]
-        Rows [time, y]; a time given twice is a jump; linear between rows, beyond the last row as `extrapolation` says
+        Rows [time, y1, y2…]; a time given twice is a jump; linear between rows, beyond the last row as `extrapolation` says
     extrapolation : choice, default 'LastTwoPoints'
         Beyond the last point: LastTwoPoints (linearly through the last two points) or HoldLastPoint (the last point's value)
-    offset : Real [1], default 0
-        Offset of the output signal y
+    columns : vector [1], default [2]
+        Columns of the table to output, 1-based (column 1 is time); default all the others
+    offset : vector [1], default [0]
+        Offsets of the outputs: one per column, or one for all
     startTime : Real [s], default 0
         Output y = offset for time < startTime
 
@@ -2228,7 +2230,8 @@ class TimeTable(_Factory):
         file: str | os.PathLike[str] = ...,
         table: Sequence[Sequence[float | str]] = ...,
         extrapolation: Literal["LastTwoPoints", "HoldLastPoint"] = ...,
-        offset: float = ...,
+        columns: float | Sequence[float] = ...,
+        offset: float | Sequence[float] = ...,
         startTime: float = ...,
     ) -> None: ...
 

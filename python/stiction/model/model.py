@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 from stiction.errors import ModelError
 from stiction.model import modelfile
-from stiction.model.components import FACTORIES, Component, component_types
+from stiction.model.components import FACTORIES, Component, component_types, time_table_ports
 from stiction.model.names import COMPONENT_NAME, IDENTIFIER, PathIndex, split_last
 from stiction.model.parameters import is_expr
 from stiction.model.runinfo import RunInfo
@@ -159,6 +159,8 @@ class Model:
         comp_type = self.components[comp_name].type
         if known is not None and comp_type in known:
             ports = known[comp_type].get("ports", [])
+            if comp_type == "TimeTable":  # its outputs follow its columns
+                ports = time_table_ports(self.components[comp_name].params)
             if port not in ports:
                 raise ModelError(
                     f"component '{comp_name}' ({comp_type}): port '{port}': "

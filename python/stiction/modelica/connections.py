@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 from stiction.errors import ModelError
 from stiction.expressions.ast import Literal, Ref
 from stiction.expressions.lexer import ModelicaError, Pos
+from stiction.model.components import time_table_ports
 from stiction.model.names import owner
 from stiction.model.parameters import resolve_params
 
@@ -218,7 +219,9 @@ class ConnectionSets:
                 f"connect to '{ref.name}': {component.type} '{comp}' has no port '{port}' "
                 f"(set {flag} = true to enable it)",
             )
-        if ref.subscripts and not (self.components[comp][0] == "CombiTimeTable" and _is_one(ref)):
+        if self.components[comp][0] == "CombiTimeTable" and port == "y":
+            return _table_output(ref, comp, component), kind
+        if ref.subscripts:
             raise ModelicaError(ref.pos, f"connect to '{ref.name}[…]': array connectors are not supported")
         return ref.name, kind
 
@@ -252,7 +255,21 @@ def _element(ref: Ref, port: str) -> str | None:
     return None
 
 
-def _is_one(ref: Ref) -> bool:
-    return (
-        len(ref.subscripts) == 1 and isinstance(ref.subscripts[0], Literal) and ref.subscripts[0].value == 1
+def _table_output(ref: Ref, comp: str, component: Component) -> str:
+    """The TimeTable port a connect to a CombiTimeTable's ``y[i]`` names: ``y`` for a table of
+    one output, ``y[i]`` for one of several."""
+    count = len(time_table_ports(component.params))
+    if not ref.subscripts and count == 1:
+        return f"{comp}.y"
+    index = (
+        ref.subscripts[0].value
+        if len(ref.subscripts) == 1 and isinstance(ref.subscripts[0], Literal)
+        else None
     )
+    if type(index) is not int or not 1 <= index <= count:
+        raise ModelicaError(
+            ref.pos,
+            f"connect to '{ref.name}': CombiTimeTable '{comp}' has outputs y[1] to y[{count}]; "
+            "connect one of them by a literal index",
+        )
+    return f"{comp}.y" if count == 1 else f"{comp}.y[{index}]"

@@ -85,8 +85,18 @@ def _quoted_names(model: Model, expression: str) -> str:
 
 
 def _is_combi(model: Model, name: str) -> bool:
+    """Whether a TimeTable needs MSL's CombiTimeTable: a file, an extrapolation, several
+    columns or offsets; else MSL's one-column TimeTable says it."""
     comp = model.components[name]
-    return comp.type == "TimeTable" and ("file" in comp.params or "extrapolation" in comp.params)
+    if comp.type != "TimeTable":
+        return False
+    table = comp.params.get("table")
+    wide = isinstance(table, list) and any(isinstance(r, list) and len(r) > 2 for r in table)
+    return (
+        wide
+        or isinstance(comp.params.get("offset"), list)
+        or any(key in comp.params for key in ("file", "extrapolation", "columns"))
+    )
 
 
 def _end(model: Model, end: str) -> str:
@@ -171,4 +181,4 @@ def _table_rows(model: Model, name: str, params: dict[str, Any]) -> list[list[fl
         _, data = read_csv(path)
     except (OSError, ValueError) as exc:
         raise ModelError(f"component '{name}' (TimeTable): cannot inline '{path}': {exc}") from None
-    return data[:, :2].tolist()
+    return data.tolist()

@@ -13,6 +13,8 @@ pub enum ParamKind {
     BooleanStart,
     /// A table with this many columns, rows `[x, y…]`.
     Table(usize),
+    /// A list of numbers (a CombiTimeTable's `columns`, `offset`); a bare number is a list of one.
+    Vector,
     String,
     /// One of these names.
     Choice(Vec<String>),
@@ -27,6 +29,7 @@ impl ParamKind {
             ParamKind::Start => "start value".into(),
             ParamKind::BooleanStart => "Boolean start value".into(),
             ParamKind::Table(n) => format!("table [:, {n}]"),
+            ParamKind::Vector => "vector".into(),
             ParamKind::String => "String".into(),
             ParamKind::Choice(_) => "choice".into(),
         }
@@ -36,7 +39,7 @@ impl ParamKind {
     pub fn is_numeric(&self) -> bool {
         matches!(
             self,
-            ParamKind::Real | ParamKind::Start | ParamKind::Table(_)
+            ParamKind::Real | ParamKind::Start | ParamKind::Table(_) | ParamKind::Vector
         )
     }
 }

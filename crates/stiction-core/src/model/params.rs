@@ -291,6 +291,24 @@ impl<'a> Params<'a> {
         Ok(value)
     }
 
+    /// A list of numbers, e.g. `offset = [0, 1.5]`; a bare number is a list of one.
+    pub fn vector(&self, decl: &'static str, default: &[f64]) -> ModelResult<Vec<f64>> {
+        let value = toml::Value::Array(default.iter().map(|&x| x.into()).collect());
+        let name = self.declare(decl, ParamKind::Vector, Some(value));
+        match self.get(name) {
+            None => Ok(default.to_vec()),
+            Some(toml::Value::Array(cells)) => cells.iter().map(|c| self.number(name, c)).collect(),
+            Some(v) => Ok(vec![self.number(name, v)?]),
+        }
+    }
+
+    /// The number of cells in the first row of a given matrix parameter (how wide a table the
+    /// user wrote), None if it is not given or not a matrix.
+    pub fn matrix_width(&self, name: &str) -> Option<usize> {
+        let rows = self.get(name)?.as_array()?;
+        Some(rows.first()?.as_array()?.len())
+    }
+
     /// A matrix with a fixed number of columns, e.g. `mu_pos = [[0, 0.5], [10, 0.4]]`. A flat
     /// list `[0.5, 0.4]` is refused (was it one row or one column?) with the matrix it may mean;
     /// so is a ragged one.

@@ -1,7 +1,9 @@
-//! A time table (MSL CombiTimeTable, one output column, linear interpolation): a measured
-//! normal-force or torque profile given inline or as a two-column CSV file.
+//! A time table (MSL CombiTimeTable, linear interpolation): a measured normal-force or torque
+//! profile given inline or as a CSV file. A table of several value columns outputs the chosen
+//! `columns` as `y[1]`…`y[k]`; each output is the one-column table of its column (the same
+//! block, the same numbers), so one output keeps the name `y`.
 
-use crate::components::decl::{OFFSET, START_TIME};
+use crate::components::decl::START_TIME;
 use crate::components::{Component, Ports};
 use crate::error::ModelResult;
 use crate::model::Params;
@@ -68,25 +70,51 @@ impl TimeTable {
     }
 }
 
-impl Component for TimeTable {
+/// Names of the outputs of a table of several columns (port names are static).
+const Y: [&str; 32] = [
+    "y[1]", "y[2]", "y[3]", "y[4]", "y[5]", "y[6]", "y[7]", "y[8]", "y[9]", "y[10]", "y[11]",
+    "y[12]", "y[13]", "y[14]", "y[15]", "y[16]", "y[17]", "y[18]", "y[19]", "y[20]", "y[21]",
+    "y[22]", "y[23]", "y[24]", "y[25]", "y[26]", "y[27]", "y[28]", "y[29]", "y[30]", "y[31]",
+    "y[32]",
+];
+
+/// The component: one one-column table per output, all on the same abscissae.
+struct TimeTables {
+    outputs: Vec<TimeTable>,
+}
+
+impl TimeTables {
+    fn names(&self) -> Vec<&'static str> {
+        match self.outputs.len() {
+            1 => vec!["y"],
+            k => Y[..k].to_vec(),
+        }
+    }
+}
+
+impl Component for TimeTables {
     fn ports(&self) -> Ports {
         Ports {
-            signal_out: vec!["y"],
+            signal_out: self.names(),
             ..Ports::default()
         }
     }
 
     fn build(&self, b: &mut Builder) -> ModelResult<()> {
-        let output = b.signal_out("y")?;
-        b.output("y", Out::Signal(output));
-        b.add_block(Box::new(self.clone()), vec![], output);
+        for (name, table) in self.names().into_iter().zip(&self.outputs) {
+            let output = b.signal_out(name)?;
+            b.output(name, Out::Signal(output));
+            b.add_block(Box::new(table.clone()), vec![], output);
+        }
         Ok(())
     }
 
-    /// Breakpoints are kinks: restarting the integrator there keeps it accurate.
+    /// Breakpoints are kinks: restarting the integrator there keeps it accurate. All outputs
+    /// share the abscissae, so the first one's are all of them.
     fn time_events(&self, _from: f64, _until: f64) -> Vec<f64> {
-        let mut events = vec![self.start_time];
-        events.extend(self.t.iter().map(|ti| ti + self.start_time));
+        let first = &self.outputs[0];
+        let mut events = vec![first.start_time];
+        events.extend(first.t.iter().map(|ti| ti + first.start_time));
         events
     }
 }
@@ -95,8 +123,10 @@ pub fn time_table(p: &Params) -> ModelResult<Box<dyn Component>> {
     if p.has("file") && p.has("table") {
         return Err(p.error("table", "give either 'table' or 'file', not both"));
     }
-    let file =
-        p.string("file CSV file of rows time, y (relative to the model file); instead of table")?;
+    let file = p.string(
+        "file CSV file of rows time, y1, y2… (relative to the model file); instead of table",
+    )?;
+    let width = p.matrix_width("table").unwrap_or(2).max(2);
     let rows = match file {
         Some(name) => {
             let path = p.base_dir.join(&name);
@@ -105,14 +135,52 @@ pub fn time_table(p: &Params) -> ModelResult<Box<dyn Component>> {
             parse_csv(&text).map_err(|m| p.error("file", format!("'{}': {m}", path.display())))?
         }
         None => p.matrix(
-            "table [s, 1] Rows [time, y]; a time given twice is a jump; linear between rows, \
-             beyond the last row as `extrapolation` says",
-            2,
+            "table [s, 1] Rows [time, y1, y2…]; a time given twice is a jump; linear between \
+             rows, beyond the last row as `extrapolation` says",
+            width,
             &[&[0.0, 0.0]],
         )?,
     };
-    // Time must increase; one repeated time is a jump (as in MSL's CombiTimeTable).
     let which = if p.has("file") { "file" } else { "table" };
+    check_times(p, which, &rows)?;
+    let extrapolation = p.choice(
+        "extrapolation Beyond the last point: LastTwoPoints (linearly through the last two \
+         points) or HoldLastPoint (the last point's value)",
+        &["LastTwoPoints", "HoldLastPoint"],
+        "LastTwoPoints",
+    )?;
+    let columns = output_columns(p, rows[0].len())?;
+    let offsets = p.vector(
+        "offset [1] Offsets of the outputs: one per column, or one for all",
+        &[0.0],
+    )?;
+    if offsets.len() != 1 && offsets.len() != columns.len() {
+        return Err(p.error(
+            "offset",
+            format!(
+                "has {} values for {} output columns; give one per column or one for all",
+                offsets.len(),
+                columns.len()
+            ),
+        ));
+    }
+    let t: Vec<f64> = rows.iter().map(|r| r[0]).collect();
+    let start_time = p.real(START_TIME, 0.0)?;
+    let hold = extrapolation == "HoldLastPoint";
+    let outputs = (columns.iter().enumerate())
+        .map(|(k, &c)| TimeTable {
+            t: t.clone(),
+            y: rows.iter().map(|r| r[c]).collect(),
+            offset: offsets[if offsets.len() == 1 { 0 } else { k }],
+            start_time,
+            hold,
+        })
+        .collect();
+    Ok(Box::new(TimeTables { outputs }))
+}
+
+/// Time must increase; one repeated time is a jump (as in MSL's CombiTimeTable).
+fn check_times(p: &Params, which: &str, rows: &[Vec<f64>]) -> ModelResult<()> {
     for (k, pair) in rows.windows(2).enumerate() {
         let (a, b) = (pair[0][0], pair[1][0]);
         if b < a {
@@ -128,23 +196,40 @@ pub fn time_table(p: &Params) -> ModelResult<Box<dyn Component>> {
             ));
         }
     }
-    let extrapolation = p.choice(
-        "extrapolation Beyond the last point: LastTwoPoints (linearly through the last two \
-         points) or HoldLastPoint (the last point's value)",
-        &["LastTwoPoints", "HoldLastPoint"],
-        "LastTwoPoints",
-    )?;
-    Ok(Box::new(TimeTable {
-        t: rows.iter().map(|r| r[0]).collect(),
-        y: rows.iter().map(|r| r[1]).collect(),
-        offset: p.real(OFFSET, 0.0)?,
-        start_time: p.real(START_TIME, 0.0)?,
-        hold: extrapolation == "HoldLastPoint",
-    }))
+    Ok(())
 }
 
-/// Two numeric columns separated by commas, semicolons or blanks; a non-numeric first line is a
-/// header. Hand-written: the csv crate would bring serde for two columns of numbers.
+/// The 0-based table columns of the outputs, from MSL's 1-based `columns` (default: all but
+/// the first, time).
+fn output_columns(p: &Params, width: usize) -> ModelResult<Vec<usize>> {
+    let all: Vec<f64> = (2..=width).map(|c| c as f64).collect();
+    let columns = p.vector(
+        "columns [1] Columns of the table to output, 1-based (column 1 is time); default all \
+         the others",
+        &all,
+    )?;
+    if columns.is_empty() || columns.len() > Y.len() {
+        return Err(p.error(
+            "columns",
+            format!("give 1 to {} columns, got {}", Y.len(), columns.len()),
+        ));
+    }
+    (columns.iter())
+        .map(|&c| {
+            if c.fract() == 0.0 && c >= 2.0 && c <= width as f64 {
+                Ok(c as usize - 1)
+            } else {
+                Err(p.error(
+                    "columns",
+                    format!("column {c} is not a value column of the table (2 to {width})"),
+                ))
+            }
+        })
+        .collect()
+}
+
+/// Numeric columns (time, values…) separated by commas, semicolons or blanks; a non-numeric first line is a
+/// header. Hand-written: the csv crate would bring serde for columns of numbers.
 fn parse_csv(text: &str) -> Result<Vec<Vec<f64>>, String> {
     let mut rows = Vec::new();
     for (number, line) in text.lines().enumerate() {
@@ -161,11 +246,17 @@ fn parse_csv(text: &str) -> Result<Vec<Vec<f64>>, String> {
             .map(|c| c.trim_matches('"').parse::<f64>())
             .collect();
         match values {
-            Ok(v) if v.len() >= 2 && v.iter().all(|x| x.is_finite()) => rows.push(vec![v[0], v[1]]),
+            Ok(v)
+                if v.len() >= 2
+                    && v.iter().all(|x| x.is_finite())
+                    && rows.first().is_none_or(|r: &Vec<f64>| r.len() == v.len()) =>
+            {
+                rows.push(v)
+            }
             Err(_) if rows.is_empty() => continue, // header
             _ => {
                 return Err(format!(
-                    "line {}: expected two numbers (time, value)",
+                    "line {}: expected as many numbers as the first row (time, values…)",
                     number + 1
                 ))
             }

@@ -59,7 +59,7 @@ docs: setup
 
 # The property tests over 10⁴ random drivetrains (CI runs a fixed budget of about 200).
 soak: setup
-	STICTION_SOAK=10000 $(PY) -m pytest -q tests/properties/test_properties.py --hypothesis-show-statistics
+	STICTION_SOAK=10000 $(PY) -m pytest -q tests/properties/test_properties.py tests/properties/test_mixed_drivetrains.py --hypothesis-show-statistics
 
 bench: setup
 	$(VENV)/bin/stiction bench

@@ -3,7 +3,8 @@
 The twin of examples/vehicle_stop.toml, built in Python: one wheel with its disc brake (its
 heat port into the disc's heat capacity), the tyre as a ``SlipWheel`` (stiction's own tyre
 contact: it rolls while its contact sticks and would skid if the brake locked it), 400 kg of
-car as a ``Translational.Mass``, rolling resistance and aerodynamic drag. The brake pressure
+car as a ``Translational.Mass``, rolling resistance (``Translational.RollingResistance``: it
+vanishes at rest) and aerodynamic drag. The brake pressure
 ramps to full in 0.3 s. Run it with ``python examples/vehicle_stop.py``; the documentation
 build runs it into the gallery.
 """
@@ -36,7 +37,8 @@ def build() -> st.Model:
     m.add("wheel", st.Inertia(J=J, w=V0 / R))
     m.add("tyre", st.SlipWheel(radius=R, mu_pos=[[0.0, 0.9]], peak=1.1, fNConstant=M * G))
     m.add("car", tr.Mass(m=M, s=0.0, v="100 km/h"))
-    m.add("rolling", tr.ConstantForce(f_constant=-0.012 * M * G))
+    # rolling resistance 0.012·m·g against the motion, vanishing at rest (MSL's regularization)
+    m.add("rolling", tr.RollingResistance(fWeight=M * G, CrConstant=0.012))
     # ½·rho·cw·A·v² with rho = 1.2 kg/m3, cw·A = 0.66 m2, a quarter of it on this wheel
     drag = -0.5 * 1.2 * 0.66 / 4 * V0**2
     m.add("drag", tr.QuadraticSpeedDependentForce(f_nominal=drag, v_nominal=V0, ForceDirection=False))

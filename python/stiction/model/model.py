@@ -40,6 +40,18 @@ def _did_you_mean(word: str, choices: list[str]) -> str:
     return f" (did you mean {', '.join(repr(c) for c in close)}?)" if close else ""
 
 
+@functools.cache
+def _port_kind(type_name: str, port: str) -> str | None:
+    """A port's kind from the engine's catalogue (None for an unknown type or port)."""
+    from stiction.model.catalogue import catalogue
+
+    try:
+        info = catalogue().get(type_name)
+    except ModuleNotFoundError:  # a source tree without the compiled engine
+        return None
+    return next((p.kind for p in info.ports if p.name == port), None) if info else None
+
+
 @functools.lru_cache(maxsize=4096)
 def _expression_key(text: str) -> str:
     """An expression as its syntax tree writes it back (``2 * T`` and ``2*T`` alike); text
@@ -174,11 +186,24 @@ class Model:
         self._check_end(b)
         if a == b:
             raise ModelError(f"connection '{a}' - '{b}': a port cannot be connected to itself")
+        self._check_domains(a, b)
         if self._connected(a, b):
             raise ModelError(f"connection '{a}' - '{b}': already connected")
         self.connections.append((a, b))
         self._pairs.add(frozenset((a, b)))
         return self
+
+    def _check_domains(self, a: str, b: str) -> None:
+        """Refuse an angle joined to a position here, where the connect is written (the engine
+        refuses it too, at check; its words)."""
+        ka, kb = (_port_kind(self.components[c].type, p) for c, p in (split_last(a), split_last(b)))
+        if {ka, kb} == {"flange", "translational flange"}:
+            rot = lambda kind: "rotational " if kind == "flange" else ""
+            raise ModelError(
+                f"connection {a} — {b}: cannot connect the {rot(ka)}{ka} '{a}' to the {rot(kb)}{kb} "
+                f"'{b}': an angle and a position are joined only through a component that converts "
+                "rotation into translation (IdealRollingWheel, IdealGearR2T)"
+            )
 
     def _connected(self, a: str, b: str) -> bool:
         """Whether a-b is in ``connections``, through a set (linear cost to build a model); the

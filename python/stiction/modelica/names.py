@@ -16,6 +16,7 @@ from stiction.modelica.ast import Import
 __all__ = [
     "CONNECTOR_KINDS",
     "MSL_CLASSES",
+    "OWN_COMPONENTS",
     "PARAMETER_RENAMES",
     "TYPE_OF",
     "Scope",
@@ -27,6 +28,7 @@ __all__ = [
 _ROT = "Modelica.Mechanics.Rotational"
 _TRANS = "Modelica.Mechanics.Translational"
 _HEAT = "Modelica.Thermal.HeatTransfer"
+OWN_COMPONENTS = ("SlipWheel",)  # beyond the MSL: exported as Stiction.Components.<type>
 
 # stiction type -> MSL class (the name export writes)
 MSL_CLASSES: dict[str, str] = {
@@ -144,6 +146,9 @@ MSL_CLASSES: dict[str, str] = {
     **{t: f"{_HEAT}.Components.{t}" for t in ["HeatCapacitor", "ThermalConductor", "Convection"]},
     "FixedTemperature": f"{_HEAT}.Sources.FixedTemperature",
     "Celsius.FixedTemperature": f"{_HEAT}.Celsius.FixedTemperature",
+    # stiction's own components, not MSL's: a class in the Stiction namespace, which only
+    # stiction's importer maps back (other tools will not know it; docs/modelica.md)
+    **{t: f"Stiction.Components.{t}" for t in OWN_COMPONENTS},
 }
 # MSL class -> stiction type
 TYPE_OF: dict[str, str] = {msl: t for t, msl in MSL_CLASSES.items()}

@@ -1103,8 +1103,8 @@ class SpringDamper(_Factory):
     - v_rel [m/s]
     - a_rel [m/s2]
     - f [N]
-    - f_c
-    - f_d
+    - f_c [N]
+    - f_d [N]
     - lossPower [W]
     - flange_a.s [m]
     - flange_a.f [N]

@@ -27,6 +27,9 @@ impl Stepper {
         if !(matches!(kind, EventKind::Input(..) | EventKind::Parameter) && self.last_row == t) {
             self.record_here(t);
         }
+        if matches!(kind, EventKind::State) {
+            self.apply_resets();
+        }
         let changes = {
             let mut guard = self.phase.borrow_mut();
             guard.horizon = horizon;
@@ -75,6 +78,28 @@ impl Stepper {
         let guard = self.phase.borrow();
         speed_rates(&self.sys, &guard.disc, &guard.ws, &mut self.dz);
         Ok(())
+    }
+
+    /// The state resets the switching elements ask for at a state event (a hard stop reached:
+    /// MSL's `reinit`), applied to the state before the event iteration. The kinetic energy a
+    /// reset removes is counted as dissipated, so that the energy audit still closes.
+    fn apply_resets(&mut self) {
+        let n = self.sys.nodes;
+        let loss = crate::engine::eval::Layout::of(&self.sys).loss();
+        for k in 0..self.sys.switching.len() {
+            let (phi, w) = self.x[..2 * n].split_at(n);
+            let Some(r) = self.sys.switching[k].reset(phi, w) else {
+                continue;
+            };
+            let m: f64 = (self.sys.masses.iter())
+                .filter(|(_, node, _)| *node == r.node)
+                .map(|(_, _, m)| m)
+                .sum();
+            let w_old = self.x[n + r.node];
+            self.x[loss] += 0.5 * m * (w_old * w_old - r.w * r.w);
+            self.x[r.node] = r.phi;
+            self.x[n + r.node] = r.w;
+        }
     }
 
     /// Restarts the integrator at (t, self.x) after an event.

@@ -60,3 +60,8 @@ fn brake_stays_in_the_msl_tube() {
 fn preload_stays_in_the_msl_tube() {
     check_example("PreLoad");
 }
+
+#[test]
+fn friction_stays_in_the_msl_tube() {
+    check_example("Friction");
+}

@@ -135,6 +135,29 @@ fn bad_parameters_are_refused_by_name() {
     }
 }
 
+#[test]
+fn a_start_outside_the_stops_is_refused_by_name() {
+    // s = 1.2 puts the right end at 1.3, beyond smax = 1.1 (MSL's initial assert)
+    let text = pushed(10.0, "").replace(
+        "start = 0.0, fixed = true }, v",
+        "start = 1.2, fixed = true }, v",
+    );
+    let err = simulate(&spec(&text).unwrap())
+        .map(|_| ())
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("mass") && err.contains("smax"), "{err}");
+    let text = pushed(10.0, "").replace(
+        "start = 0.0, fixed = true }, v",
+        "start = -0.95, fixed = true }, v",
+    );
+    let err = simulate(&spec(&text).unwrap())
+        .map(|_| ())
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("mass") && err.contains("smin"), "{err}");
+}
+
 /// The later of a repeated key wins: drop the earlier one (TOML refuses duplicates).
 fn dedupe(text: &str) -> String {
     let mut out = text.to_string();

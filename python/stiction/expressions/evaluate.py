@@ -106,7 +106,8 @@ def _stribeck_table(
     return np.column_stack([v, F_Coulomb + F_prop * v + F_Stribeck * np.exp(-fexp * v)])
 
 
-# Functions whose arguments may be named: their input names in order (defaults are Python's).
+# Functions of parameter values only (an MSL function computing a table), not of the
+# expression language the core evaluates; their arguments may be named: input names in order.
 NAMED_INPUTS: dict[str, tuple[str, ...]] = {
     "Modelica.Mechanics.Translational.Examples.Utilities.GenerateStribeckFrictionTable": (
         "F_prop",
@@ -117,7 +118,7 @@ NAMED_INPUTS: dict[str, tuple[str, ...]] = {
         "nTable",
     ),
 }
-FUNCTIONS.update({name: _stribeck_table for name in NAMED_INPUTS})
+PARAMETER_FUNCTIONS: dict[str, Callable[..., Any]] = {name: _stribeck_table for name in NAMED_INPUTS}
 
 _BINARY: dict[str, Callable[[Any, Any], Any]] = {
     "+": lambda a, b: a + b,
@@ -183,7 +184,8 @@ def _call(e: Call, ev: Callable[[Expr], Any], resolve: Resolve, der: Lookup | No
             raise ModelicaError(e.pos, "der(…) of a variable is only allowed in a variable's binding")
         return der(e.args[0])
     name = e.func if e.func in FUNCTIONS else resolve(e.func, e.pos)
-    if name not in FUNCTIONS:
+    function = FUNCTIONS.get(name) or PARAMETER_FUNCTIONS.get(name)
+    if function is None:
         known = ", ".join(sorted(n for n in FUNCTIONS if "." not in n))
         raise ModelicaError(e.pos, f"unknown function '{e.func}' (supported: {known}, der)")
     if e.kwargs and name not in NAMED_INPUTS:
@@ -194,7 +196,7 @@ def _call(e: Call, ev: Callable[[Expr], Any], resolve: Resolve, der: Lookup | No
     if unknown:
         raise ModelicaError(e.pos, f"'{e.func}' has no input {', '.join(sorted(unknown))}")
     try:
-        return _arithmetic(e, lambda: FUNCTIONS[name](*args, **kwargs))
+        return _arithmetic(e, lambda: function(*args, **kwargs))
     except (TypeError, ValueError) as exc:
         raise ModelicaError(e.pos, f"bad call of '{e.func}': {exc}") from None
 

@@ -200,9 +200,9 @@ pub trait SwitchingElement: Send + Sync {
     fn heat_node(&self) -> Option<usize> {
         None
     }
-    /// Refuses a start its own logic forbids (a one-way clutch turning backward): the reason,
-    /// given its relative speed at the start.
-    fn check_start(&self, _w: f64) -> Result<(), String> {
+    /// Refuses a start its own logic forbids (a one-way clutch turning backward, a mass
+    /// outside its stops): the reason, given its relative position and speed at the start.
+    fn check_start(&self, _phi: f64, _w: f64) -> Result<(), String> {
         Ok(())
     }
     /// Whether its characteristic can turn negative during a run (a friction table whose

@@ -172,7 +172,10 @@ impl SwitchingElement for FrictionElem {
 
     /// A freewheel cannot turn backward: MSL's equations would take it as stuck with a
     /// constant negative slip that transmits torque, reports no loss and makes energy.
-    fn check_start(&self, w: f64) -> Result<(), String> {
+    fn check_start(&self, phi: f64, w: f64) -> Result<(), String> {
+        if let Some(stop) = &self.stop {
+            return stop.check_start(phi, w);
+        }
         if self.one_way.is_some() && w < -super::relation::EVENT_EPSILON {
             return Err(format!(
                 "w_rel starts at {w} rad/s, but a one-way clutch cannot turn backward (w_rel < 0); \

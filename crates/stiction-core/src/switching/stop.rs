@@ -18,8 +18,10 @@ pub struct StopFriction {
     /// `smin + L/2` and `smax − L/2` as positions of `flange_a` (`smin`, `smax − L`).
     pub lower: f64,
     pub upper: f64,
-    /// The node the motion is (its coefficient 1, no offset) and its mass [kg].
+    /// The node the motion is (its coefficient 1, no offset).
     pub node: usize,
+    /// `L`, for messages in MSL's terms.
+    pub length: f64,
 }
 
 impl StopFriction {
@@ -54,6 +56,27 @@ impl StopFriction {
             r = r.cleared(&[R::SA_BELOW_MAX, R::SA_BELOW, R::W_NEG]);
         }
         r
+    }
+
+    /// MSL's initial asserts: `s − L/2 ≥ smin` (equal only at rest or leaving the stop) and
+    /// `s + L/2 ≤ smax` likewise; `a` is `flange_a`'s position, `v` the speed.
+    pub fn check_start(&self, a: f64, v: f64) -> Result<(), String> {
+        let (lo, hi) = (a, a + self.length);
+        let smax = self.upper + self.length;
+        if a < self.lower || (a == self.lower && v < 0.0) {
+            return Err(format!(
+                "its left end starts at s - L/2 = {lo} m (v = {v} m/s), below or into its stop \
+                 smin = {} m: start it between its stops",
+                self.lower
+            ));
+        }
+        if a > self.upper || (a == self.upper && v > 0.0) {
+            return Err(format!(
+                "its right end starts at s + L/2 = {hi} m (v = {v} m/s), beyond or into its stop \
+                 smax = {smax} m: start it between its stops"
+            ));
+        }
+        Ok(())
     }
 
     /// The stop indicator (slot 0): the mass passing the stop it moves towards.

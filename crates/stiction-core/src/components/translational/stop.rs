@@ -94,6 +94,7 @@ impl Component for MassWithStop {
                 lower: self.smin,
                 upper: self.smax - self.length,
                 node,
+                length: self.length,
             })),
         }));
         b.output("s", Out::Angle(center.clone()));

@@ -9,8 +9,8 @@ used and 4.x renamed are mapped as MSL's conversion script maps them.
 
 from __future__ import annotations
 
-from stiction.expressions.evaluate import PARAMETER_FUNCTIONS
 from stiction.expressions.evaluate import MSL_CONSTANTS as CONSTANTS
+from stiction.expressions.evaluate import PARAMETER_FUNCTIONS
 from stiction.expressions.lexer import ModelicaError, Pos
 from stiction.modelica.ast import Import
 

@@ -20,6 +20,7 @@ __all__ = [
     "ForceStep",
     "LinearSpeedDependentForce",
     "Mass",
+    "MassWithStopAndFriction",
     "Move",
     "MultiSensor",
     "Position",
@@ -590,6 +591,81 @@ class Mass(_Factory):
         L: float = ...,
         s: float | StartValue = ...,
         v: float | StartValue = ...,
+    ) -> None: ...
+
+class MassWithStopAndFriction(_Factory):
+    """Sliding mass with hard stop and Stribeck friction.
+
+    MSL class: ``Modelica.Mechanics.Translational.Components.MassWithStopAndFriction``
+
+    Parameters
+    ----------
+    m : Real [kg], default 1, > 0
+        Mass
+    L : Real [m], default 0, >= 0
+        Length of component, from left flange to right flange (= flange_b.s - flange_a.s)
+    smax : Real [m], default 25
+        Right stop for (right end of) sliding mass
+    smin : Real [m], default -25
+        Left stop for (left end of) sliding mass
+    v_small : Real [m/s], default 0.001, > 0
+        Relative velocity near to zero (see model info text)
+    F_prop : Real [N.s/m], default 1, >= 0
+        Velocity dependent friction
+    F_Coulomb : Real [N], default 5, >= 0
+        Constant friction: Coulomb force
+    F_Stribeck : Real [N], default 10, >= 0
+        Stribeck effect
+    fexp : Real [s/m], default 2, >= 0
+        Exponential decay
+    s : start value [m], start (a guess unless given) 0
+        Absolute position of center of component (start value)
+    v : start value [m/s], start (a guess unless given) 0
+        Absolute velocity of flange_a and flange_b (start value)
+    useHeatPort : Boolean, default false
+        true: enable the heatPort connector (else the loss power goes nowhere)
+
+    Ports
+    -----
+    - flange_a: translational flange
+    - flange_b: translational flange
+    - heatPort: heat port (if useHeatPort = true)
+
+    Variables
+    ---------
+    - s [m]
+    - v [m/s]
+    - a [m/s2]
+    - f [N]
+    - lossPower [W]
+    - locked
+    - sa [N]
+    - f0 [N]
+    - f0_max [N]
+    - mode
+    - startForward
+    - startBackward
+    - flange_a.s [m]
+    - flange_a.f [N]
+    - flange_b.s [m]
+    - flange_b.f [N]
+    """
+
+    def __init__(
+        self,
+        *,
+        m: float = ...,
+        L: float = ...,
+        smax: float = ...,
+        smin: float = ...,
+        v_small: float = ...,
+        F_prop: float = ...,
+        F_Coulomb: float = ...,
+        F_Stribeck: float = ...,
+        fexp: float = ...,
+        s: float | StartValue = ...,
+        v: float | StartValue = ...,
+        useHeatPort: bool = ...,
     ) -> None: ...
 
 class Move(_Factory):

@@ -93,6 +93,33 @@ for _name in list(FUNCTIONS):
     if "." not in _name:
         FUNCTIONS[f"Modelica.Math.{_name}"] = FUNCTIONS[_name]
 
+
+def _stribeck_table(
+    F_prop: float, F_Coulomb: float, F_Stribeck: float, fexp: float, v_max: float, nTable: int = 100
+) -> np.ndarray:
+    """MSL's ``Translational.Examples.Utilities.GenerateStribeckFrictionTable``: ``nTable`` rows
+    ``[v, F_Coulomb + F_prop·v + F_Stribeck·exp(−fexp·v)]`` for v evenly from 0 to ``v_max``."""
+    n = int(nTable)
+    if n != nTable or n < 2:
+        raise ValueError(f"nTable = {nTable} must be an integer >= 2")
+    v = np.array([v_max * (i - 1) / (n - 1) for i in range(1, n + 1)])
+    return np.column_stack([v, F_Coulomb + F_prop * v + F_Stribeck * np.exp(-fexp * v)])
+
+
+# Functions of parameter values only (an MSL function computing a table), not of the
+# expression language the core evaluates; their arguments may be named: input names in order.
+NAMED_INPUTS: dict[str, tuple[str, ...]] = {
+    "Modelica.Mechanics.Translational.Examples.Utilities.GenerateStribeckFrictionTable": (
+        "F_prop",
+        "F_Coulomb",
+        "F_Stribeck",
+        "fexp",
+        "v_max",
+        "nTable",
+    ),
+}
+PARAMETER_FUNCTIONS: dict[str, Callable[..., Any]] = {name: _stribeck_table for name in NAMED_INPUTS}
+
 _BINARY: dict[str, Callable[[Any, Any], Any]] = {
     "+": lambda a, b: a + b,
     "-": lambda a, b: a - b,
@@ -156,15 +183,20 @@ def _call(e: Call, ev: Callable[[Expr], Any], resolve: Resolve, der: Lookup | No
         if der is None or len(e.args) != 1 or not isinstance(e.args[0], Ref):
             raise ModelicaError(e.pos, "der(…) of a variable is only allowed in a variable's binding")
         return der(e.args[0])
-    if e.kwargs:
-        raise ModelicaError(e.pos, f"named arguments in a call of '{e.func}' are not supported")
     name = e.func if e.func in FUNCTIONS else resolve(e.func, e.pos)
-    if name not in FUNCTIONS:
+    function = FUNCTIONS.get(name) or PARAMETER_FUNCTIONS.get(name)
+    if function is None:
         known = ", ".join(sorted(n for n in FUNCTIONS if "." not in n))
         raise ModelicaError(e.pos, f"unknown function '{e.func}' (supported: {known}, der)")
+    if e.kwargs and name not in NAMED_INPUTS:
+        raise ModelicaError(e.pos, f"named arguments in a call of '{e.func}' are not supported")
     args = [ev(a) for a in e.args]
+    kwargs = {k: ev(a) for k, a in e.kwargs.items()}
+    unknown = set(kwargs) - set(NAMED_INPUTS.get(name, ()))
+    if unknown:
+        raise ModelicaError(e.pos, f"'{e.func}' has no input {', '.join(sorted(unknown))}")
     try:
-        return _arithmetic(e, lambda: FUNCTIONS[name](*args))
+        return _arithmetic(e, lambda: function(*args, **kwargs))
     except (TypeError, ValueError) as exc:
         raise ModelicaError(e.pos, f"bad call of '{e.func}': {exc}") from None
 

@@ -55,6 +55,8 @@ START_VARIABLES = frozenset(
         "phi_rel",
         "w_rel",
         "a_rel",
+        "s_rel",
+        "v_rel",
         "startForward",
         "startBackward",
         "stuck",

@@ -10,6 +10,7 @@ used and 4.x renamed are mapped as MSL's conversion script maps them.
 from __future__ import annotations
 
 from stiction.expressions.evaluate import MSL_CONSTANTS as CONSTANTS
+from stiction.expressions.evaluate import PARAMETER_FUNCTIONS
 from stiction.expressions.lexer import ModelicaError, Pos
 from stiction.modelica.ast import Import
 
@@ -107,6 +108,7 @@ MSL_CLASSES: dict[str, str] = {
             "Rod",
             "Brake",
             "SupportFriction",
+            "MassWithStopAndFriction",
         ]
     },
     **{
@@ -186,6 +188,7 @@ _PACKAGES = frozenset(
         *TYPE_OF,
         *CONNECTOR_KINDS,
         *CONSTANTS,
+        *PARAMETER_FUNCTIONS,
         "Modelica.Units.SI.X",
         "Modelica.Units.NonSI.X",
         "Modelica.Icons.X",
@@ -230,6 +233,7 @@ def _known(name: str) -> bool:
         or name in CONNECTOR_KINDS
         or name in CONSTANTS
         or name in _PACKAGES
+        or name in PARAMETER_FUNCTIONS
         or is_unit_type(name)
         or is_enumeration(name)
     )

@@ -28,7 +28,14 @@ def always_valid(stype: str, key: str, value: Any) -> bool:
 
 # Reals without a declared range that the engine still checks against others: a pulse
 # starting long before the run would schedule millions of time events.
-_CHECKED_TOGETHER = frozenset({("Pulse", "startTime")})
+_CHECKED_TOGETHER = frozenset(
+    {
+        ("Pulse", "startTime"),
+        # smax >= smin + L: the stops are checked against each other
+        ("Translational.MassWithStopAndFriction", "smax"),
+        ("Translational.MassWithStopAndFriction", "smin"),
+    }
+)
 
 
 @functools.cache

@@ -147,6 +147,7 @@ impl Component for Compliant {
         b.init_angle(rel.clone(), self.phi_rel, n.rel);
         b.output(n.rel, Out::Angle(rel.clone()));
         if self.has_damper {
+            b.keep_relative_states(law);
             b.init_speed(rel.clone(), self.w_rel, n.speed);
             b.output(n.speed, Out::Speed(rel.clone()));
             b.output(n.accel, Out::Accel(rel.clone()));

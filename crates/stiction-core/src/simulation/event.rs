@@ -27,6 +27,9 @@ impl Stepper {
         if !(matches!(kind, EventKind::Input(..) | EventKind::Parameter) && self.last_row == t) {
             self.record_here(t);
         }
+        if matches!(kind, EventKind::State) {
+            self.apply_resets();
+        }
         let changes = {
             let mut guard = self.phase.borrow_mut();
             guard.horizon = horizon;
@@ -75,6 +78,37 @@ impl Stepper {
         let guard = self.phase.borrow();
         speed_rates(&self.sys, &guard.disc, &guard.ws, &mut self.dz);
         Ok(())
+    }
+
+    /// The state resets the switching elements ask for at a state event (a hard stop reached:
+    /// MSL's `reinit`), applied to the state before the event iteration. The kinetic energy a
+    /// reset removes is counted as dissipated, so that the energy balance still closes.
+    fn apply_resets(&mut self) {
+        let n = self.sys.nodes;
+        for k in 0..self.sys.switching.len() {
+            let (phi, w) = self.x[..2 * n].split_at(n);
+            let Some(r) = self.sys.switching[k].reset(phi, w) else {
+                continue;
+            };
+            let (dphi, dw) = (r.phi - phi[r.node], r.w - w[r.node]);
+            let moved = super::reset::carried(&self.sys, r.node);
+            let loss = crate::engine::eval::Layout::of(&self.sys).loss();
+            for node in moved {
+                let m: f64 = (self.sys.masses.iter())
+                    .filter(|(_, at, _)| *at == node)
+                    .map(|(_, _, m)| m)
+                    .sum();
+                let w_old = self.x[n + node];
+                let w_new = if node == r.node { r.w } else { w_old + dw };
+                self.x[loss] += 0.5 * m * (w_old * w_old - w_new * w_new);
+                self.x[node] = if node == r.node {
+                    r.phi
+                } else {
+                    self.x[node] + dphi
+                };
+                self.x[n + node] = w_new;
+            }
+        }
     }
 
     /// Restarts the integrator at (t, self.x) after an event.

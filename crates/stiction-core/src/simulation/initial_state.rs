@@ -50,7 +50,7 @@ pub fn initial_state_and_guesses(sys: &System) -> Result<InitialState, ModelErro
         x[lay.temps() + k] = cap.init.start;
     }
     for e in &sys.switching {
-        e.check_start(e.motion().dot(&w))
+        e.check_start(e.motion().angle(&phi), e.motion().dot(&w))
             .map_err(|message| ModelError::Component {
                 component: e.name().to_string(),
                 message,

@@ -17,6 +17,7 @@ mod initial_state;
 mod integrator;
 mod locate;
 mod record_all;
+mod reset;
 mod samples;
 mod saved;
 mod scan;

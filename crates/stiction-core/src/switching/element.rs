@@ -63,6 +63,15 @@ pub fn slip_rate_sign(pre: Discrete) -> Option<f64> {
     }
 }
 
+/// A state reset an element asks for at a state event (MSL's `reinit`): node `node` is put at
+/// position `phi` with speed `w`, before the event iteration works out the new mode.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NodeReset {
+    pub node: usize,
+    pub phi: f64,
+    pub w: f64,
+}
+
 /// The discrete state of a switching element between events.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct SwitchState {
@@ -191,9 +200,9 @@ pub trait SwitchingElement: Send + Sync {
     fn heat_node(&self) -> Option<usize> {
         None
     }
-    /// Refuses a start its own logic forbids (a one-way clutch turning backward): the reason,
-    /// given its relative speed at the start.
-    fn check_start(&self, _w: f64) -> Result<(), String> {
+    /// Refuses a start its own logic forbids (a one-way clutch turning backward, a mass
+    /// outside its stops): the reason, given its relative position and speed at the start.
+    fn check_start(&self, _phi: f64, _w: f64) -> Result<(), String> {
         Ok(())
     }
     /// Whether its characteristic can turn negative during a run (a friction table whose
@@ -206,6 +215,12 @@ pub trait SwitchingElement: Send + Sync {
     /// forbids it (a friction coefficient extrapolated below 0 at the slip reached): the
     /// message, naming the element, the slip speed and the table; None while it is not.
     fn negative_characteristic(&self, _st: &SwitchState, _v: &ElementValues) -> Option<String> {
+        None
+    }
+
+    /// At a state event, the reset of a node's position and speed it asks for (a hard stop
+    /// reached); None by default. `phi`, `w`: the node positions and speeds at the event.
+    fn reset(&self, _phi: &[f64], _w: &[f64]) -> Option<NodeReset> {
         None
     }
 

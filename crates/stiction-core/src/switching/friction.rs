@@ -8,6 +8,7 @@ use super::element::{
 };
 use super::logic::{self, relation_index as R, Discrete, Relations};
 use super::relation::flip_indicator;
+use super::stop::StopFriction;
 use crate::lookup_table::Table1D;
 use crate::rel::Rel;
 
@@ -38,6 +39,8 @@ pub struct FrictionElem {
     pub one_way: Option<OneWay>,
     /// `pre()` of the discrete state at initialization.
     pub initial: Discrete,
+    /// MassWithStopAndFriction: the Stribeck law in place of the table, and the hard stops.
+    pub stop: Option<Box<StopFriction>>,
 }
 
 /// What a OneWayClutch adds: the breakaway threshold while disengaged
@@ -75,7 +78,10 @@ impl FrictionElem {
     /// `mu` and the sliding torque `mu·cgeo·fn` with the sign pair of (sf, sb, pre(mode)).
     #[inline]
     pub fn sliding(&self, w: f64, fn_: f64, pre_mode: i8, sf: bool, sb: bool) -> (f64, f64) {
-        let mu = if self.one_way.is_some() {
+        let mu = if let Some(stop) = &self.stop {
+            let (s_w, s_mu) = logic::table_signs(sf, sb, pre_mode, false);
+            s_mu * stop.force(s_w * w, sf || sb)
+        } else if self.one_way.is_some() {
             self.mu_pos.eval(w) // no sign handling: w_rel is assumed >= 0
         } else {
             let (s_w, s_mu) = logic::table_signs(sf, sb, pre_mode, self.clutch_quirk);
@@ -166,7 +172,10 @@ impl SwitchingElement for FrictionElem {
 
     /// A freewheel cannot turn backward: MSL's equations would take it as stuck with a
     /// constant negative slip that transmits torque, reports no loss and makes energy.
-    fn check_start(&self, w: f64) -> Result<(), String> {
+    fn check_start(&self, phi: f64, w: f64) -> Result<(), String> {
+        if let Some(stop) = &self.stop {
+            return stop.check_start(phi, w);
+        }
         if self.one_way.is_some() && w < -super::relation::EVENT_EPSILON {
             return Err(format!(
                 "w_rel starts at {w} rad/s, but a one-way clutch cannot turn backward (w_rel < 0); \
@@ -267,7 +276,11 @@ impl SwitchingElement for FrictionElem {
             tau0_max: v.tau0_max,
             w_small: self.w_small,
         };
-        logic::relations(previous, &q, initial)
+        let r = logic::relations(previous, &q, initial);
+        match &self.stop {
+            Some(stop) => stop.gate(r, v.phi),
+            None => r,
+        }
     }
 
     fn start_relations(&self) -> &'static [usize] {
@@ -323,8 +336,17 @@ impl SwitchingElement for FrictionElem {
         } else {
             (NEVER, NEVER)
         };
-        z[1] = a;
-        z[2] = b;
+        (z[1], z[2]) = match &self.stop {
+            Some(stop) if st.locked => stop.breakaway(v.phi, a, b),
+            _ => (a, b),
+        };
+        if let Some(stop) = &self.stop {
+            z[0] = stop.indicator(st, v.phi); // never free: slot 0 watches the stops
+        }
+    }
+
+    fn reset(&self, phi: &[f64], w: &[f64]) -> Option<super::element::NodeReset> {
+        self.stop.as_ref()?.reset(&self.rel, phi, w)
     }
 
     /// Sliding, or starting to: its slip speed reaching zero (forward or backward).
@@ -353,6 +375,7 @@ impl SwitchingElement for FrictionElem {
 
     fn indicator_label(&self, st: &SwitchState, slot: usize) -> &'static str {
         match slot {
+            0 if self.stop.is_some() => "the mass reached a hard stop (s = smax - L/2 or smin + L/2)",
             0 if st.free => "normal force became positive (engages)",
             0 => "normal force reached 0 (released)",
             1 if st.locked => "torque exceeded the static limit forward (sa > tau0_max)",

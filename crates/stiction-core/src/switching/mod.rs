@@ -8,3 +8,4 @@ pub mod friction;
 pub mod logic;
 pub mod lossy_gear;
 pub mod relation;
+pub mod stop;

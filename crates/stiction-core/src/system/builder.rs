@@ -236,8 +236,16 @@ impl Builder {
             relation_count,
             role,
             heat_node: None,
+            relative_states: false,
         });
         self.sys.laws.len() - 1
+    }
+
+    /// Law `law`'s relative position and speed are states (MSL's
+    /// `PartialCompliantWithRelativeStates`, `stateSelect = prefer`): a reset at an event keeps
+    /// them, so it moves the flanges on its other side too.
+    pub fn keep_relative_states(&mut self, law: usize) {
+        self.sys.laws[law].relative_states = true;
     }
 
     pub fn set_law_heat(&mut self, law: usize, node: usize) {

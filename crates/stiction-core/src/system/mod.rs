@@ -35,6 +35,8 @@ pub struct LawElem {
     /// `law.role()`, kept likewise (every evaluation's energy balance asks it of each law).
     pub role: EnergyRole,
     pub heat_node: Option<usize>,
+    /// Its relative motion is a state a reset keeps (`Builder::keep_relative_states`).
+    pub relative_states: bool,
 }
 
 /// A permanent constraint `row·a = 0` (or `= a(t)` for a prescribed motion); its multiplier is

@@ -310,6 +310,7 @@ fn add_elem(
         heat_node: heat,
         one_way,
         initial,
+        stop: None,
     }));
     friction_outputs(b, k, slot, heat, one_way.is_some(), names);
     Ok(k)

@@ -12,6 +12,7 @@ pub mod motion;
 pub mod sensors;
 pub mod slip_wheel;
 pub mod sources;
+pub mod stop;
 pub mod vehicle;
 
 use super::Entry;
@@ -22,6 +23,7 @@ pub fn registry() -> Vec<Entry> {
     r.extend(mass::REGISTRY);
     r.extend(compliant::REGISTRY);
     r.extend(friction::REGISTRY);
+    r.extend(stop::REGISTRY);
     r.extend(sources::REGISTRY);
     r.extend(conversion::REGISTRY);
     r.extend(slip_wheel::REGISTRY);

@@ -84,6 +84,7 @@ impl Component for SlipWheel {
             heat_node: None,
             one_way: None,
             initial: Discrete::INITIAL,
+            stop: None,
         }));
         outputs(b, k, input, self.fn_constant);
         // the element's force f acts on the vehicle (+f) and brakes the wheel (−R·f); a flange

@@ -167,8 +167,11 @@ pub fn kinematics(
     ws.phi.copy_from_slice(&x[..n]);
     ws.w.copy_from_slice(&x[n..2 * n]);
     update_signals(sys, disc, t, horizon, ws);
-    let lay = Layout::of(sys);
-    (sys.thermal).tap(&x[lay.temps()..lay.loss()], &mut ws.signals);
+    if !sys.thermal.taps.is_empty() {
+        // a temperature some law reads (an eddy current brake's), before the laws read it
+        let lay = Layout::of(sys);
+        (sys.thermal).tap(&x[lay.temps()..lay.loss()], &mut ws.signals);
+    }
     for c in &sys.constraints {
         c.prescribe(&ws.signals, &mut ws.phi, &mut ws.w);
     }

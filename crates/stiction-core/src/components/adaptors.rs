@@ -28,33 +28,53 @@ impl ForceLaw for InputTorque {
     }
 }
 
-struct TorqueToAngle {
-    use_w: bool,
-    use_a: bool,
+/// What an adaptor's connectors are called: the plain adaptors' (`tau`, `phi`, `w`, `a`) or the
+/// General ones' (`f`, `p`, `pder`, `pder2`, `general_adaptors.rs`). One implementation serves
+/// both.
+pub(super) struct Names {
+    pub flow: &'static str,
+    pub angle: &'static str,
+    pub speed: &'static str,
+    pub accel: &'static str,
+}
+
+const PLAIN: Names = Names {
+    flow: "tau",
+    angle: "phi",
+    speed: "w",
+    accel: "a",
+};
+
+/// Torque in, motion out: a torque source on the flange that reports the flange's angle, and
+/// its speed and acceleration where their outputs are enabled (MSL: 0 and not reported else).
+pub(super) struct TorqueToAngle {
+    pub names: &'static Names,
+    pub speed: bool,
+    pub accel: bool,
 }
 
 impl Component for TorqueToAngle {
     fn ports(&self) -> Ports {
         Ports {
             mech: vec!["flange"],
-            signal_in: vec!["tau"],
+            signal_in: vec![self.names.flow],
             ..Ports::default()
         }
     }
 
     fn build(&self, b: &mut Builder) -> ModelResult<()> {
+        let n = self.names;
         let nf = b.node("flange")?;
         let rel = Rel::of(&[(nf, 1.0)]);
-        let tau = b.signal_in("tau")?;
-        let law = b.add_law(rel.clone(), Box::new(InputTorque(tau)));
-        b.output("tau", Out::LawTau(law, 1.0));
-        b.output("phi", Out::Angle(rel.clone()));
-        // MSL: w = 0 and a = 0 when their connectors are disabled; they are not reported then
-        if self.use_w {
-            b.output("w", Out::Speed(rel.clone()));
+        let flow = b.signal_in(n.flow)?;
+        let law = b.add_law(rel.clone(), Box::new(InputTorque(flow)));
+        b.output(n.flow, Out::LawTau(law, 1.0));
+        b.output(n.angle, Out::Angle(rel.clone()));
+        if self.speed {
+            b.output(n.speed, Out::Speed(rel.clone()));
         }
-        if self.use_a {
-            b.output("a", Out::Accel(rel));
+        if self.accel {
+            b.output(n.accel, Out::Accel(rel));
         }
         b.flange("flange", nf, Some(Out::LawTau(law, 1.0)))
     }
@@ -62,21 +82,21 @@ impl Component for TorqueToAngle {
 
 fn torque_to_angle(p: &Params) -> ModelResult<Box<dyn Component>> {
     Ok(Box::new(TorqueToAngle {
-        use_w: p.boolean(TTA_USE_W, true)?,
-        use_a: p.boolean(TTA_USE_A, true)?,
+        names: &PLAIN,
+        speed: p.boolean(TTA_USE_W, true)?,
+        accel: p.boolean(TTA_USE_A, true)?,
     }))
 }
 
-struct AngleToTorque {
-    use_w: bool,
-    use_a: bool,
-}
-
-impl AngleToTorque {
-    /// MSL: the `w` connector exists when `use_w or use_a`.
-    fn has_w(&self) -> bool {
-        self.use_w || self.use_a
-    }
+/// Motion in, torque out: a prescribed motion of the flange that reports the torque it needs.
+pub(super) struct AngleToTorque {
+    pub names: &'static Names,
+    /// The Boolean parameter that enables the speed input, and the acceleration input's (None:
+    /// that input is disabled).
+    pub speed_in: Option<&'static str>,
+    pub accel_in: Option<&'static str>,
+    /// The plain adaptor reports the flange's speed and acceleration even without their inputs.
+    pub report_all: bool,
 }
 
 /// An enabled input that nothing drives: name the parameter that enabled it.
@@ -97,12 +117,13 @@ pub(super) fn conditional_input(
 
 impl Component for AngleToTorque {
     fn ports(&self) -> Ports {
-        let mut signal_in = vec!["phi"];
-        if self.has_w() {
-            signal_in.push("w");
+        let n = self.names;
+        let mut signal_in = vec![n.angle];
+        if self.speed_in.is_some() {
+            signal_in.push(n.speed);
         }
-        if self.use_a {
-            signal_in.push("a");
+        if self.accel_in.is_some() {
+            signal_in.push(n.accel);
         }
         Ports {
             mech: vec!["flange"],
@@ -112,25 +133,25 @@ impl Component for AngleToTorque {
     }
 
     fn build(&self, b: &mut Builder) -> ModelResult<()> {
+        let n = self.names;
         let nf = b.node("flange")?;
         let NodeRef::Node(node) = nf else {
             return Err(
                 b.error("port 'flange': held by ground, so no motion can be prescribed to it")
             );
         };
-        let w_parameter = if self.use_a { "use_a" } else { "use_w" };
         let prescribed = Prescribed {
             node,
             held: Held::Angle {
-                phi: b.signal_in("phi")?,
-                w: match self.has_w() {
-                    true => Some(conditional_input(b, "w", w_parameter)?),
-                    false => None,
+                phi: b.signal_in(n.angle)?,
+                w: match self.speed_in {
+                    Some(parameter) => Some(conditional_input(b, n.speed, parameter)?),
+                    None => None,
                 },
             },
-            accel: match self.use_a {
-                true => Accel::Signal(conditional_input(b, "a", "use_a")?),
-                false => Accel::Zero,
+            accel: match self.accel_in {
+                Some(parameter) => Accel::Signal(conditional_input(b, n.accel, parameter)?),
+                None => Accel::Zero,
             },
         };
         let rel = Rel::of(&[(nf, 1.0)]);
@@ -138,22 +159,36 @@ impl Component for AngleToTorque {
         // The inputs fix the flange's angle and speed from the start (their values replace these
         // zeros once the signals are known), so another fixed start on it is over-determined.
         let from_inputs = InitValue::fixed(0.0);
-        b.init_angle(rel.clone(), from_inputs, "phi");
-        b.init_speed(rel.clone(), from_inputs, "w");
+        b.init_angle(rel.clone(), from_inputs, n.angle);
+        b.init_speed(rel.clone(), from_inputs, n.speed);
         // MSL: tau = torqueSensor.tau = −flange.tau, the torque that drives the flange
-        b.output("tau", Out::ConstraintTau(k, -1.0));
-        b.output("phi", Out::Angle(rel.clone()));
-        b.output("w", Out::Speed(rel.clone()));
-        b.output("a", Out::Accel(rel));
+        b.output(n.flow, Out::ConstraintTau(k, -1.0));
+        b.output(n.angle, Out::Angle(rel.clone()));
+        if self.report_all || self.speed_in.is_some() {
+            b.output(n.speed, Out::Speed(rel.clone()));
+        }
+        if self.report_all || self.accel_in.is_some() {
+            b.output(n.accel, Out::Accel(rel));
+        }
         b.flange("flange", nf, Some(Out::ConstraintTau(k, 1.0)))
     }
 }
 
 // Alike in shape to `torque_to_angle` (two flags, each MSL's own declaration).
 fn angle_to_torque(p: &Params) -> ModelResult<Box<dyn Component>> {
+    let use_w = p.boolean(ATT_USE_W, true)?;
+    let use_a = p.boolean(ATT_USE_A, true)?;
+    // MSL: the `w` connector exists when `use_w or use_a`
+    let speed_in = match (use_w, use_a) {
+        (_, true) => Some("use_a"),
+        (true, false) => Some("use_w"),
+        (false, false) => None,
+    };
     Ok(Box::new(AngleToTorque {
-        use_w: p.boolean(ATT_USE_W, true)?,
-        use_a: p.boolean(ATT_USE_A, true)?,
+        names: &PLAIN,
+        speed_in,
+        accel_in: use_a.then_some("use_a"),
+        report_all: true,
     }))
 }
 

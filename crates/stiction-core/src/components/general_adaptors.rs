@@ -4,11 +4,10 @@
 //! second only with the first). The flow-derivative connectors are disabled (`final use_fder =
 //! false` in MSL), so they are neither ports nor parameters here.
 
-use super::adaptors::{conditional_input, InputTorque};
-use super::{Component, Entry, Ports};
+use super::adaptors::{AngleToTorque, Names, TorqueToAngle};
+use super::{Component, Entry};
 use crate::error::ModelResult;
-use crate::model::{InitValue, Params};
-use crate::system::{Accel, Builder, Held, NodeRef, Out, Prescribed, Rel};
+use crate::model::Params;
 
 const USE_PDER_OUT: &str = "use_pder true: enable the output pder (angular velocity)";
 const USE_PDER2_OUT: &str =
@@ -17,116 +16,34 @@ const USE_PDER_IN: &str = "use_pder true: enable the input pder (angular velocit
 const USE_PDER2_IN: &str =
     "use_pder2 true: enable the input pder2 (angular acceleration; only with use_pder)";
 
-/// Input f = flange.tau; outputs p = flange.phi, pder = w, pder2 = a.
-struct GeneralTorqueToAngle {
-    use_pder: bool,
-    use_pder2: bool,
-}
+const GENERAL: Names = Names {
+    flow: "f",
+    angle: "p",
+    speed: "pder",
+    accel: "pder2",
+};
 
-impl Component for GeneralTorqueToAngle {
-    fn ports(&self) -> Ports {
-        Ports {
-            mech: vec!["flange"],
-            signal_in: vec!["f"],
-            ..Ports::default()
-        }
-    }
-
-    fn build(&self, b: &mut Builder) -> ModelResult<()> {
-        let nf = b.node("flange")?;
-        let rel = Rel::of(&[(nf, 1.0)]);
-        let f = b.signal_in("f")?;
-        let law = b.add_law(rel.clone(), Box::new(InputTorque(f)));
-        b.output("f", Out::LawTau(law, 1.0));
-        b.output("p", Out::Angle(rel.clone()));
-        if self.use_pder {
-            b.output("pder", Out::Speed(rel.clone()));
-            if self.use_pder2 {
-                b.output("pder2", Out::Accel(rel));
-            }
-        }
-        b.flange("flange", nf, Some(Out::LawTau(law, 1.0)))
-    }
-}
-
-/// Inputs p = flange.phi (pder, pder2 its derivatives); output f = −flange.tau.
-struct GeneralAngleToTorque {
-    use_pder: bool,
-    use_pder2: bool,
-}
-
-impl GeneralAngleToTorque {
-    fn has_pder2(&self) -> bool {
-        self.use_pder && self.use_pder2
-    }
-}
-
-impl Component for GeneralAngleToTorque {
-    fn ports(&self) -> Ports {
-        let mut signal_in = vec!["p"];
-        if self.use_pder {
-            signal_in.push("pder");
-        }
-        if self.has_pder2() {
-            signal_in.push("pder2");
-        }
-        Ports {
-            mech: vec!["flange"],
-            signal_in,
-            ..Ports::default()
-        }
-    }
-
-    fn build(&self, b: &mut Builder) -> ModelResult<()> {
-        let nf = b.node("flange")?;
-        let NodeRef::Node(node) = nf else {
-            return Err(
-                b.error("port 'flange': held by ground, so no motion can be prescribed to it")
-            );
-        };
-        let prescribed = Prescribed {
-            node,
-            held: Held::Angle {
-                phi: b.signal_in("p")?,
-                w: match self.use_pder {
-                    true => Some(conditional_input(b, "pder", "use_pder")?),
-                    false => None,
-                },
-            },
-            accel: match self.has_pder2() {
-                true => Accel::Signal(conditional_input(b, "pder2", "use_pder2")?),
-                false => Accel::Zero,
-            },
-        };
-        let rel = Rel::of(&[(nf, 1.0)]);
-        let k = b.add_prescribed(rel.clone(), prescribed)?;
-        // as AngleToTorqueAdaptor: the inputs fix the flange's angle and speed from the start
-        let from_inputs = InitValue::fixed(0.0);
-        b.init_angle(rel.clone(), from_inputs, "p");
-        b.init_speed(rel.clone(), from_inputs, "pder");
-        b.output("f", Out::ConstraintTau(k, -1.0));
-        b.output("p", Out::Angle(rel.clone()));
-        if self.use_pder {
-            b.output("pder", Out::Speed(rel.clone()));
-        }
-        if self.has_pder2() {
-            b.output("pder2", Out::Accel(rel));
-        }
-        b.flange("flange", nf, Some(Out::ConstraintTau(k, 1.0)))
-    }
-}
-
+/// Input f = flange.tau; outputs p = flange.phi, pder = w, pder2 = a (pder2 only with pder).
 fn general_torque_to_angle(p: &Params) -> ModelResult<Box<dyn Component>> {
-    Ok(Box::new(GeneralTorqueToAngle {
-        use_pder: p.boolean(USE_PDER_OUT, true)?,
-        use_pder2: p.boolean(USE_PDER2_OUT, true)?,
+    let use_pder = p.boolean(USE_PDER_OUT, true)?;
+    let use_pder2 = p.boolean(USE_PDER2_OUT, true)?;
+    Ok(Box::new(TorqueToAngle {
+        names: &GENERAL,
+        speed: use_pder,
+        accel: use_pder && use_pder2,
     }))
 }
 
+/// Inputs p = flange.phi (pder, pder2 its derivatives, pder2 only with pder); output
+/// f = −flange.tau.
 fn general_angle_to_torque(p: &Params) -> ModelResult<Box<dyn Component>> {
-    Ok(Box::new(GeneralAngleToTorque {
-        use_pder: p.boolean(USE_PDER_IN, true)?,
-        use_pder2: p.boolean(USE_PDER2_IN, true)?,
+    let use_pder = p.boolean(USE_PDER_IN, true)?;
+    let use_pder2 = p.boolean(USE_PDER2_IN, true)?;
+    Ok(Box::new(AngleToTorque {
+        names: &GENERAL,
+        speed_in: use_pder.then_some("use_pder"),
+        accel_in: (use_pder && use_pder2).then_some("use_pder2"),
+        report_all: false,
     }))
 }
 

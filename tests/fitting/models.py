@@ -35,12 +35,14 @@ def flywheel(mu: list[float] = TRUE_MU, peak: float = TRUE_PEAK, amplitude: floa
 
 
 def clutches(mu: Sequence[float] = (0.5, 0.45, 0.4), peak: float = 1.1) -> st.Model:
-    """MSL's CoupledClutches with clutch 2 pressed by a pulsing force (0.5 ± 0.5 at 4 Hz from
-    0.4 s, for the step of the example), so that it sticks and breaks away three times, and
-    with a 3-point table over the slip it reaches (0 … 0.86 rad/s)."""
+    """MSL's CoupledClutches with clutch 2 pressed by a pulsing force (0.5 ± 0.3 at 4 Hz from
+    0.4 s, for the step of the example), so that it sticks and breaks away four times, and
+    with a 3-point table over the slip it reaches (0 … 0.69 rad/s). The plate never opens
+    fully: each break-away happens under a clamp force that is still changing, so its instant
+    tells peak (standard error 0.55 % at 0.5 % noise; with a plate that opens to 0, 1.2 %)."""
     text = (EXAMPLES / "msl" / "CoupledClutches.toml").read_text()
     text = text.replace('["step1.y", "clutch2.f_normalized"]', '["press2.y", "clutch2.f_normalized"]')
-    press = 'press2 = { type = "Sine", amplitude = 0.5, f = 4.0, offset = 0.5, startTime = 0.4 }'
+    press = 'press2 = { type = "Sine", amplitude = 0.3, f = 4.0, offset = 0.5, startTime = 0.4 }'
     text = text.replace("step1 = {", press + "\nstep1 = {")
     m = st.Model.loads(text, EXAMPLES / "msl")
     m.set("clutch2.mu_pos", [[0.0, mu[0]], [0.3, mu[1]], [0.6, mu[2]]])

@@ -127,8 +127,8 @@ class Brake(_Factory):
         Beyond MSL: factor over the heat port's temperature on peak alone (peak*factor must stay >= 1): rows [T, factor], linear between rows, held beyond them; needs useHeatPort = true (default: none)
     mu_fn : table [:, 2] [N, 1], default [[0, 1]], factors >= 0
         Beyond MSL: factor over the normal force fn on the whole friction coefficient: rows [fn, factor], linear between rows, held beyond them (default: none)
-    mu_table : table [:, 2] [rad/s, 1], default [[0, 293.15], [0, 0.5]], coefficients >= 0
-        Beyond MSL: friction coefficient over slip speed and temperature, in place of mu_pos and mu_T; CombiTable2D's layout: first row [_, T1, T2…] in K, then rows [w, mu(w, T1), mu(w, T2)…] for w >= 0; bilinear, held beyond the edges (default: none)
+    mu_table : table [:, 2] [m/s, 1], default [[0, 293.15], [0, 0.5]], coefficients >= 0
+        Beyond MSL: friction coefficient over sliding speed and temperature, in place of mu_pos and mu_T; CombiTable2D's layout: first row [_, T1, T2…] in K, then rows [v, mu(v, T1), mu(v, T2)…] for v >= 0; bilinear, held beyond the edges (default: none)
     useSupport : Boolean, default false
         true: enable the support connector (else the housing is fixed at position 0)
 

@@ -136,3 +136,16 @@ def test_a_fade_without_its_heat_port_is_refused_by_name() -> None:
     m.connect("press.y", "brake.f_normalized")
     with pytest.raises(st.ModelError, match=r"brake.*mu_T.*useHeatPort = true"):
         m.simulate()
+
+
+def test_a_unit_fade_leaves_coupled_clutches_bit_identical() -> None:
+    """The fade path with factors of exactly 1 computes MSL's values to the bit (and without
+    fade parameters the path is not taken at all: the MSL examples are bit-identical)."""
+    from paths import MSL_EXAMPLES
+
+    plain = st.Model.load(MSL_EXAMPLES / "CoupledClutches.toml")
+    faded = st.Model.load(MSL_EXAMPLES / "CoupledClutches.toml")
+    for name in ("clutch1", "clutch2", "clutch3"):
+        faded.components[name].params["mu_fn"] = [[0.0, 1.0]]
+    assert "Stiction.Components.Clutch clutch1(" in faded.to_modelica()
+    np.testing.assert_array_equal(plain.simulate().data, faded.simulate().data)

@@ -369,3 +369,34 @@ fn a_fade_that_reads_the_temperature_needs_a_heat_capacitor_or_fixed_temperature
     .unwrap();
     simulate(&spec).unwrap();
 }
+
+/// A OneWayClutch slipping forward (w_rel = w0 > 0) with `mu_fn` holding a factor of 0.5 at its
+/// normal force: it stops the disc at `J·w0/(0.5·mu0·fn)`.
+#[test]
+fn a_one_way_clutch_takes_the_fade_factors_too() {
+    let text = r#"
+name = "freewheel"
+connect = [["ground.flange", "clutch.flange_a"], ["clutch.flange_b", "disc.flange_a"], ["press.y", "clutch.f_normalized"]]
+
+[experiment]
+StopTime = 1.0
+Interval = 0.01
+Tolerance = 1e-12
+
+[components]
+ground = { type = "Fixed" }
+disc = { type = "Inertia", J = 2.0, w = { start = 10.0, fixed = true } }
+clutch = { type = "OneWayClutch", fn_max = 100.0, mu_pos = [[0.0, 0.5]], mu_fn = [[0.0, 1.0], [200.0, 0.0]] }
+press = { type = "Constant", k = 1.0 }
+"#;
+    let r = run(text);
+    let t_stop = 2.0 * 10.0 / (0.5 * 0.5 * 100.0);
+    assert_rel(
+        "w at 0.4 s",
+        at(&r, "disc.w", 0.4),
+        10.0 - 0.4 / t_stop * 10.0,
+        1e-9,
+    );
+    assert_rel("stop", first(&r, "clutch.stuck", true), t_stop, 1e-8);
+    audit_closes(&r);
+}

@@ -19,6 +19,11 @@ const MU_TABLE: &str = "mu_table [rad/s, 1] Beyond MSL: friction coefficient ove
      and temperature, in place of mu_pos and mu_T; CombiTable2D's layout: first row [_, T1, \
      T2…] in K, then rows [w, mu(w, T1), mu(w, T2)…] for w >= 0; bilinear, held beyond the \
      edges (default: none)";
+/// `mu_table` of the translational Brake: over the sliding speed in m/s.
+const MU_TABLE_V: &str = "mu_table [m/s, 1] Beyond MSL: friction coefficient over sliding \
+     speed and temperature, in place of mu_pos and mu_T; CombiTable2D's layout: first row [_, \
+     T1, T2…] in K, then rows [v, mu(v, T1), mu(v, T2)…] for v >= 0; bilinear, held beyond the \
+     edges (default: none)";
 
 /// The parameters that read the heat port's temperature.
 const THERMAL: [&str; 3] = ["mu_T", "peak_T", "mu_table"];
@@ -32,9 +37,9 @@ fn factor_table(p: &Params, decl: &'static str, default: f64) -> ModelResult<Tab
 }
 
 /// `mu_table`: a rectangular CombiTable2D matrix, both abscissae increasing, values >= 0.
-fn mu_table(p: &Params) -> ModelResult<Table2D> {
+fn mu_table(p: &Params, decl: &'static str) -> ModelResult<Table2D> {
     let width = p.matrix_width("mu_table").unwrap_or(2).max(2);
-    let rows = p.matrix(MU_TABLE, width, &[&[0.0, 293.15], &[0.0, 0.5]])?;
+    let rows = p.matrix(decl, width, &[&[0.0, 293.15], &[0.0, 0.5]])?;
     let values: Vec<Vec<f64>> = rows.iter().skip(1).cloned().collect();
     p.table_at_least("mu_table", &values, 0.0, "coefficients")?;
     if p.in_catalogue() {
@@ -64,13 +69,18 @@ fn mu_table(p: &Params) -> ModelResult<Table2D> {
     Ok(Table2D::from_combi(&rows))
 }
 
-/// The fade of a friction element, None when no fade parameter is given. `mu_pos` is refused
+/// The fade of a friction element (`translational`: speeds in m/s), None when no fade parameter is given. `mu_pos` is refused
 /// beside `mu_table` (which replaces it).
-pub(crate) fn read_fade(p: &Params, use_heat_port: bool, peak: f64) -> ModelResult<Option<Fade>> {
+pub(crate) fn read_fade(
+    p: &Params,
+    use_heat_port: bool,
+    peak: f64,
+    translational: bool,
+) -> ModelResult<Option<Fade>> {
     let mu_t = factor_table(p, MU_T, 293.15)?;
     let peak_t = factor_table(p, PEAK_T, 293.15)?;
     let mu_fn = factor_table(p, MU_FN, 0.0)?;
-    let table = mu_table(p)?;
+    let table = mu_table(p, if translational { MU_TABLE_V } else { MU_TABLE })?;
     if p.in_catalogue()
         || !["mu_T", "peak_T", "mu_fn", "mu_table"]
             .iter()

@@ -83,7 +83,7 @@ fn read_params(p: &Params) -> ModelResult<FrictionParams> {
         fn_max: p.at_least("fn_max", p.required(FN_MAX)?, 0.0)?,
         w_small: p.positive("w_small", p.real(W_SMALL, 1.0e10)?)?,
         use_heat_port,
-        fade: fade::read_fade(p, use_heat_port, peak)?,
+        fade: fade::read_fade(p, use_heat_port, peak, false)?,
     })
 }
 

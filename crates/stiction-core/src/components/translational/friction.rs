@@ -47,7 +47,7 @@ fn brake(p: &Params) -> ModelResult<Box<dyn Component>> {
         fn_max,
         w_small: v_small(p)?,
         use_heat_port,
-        fade: read_fade(p, use_heat_port, peak)?,
+        fade: read_fade(p, use_heat_port, peak, true)?,
     };
     Ok(Box::new(Brake {
         p: params,

@@ -149,3 +149,27 @@ def test_a_unit_fade_leaves_coupled_clutches_bit_identical() -> None:
         faded.components[name].params["mu_fn"] = [[0.0, 1.0]]
     assert "Stiction.Components.Clutch clutch1(" in faded.to_modelica()
     np.testing.assert_array_equal(plain.simulate().data, faded.simulate().data)
+
+
+def test_a_translational_brake_with_mu_table_round_trips_and_heats_by_the_energy_it_takes() -> None:
+    m = st.Model("sliding_block")
+    m.add("mass", st.translational.Mass(m=2.0, v=10.0))
+    table = [[0.0, 293.15, 313.15], [0.0, 0.5, 0.3], [5.0, 0.45, 0.25]]
+    m.add("brake", st.translational.Brake(fn_max=10.0, useHeatPort=True, mu_table=table))
+    m.add("press", st.Constant(k=1.0))
+    m.add("cap", st.HeatCapacitor(C=5.0, T={"start": 293.15, "fixed": True}))
+    for a, b in [
+        ("mass.flange_b", "brake.flange_a"),
+        ("press.y", "brake.f_normalized"),
+        ("brake.heatPort", "cap.port"),
+    ]:
+        m.connect(a, b)
+    m.experiment.update(StopTime=3.0, Interval=0.01, Tolerance=1e-10)
+    text = m.to_modelica()
+    assert "  Stiction.Components.Translational.Brake brake(" in text
+    back = st.Model.from_modelica(text)
+    r = m.simulate()
+    np.testing.assert_array_equal(r.data, back.simulate().data)
+    v, temp = np.asarray(r["mass.v"]), np.asarray(r["cap.T"])
+    np.testing.assert_allclose(5.0 * (temp - 293.15), 0.5 * 2.0 * (100.0 - v**2), rtol=1e-8, atol=1e-9)
+    assert r.audit().ok()

@@ -278,10 +278,7 @@ fn add_elem(
     } else {
         None
     };
-    let fade = match (&p.fade, heat) {
-        (Some(f), heat) => Some(Box::new(tapped(b, f, heat))),
-        (None, _) => None,
-    };
+    let fade = p.fade.as_ref().map(|f| Box::new(tapped(b, f, heat)));
     let mu0 = p.mu_pos.eval(0.0);
     let (one_way, initial, peak) = match kind {
         Kind::OneWay {

@@ -117,10 +117,18 @@ class Brake(_Factory):
         Geometry constant containing friction distribution assumption
     fn_max : Real [N], required, >= 0
         Maximum normal force
-    v_small : Real [m/s], default 0.001, > 0
-        Relative velocity near to zero (see model info text)
     useHeatPort : Boolean, default false
         true: enable the heatPort connector (else the loss power goes nowhere)
+    v_small : Real [m/s], default 0.001, > 0
+        Relative velocity near to zero (see model info text)
+    mu_T : table [:, 2] [K, 1], default [[293.15, 1]], factors >= 0
+        Beyond MSL: factor over the heat port's temperature on the whole friction coefficient (mu_pos and the static peak*mu(0)): rows [T, factor], linear between rows, held beyond them; needs useHeatPort = true (default: no fade)
+    peak_T : table [:, 2] [K, 1], default [[293.15, 1]], factors >= 0
+        Beyond MSL: factor over the heat port's temperature on peak alone (peak*factor must stay >= 1): rows [T, factor], linear between rows, held beyond them; needs useHeatPort = true (default: none)
+    mu_fn : table [:, 2] [N, 1], default [[0, 1]], factors >= 0
+        Beyond MSL: factor over the normal force fn on the whole friction coefficient: rows [fn, factor], linear between rows, held beyond them (default: none)
+    mu_table : table [:, 2] [m/s, 1], default [[0, 293.15], [0, 0.5]], coefficients >= 0
+        Beyond MSL: friction coefficient over sliding speed and temperature, in place of mu_pos and mu_T; CombiTable2D's layout: first row [_, T1, T2…] in K, then rows [v, mu(v, T1), mu(v, T2)…] for v >= 0; bilinear, held beyond the edges (default: none)
     useSupport : Boolean, default false
         true: enable the support connector (else the housing is fixed at position 0)
 
@@ -168,8 +176,12 @@ class Brake(_Factory):
         peak: float = ...,
         cgeo: float = ...,
         fn_max: float = ...,
-        v_small: float = ...,
         useHeatPort: bool = ...,
+        v_small: float = ...,
+        mu_T: Sequence[Sequence[float | str]] = ...,
+        peak_T: Sequence[Sequence[float | str]] = ...,
+        mu_fn: Sequence[Sequence[float | str]] = ...,
+        mu_table: Sequence[Sequence[float | str]] = ...,
         useSupport: bool = ...,
     ) -> None: ...
 

@@ -136,6 +136,54 @@ impl Table1D {
     }
 }
 
+/// A table over two arguments (a Brake's `mu_table` over slip speed and temperature), in MSL
+/// CombiTable2D's layout: `table[0][1..]` the second argument (columns), `table[1..][0]` the
+/// first (rows), `table[i][j]` the value at both; `table[0][0]` is ignored. Bilinear between
+/// grid points, held at the edge values beyond them in both arguments.
+#[derive(Debug, Clone)]
+pub struct Table2D {
+    u: Vec<f64>,
+    v: Vec<f64>,
+    /// Row-major values, `u.len()` rows of `v.len()`.
+    y: Vec<f64>,
+}
+
+impl Table2D {
+    /// From validated CombiTable2D rows (both abscissae strictly increasing, rectangular).
+    pub fn from_combi(rows: &[Vec<f64>]) -> Self {
+        Self {
+            u: rows[1..].iter().map(|r| r[0]).collect(),
+            v: rows[0][1..].to_vec(),
+            y: rows[1..]
+                .iter()
+                .flat_map(|r| r[1..].iter().copied())
+                .collect(),
+        }
+    }
+
+    /// The held interval of `x` in `xs` and the fraction of the way across it.
+    #[inline]
+    fn locate(xs: &[f64], x: f64) -> (usize, f64) {
+        let n = xs.len();
+        if n == 1 {
+            return (0, 0.0);
+        }
+        let x = x.clamp(xs[0], xs[n - 1]);
+        let i = xs.partition_point(|&xi| xi <= x).clamp(1, n - 1) - 1;
+        (i, (x - xs[i]) / (xs[i + 1] - xs[i]))
+    }
+
+    pub fn eval(&self, u: f64, v: f64) -> f64 {
+        let (i, fu) = Self::locate(&self.u, u);
+        let (j, fv) = Self::locate(&self.v, v);
+        let m = self.v.len();
+        let at = |i: usize, j: usize| self.y[i.min(self.u.len() - 1) * m + j.min(m - 1)];
+        let lo = at(i, j) + (at(i, j + 1) - at(i, j)) * fv;
+        let hi = at(i + 1, j) + (at(i + 1, j + 1) - at(i + 1, j)) * fv;
+        lo + (hi - lo) * fu
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -181,5 +229,22 @@ mod tests {
         assert!((t.eval(1.0) - 2.0).abs() < 1e-15);
         assert!((t.eval(2.0) - 1.0).abs() < 1e-15);
         assert!((t.eval(4.0) + 1.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn two_dimensional_tables_are_bilinear_and_held() {
+        let rows = vec![
+            vec![0.0, 300.0, 500.0],
+            vec![0.0, 0.4, 0.2],
+            vec![10.0, 0.3, 0.1],
+        ];
+        let t = Table2D::from_combi(&rows);
+        assert!((t.eval(5.0, 400.0) - 0.25).abs() < 1e-15);
+        assert_eq!(t.eval(0.0, 300.0), 0.4);
+        assert_eq!(t.eval(-1.0, 200.0), 0.4); // held below both
+        assert_eq!(t.eval(20.0, 900.0), 0.1); // held above both
+        assert!((t.eval(10.0, 350.0) - 0.25).abs() < 1e-15);
+        let one = Table2D::from_combi(&[vec![0.0, 300.0], vec![0.0, 0.5]]);
+        assert_eq!(one.eval(3.0, 1000.0), 0.5);
     }
 }

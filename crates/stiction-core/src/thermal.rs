@@ -87,6 +87,9 @@ pub struct TemperatureTap {
     pub owner: String,
     pub node: usize,
     pub slot: usize,
+    /// The parameter that reads it (a Brake's `mu_T`), named when the port is not connected to
+    /// a HeatCapacitor or a FixedTemperature; None: the component's torque law.
+    pub param: Option<&'static str>,
 }
 
 impl ThermalNet {

@@ -1587,14 +1587,22 @@ class Brake(_Factory):
         How the friction table continues beyond its rows: LastTwoPoints (MSL's CombiTable1D: linearly through the first or last two rows; a run whose slip reaches a speed where that value falls below 0 stops there with an error) or HoldLastPoint (the first or last row's value)
     peak : Real [1], default 1, >= 1
         Peak for maximum friction torque at w = 0: tau0_max = peak*tau0
+    useHeatPort : Boolean, default false
+        true: enable the heatPort connector (else the loss power goes nowhere)
     cgeo : Real [1], default 1, >= 0
         Geometry constant with the friction distribution, N*(ro + ri)/2 (a length)
     fn_max : Real [N], required, >= 0
         Maximum normal force (at f_normalized = 1)
     w_small : Real [rad/s], default 1e+10, > 0
         Relative speed above which a speed jump reverses sliding directly
-    useHeatPort : Boolean, default false
-        true: enable the heatPort connector (else the loss power goes nowhere)
+    mu_T : table [:, 2] [K, 1], default [[293.15, 1]], factors >= 0
+        Beyond MSL: factor over the heat port's temperature on the whole friction coefficient (mu_pos and the static peak*mu(0)): rows [T, factor], linear between rows, held beyond them; needs useHeatPort = true (default: no fade)
+    peak_T : table [:, 2] [K, 1], default [[293.15, 1]], factors >= 0
+        Beyond MSL: factor over the heat port's temperature on peak alone (peak*factor must stay >= 1): rows [T, factor], linear between rows, held beyond them; needs useHeatPort = true (default: none)
+    mu_fn : table [:, 2] [N, 1], default [[0, 1]], factors >= 0
+        Beyond MSL: factor over the normal force fn on the whole friction coefficient: rows [fn, factor], linear between rows, held beyond them (default: none)
+    mu_table : table [:, 2] [rad/s, 1], default [[0, 293.15], [0, 0.5]], coefficients >= 0
+        Beyond MSL: friction coefficient over slip speed and temperature, in place of mu_pos and mu_T; CombiTable2D's layout: first row [_, T1, T2…] in K, then rows [w, mu(w, T1), mu(w, T2)…] for w >= 0; bilinear, held beyond the edges (default: none)
     useSupport : Boolean, default false
         true: enable the support connector (else the housing is fixed at angle 0)
 
@@ -1640,10 +1648,14 @@ class Brake(_Factory):
         mu_pos: Sequence[Sequence[float | str]] = ...,
         extrapolation: Literal["LastTwoPoints", "HoldLastPoint"] = ...,
         peak: float = ...,
+        useHeatPort: bool = ...,
         cgeo: float = ...,
         fn_max: float = ...,
         w_small: float = ...,
-        useHeatPort: bool = ...,
+        mu_T: Sequence[Sequence[float | str]] = ...,
+        peak_T: Sequence[Sequence[float | str]] = ...,
+        mu_fn: Sequence[Sequence[float | str]] = ...,
+        mu_table: Sequence[Sequence[float | str]] = ...,
         useSupport: bool = ...,
     ) -> None: ...
 
@@ -1660,14 +1672,22 @@ class Clutch(_Factory):
         How the friction table continues beyond its rows: LastTwoPoints (MSL's CombiTable1D: linearly through the first or last two rows; a run whose slip reaches a speed where that value falls below 0 stops there with an error) or HoldLastPoint (the first or last row's value)
     peak : Real [1], default 1, >= 1
         Peak for maximum friction torque at w = 0: tau0_max = peak*tau0
+    useHeatPort : Boolean, default false
+        true: enable the heatPort connector (else the loss power goes nowhere)
     cgeo : Real [1], default 1, >= 0
         Geometry constant with the friction distribution, N*(ro + ri)/2 (a length)
     fn_max : Real [N], required, >= 0
         Maximum normal force (at f_normalized = 1)
     w_small : Real [rad/s], default 1e+10, > 0
         Relative speed above which a speed jump reverses sliding directly
-    useHeatPort : Boolean, default false
-        true: enable the heatPort connector (else the loss power goes nowhere)
+    mu_T : table [:, 2] [K, 1], default [[293.15, 1]], factors >= 0
+        Beyond MSL: factor over the heat port's temperature on the whole friction coefficient (mu_pos and the static peak*mu(0)): rows [T, factor], linear between rows, held beyond them; needs useHeatPort = true (default: no fade)
+    peak_T : table [:, 2] [K, 1], default [[293.15, 1]], factors >= 0
+        Beyond MSL: factor over the heat port's temperature on peak alone (peak*factor must stay >= 1): rows [T, factor], linear between rows, held beyond them; needs useHeatPort = true (default: none)
+    mu_fn : table [:, 2] [N, 1], default [[0, 1]], factors >= 0
+        Beyond MSL: factor over the normal force fn on the whole friction coefficient: rows [fn, factor], linear between rows, held beyond them (default: none)
+    mu_table : table [:, 2] [rad/s, 1], default [[0, 293.15], [0, 0.5]], coefficients >= 0
+        Beyond MSL: friction coefficient over slip speed and temperature, in place of mu_pos and mu_T; CombiTable2D's layout: first row [_, T1, T2…] in K, then rows [w, mu(w, T1), mu(w, T2)…] for w >= 0; bilinear, held beyond the edges (default: none)
     phi_rel : start value [rad] (displayUnit deg), start (a guess unless given) 0
         Relative rotation angle flange_b.phi - flange_a.phi (start value)
     w_rel : start value [rad/s], start (a guess unless given) 0
@@ -1712,10 +1732,14 @@ class Clutch(_Factory):
         mu_pos: Sequence[Sequence[float | str]] = ...,
         extrapolation: Literal["LastTwoPoints", "HoldLastPoint"] = ...,
         peak: float = ...,
+        useHeatPort: bool = ...,
         cgeo: float = ...,
         fn_max: float = ...,
         w_small: float = ...,
-        useHeatPort: bool = ...,
+        mu_T: Sequence[Sequence[float | str]] = ...,
+        peak_T: Sequence[Sequence[float | str]] = ...,
+        mu_fn: Sequence[Sequence[float | str]] = ...,
+        mu_table: Sequence[Sequence[float | str]] = ...,
         phi_rel: float | StartValue = ...,
         w_rel: float | StartValue = ...,
     ) -> None: ...
@@ -1795,14 +1819,22 @@ class OneWayClutch(_Factory):
         How the friction table continues beyond its rows: LastTwoPoints (MSL's CombiTable1D: linearly through the first or last two rows; a run whose slip reaches a speed where that value falls below 0 stops there with an error) or HoldLastPoint (the first or last row's value)
     peak : Real [1], default 1, >= 1
         Peak for maximum friction torque at w = 0: tau0_max = peak*tau0
+    useHeatPort : Boolean, default false
+        true: enable the heatPort connector (else the loss power goes nowhere)
     cgeo : Real [1], default 1, >= 0
         Geometry constant with the friction distribution, N*(ro + ri)/2 (a length)
     fn_max : Real [N], required, >= 0
         Maximum normal force (at f_normalized = 1)
     w_small : Real [rad/s], default 1e+10, > 0
         Relative speed above which a speed jump reverses sliding directly
-    useHeatPort : Boolean, default false
-        true: enable the heatPort connector (else the loss power goes nowhere)
+    mu_T : table [:, 2] [K, 1], default [[293.15, 1]], factors >= 0
+        Beyond MSL: factor over the heat port's temperature on the whole friction coefficient (mu_pos and the static peak*mu(0)): rows [T, factor], linear between rows, held beyond them; needs useHeatPort = true (default: no fade)
+    peak_T : table [:, 2] [K, 1], default [[293.15, 1]], factors >= 0
+        Beyond MSL: factor over the heat port's temperature on peak alone (peak*factor must stay >= 1): rows [T, factor], linear between rows, held beyond them; needs useHeatPort = true (default: none)
+    mu_fn : table [:, 2] [N, 1], default [[0, 1]], factors >= 0
+        Beyond MSL: factor over the normal force fn on the whole friction coefficient: rows [fn, factor], linear between rows, held beyond them (default: none)
+    mu_table : table [:, 2] [rad/s, 1], default [[0, 293.15], [0, 0.5]], coefficients >= 0
+        Beyond MSL: friction coefficient over slip speed and temperature, in place of mu_pos and mu_T; CombiTable2D's layout: first row [_, T1, T2…] in K, then rows [w, mu(w, T1), mu(w, T2)…] for w >= 0; bilinear, held beyond the edges (default: none)
     phi_rel : start value [rad] (displayUnit deg), start (a guess unless given) 0
         Relative rotation angle flange_b.phi - flange_a.phi (start value)
     w_rel : start value [rad/s], start (a guess unless given) 0
@@ -1850,10 +1882,14 @@ class OneWayClutch(_Factory):
         mu_pos: Sequence[Sequence[float | str]] = ...,
         extrapolation: Literal["LastTwoPoints", "HoldLastPoint"] = ...,
         peak: float = ...,
+        useHeatPort: bool = ...,
         cgeo: float = ...,
         fn_max: float = ...,
         w_small: float = ...,
-        useHeatPort: bool = ...,
+        mu_T: Sequence[Sequence[float | str]] = ...,
+        peak_T: Sequence[Sequence[float | str]] = ...,
+        mu_fn: Sequence[Sequence[float | str]] = ...,
+        mu_table: Sequence[Sequence[float | str]] = ...,
         phi_rel: float | StartValue = ...,
         w_rel: float | StartValue = ...,
         stuck: bool | StartValue = ...,

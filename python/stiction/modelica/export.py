@@ -21,7 +21,7 @@ from stiction.model.components import START_VARIABLES
 from stiction.model.names import owner
 from stiction.model.parameters import is_expr, is_table
 from stiction.model.quantities import is_quantity, si_base
-from stiction.modelica.names import MSL_CLASSES
+from stiction.modelica.names import FADE_CLASSES, FADE_PARAMETERS, MSL_CLASSES
 from stiction.modelica.timetable import COMBI_CLASS, time_table_modifiers
 
 if TYPE_CHECKING:
@@ -109,6 +109,8 @@ def _declaration(model: Model, name: str, ctype: str, params: dict[str, Any]) ->
     if ctype not in MSL_CLASSES:
         raise ModelError(f"component '{name}' ({ctype}): no MSL class to export it as")
     cls = MSL_CLASSES[ctype]
+    if ctype in FADE_CLASSES and any(key in params for key in FADE_PARAMETERS):
+        cls = FADE_CLASSES[ctype]  # beyond the MSL (docs/fade.md)
     if _is_combi(model, name):
         cls, params = COMBI_CLASS, time_table_modifiers(params, _table_rows(model, name, params))
     starts = _start_variables(ctype)

@@ -16,6 +16,8 @@ from stiction.modelica.ast import Import
 
 __all__ = [
     "CONNECTOR_KINDS",
+    "FADE_CLASSES",
+    "FADE_PARAMETERS",
     "MSL_CLASSES",
     "OWN_COMPONENTS",
     "PARAMETER_RENAMES",
@@ -155,6 +157,17 @@ MSL_CLASSES: dict[str, str] = {
 # MSL class -> stiction type
 TYPE_OF: dict[str, str] = {msl: t for t, msl in MSL_CLASSES.items()}
 TYPE_OF["Modelica.Blocks.Sources.CombiTimeTable"] = "CombiTimeTable"  # read as a TimeTable
+# Fade (docs/fade.md): a friction element with any of these parameters is beyond the MSL and
+# exports as the Stiction class of the same name (MSL's class plus these parameters), which
+# only stiction's importer maps back
+FADE_PARAMETERS = ("mu_T", "peak_T", "mu_fn", "mu_table")
+FADE_CLASSES: dict[str, str] = {
+    "Brake": "Stiction.Components.Brake",
+    "Clutch": "Stiction.Components.Clutch",
+    "OneWayClutch": "Stiction.Components.OneWayClutch",
+    "Translational.Brake": "Stiction.Components.Translational.Brake",
+}
+TYPE_OF.update({cls: t for t, cls in FADE_CLASSES.items()})
 
 # MSL 3.2.x -> 4.x (MSL's ConvertModelica_from_3.2.3_to_4.0.0 script)
 _PACKAGE_RENAMES = {  # the more specific first

@@ -299,6 +299,19 @@ fn finish_thermal(b: &mut Builder) -> ModelResult<()> {
             }
         }
     }
+    // a parameter that reads a temperature (a Brake's mu_T) needs a state or a fixed value
+    for tap in net.taps.iter().filter(|t| t.param.is_some()) {
+        if b.fixed_temperature[tap.node].is_none() && cap_of_node[tap.node].is_none() {
+            let (owner, param) = (&tap.owner, tap.param.unwrap_or_default());
+            return Err(ModelError::Component {
+                component: owner.clone(),
+                message: format!(
+                    "{owner}.{param} needs {owner}.heatPort connected to a HeatCapacitor or a FixedTemperature; heat port '{}' has neither (a temperature set by conduction alone would depend on the element's own loss, an algebraic loop stiction does not solve)",
+                    net.node_ports[tap.node].join(", ")
+                ),
+            });
+        }
+    }
     let mut linked = vec![false; net.nodes];
     for l in &net.links {
         linked[l.a] = true;

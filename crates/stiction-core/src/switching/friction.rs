@@ -6,6 +6,7 @@ use super::element::{
     angle_and_speed, slip_rate_sign, ElementValues, Kinematics, Solved, SwitchState,
     SwitchingElement, NEVER,
 };
+use super::fade::Fade;
 use super::logic::{self, relation_index as R, Discrete, Relations};
 use super::relation::flip_indicator;
 use super::stop::StopFriction;
@@ -41,6 +42,8 @@ pub struct FrictionElem {
     pub initial: Discrete,
     /// MassWithStopAndFriction: the Stribeck law in place of the table, and the hard stops.
     pub stop: Option<Box<StopFriction>>,
+    /// Beyond MSL: friction over temperature and normal force (`fade`); None: MSL's.
+    pub fade: Option<Box<Fade>>,
 }
 
 /// What a OneWayClutch adds: the breakaway threshold while disengaged
@@ -88,6 +91,32 @@ impl FrictionElem {
             s_mu * self.mu_pos.eval(s_w * w)
         };
         (mu, mu * self.cgeo * fn_)
+    }
+
+    /// `limits` and `sliding` with the fade's factors: `(mu, tau)`, `v.tau0` and `v.tau0_max`
+    /// written. The factors scale the static and the sliding values alike.
+    fn faded(
+        &self,
+        fade: &Fade,
+        st: &SwitchState,
+        signals: &[f64],
+        v: &mut ElementValues,
+    ) -> (f64, f64) {
+        let at = fade.at(signals, self.normal_force(signals));
+        v.tau0 = fade.base_mu(&self.mu_pos, 0.0, &at) * at.factor * self.cgeo * v.fn_;
+        v.tau0_max = match self.one_way {
+            Some(ow) if st.free => ow.tau0_max_low,
+            _ => self.peak * at.peak * v.tau0,
+        };
+        let (s_w, s_mu) = match self.one_way {
+            Some(_) => (1.0, 1.0), // no sign handling: w_rel is assumed >= 0
+            None => {
+                let (sf, sb) = (st.pre.start_forward, st.pre.start_backward);
+                logic::table_signs(sf, sb, st.pre.mode, self.clutch_quirk)
+            }
+        };
+        let mu = s_mu * fade.base_mu(&self.mu_pos, s_w * v.w, &at) * at.factor;
+        (mu, mu * self.cgeo * v.fn_)
     }
 
     /// (F1, F2), or the OneWayClutch's start condition (it never starts backward); a start
@@ -235,9 +264,14 @@ impl SwitchingElement for FrictionElem {
     fn forces(&self, st: &SwitchState, k: &Kinematics, v: &mut ElementValues, f: &mut [f64]) {
         (v.phi, v.w) = angle_and_speed(&self.rel, k.phi, k.w);
         v.fn_ = self.reported_normal_force(k.signals, st.free);
-        (v.tau0, v.tau0_max) = self.limits(v.fn_, st.free);
-        let (sf, sb) = (st.pre.start_forward, st.pre.start_backward);
-        let (mu, tau) = self.sliding(v.w, v.fn_, st.pre.mode, sf, sb);
+        let (mu, tau) = match &self.fade {
+            None => {
+                (v.tau0, v.tau0_max) = self.limits(v.fn_, st.free);
+                let (sf, sb) = (st.pre.start_forward, st.pre.start_backward);
+                self.sliding(v.w, v.fn_, st.pre.mode, sf, sb)
+            }
+            Some(fade) => self.faded(fade, st, k.signals, v),
+        };
         v.mu = mu;
         v.tau = if st.free { 0.0 } else { tau };
         if !st.locked {

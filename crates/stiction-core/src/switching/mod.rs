@@ -4,6 +4,7 @@
 //! `components`; the event iteration and crossings that drive these rules live in `engine`.
 
 pub mod element;
+pub mod fade;
 pub mod friction;
 pub mod logic;
 pub mod lossy_gear;

@@ -332,10 +332,22 @@ impl Builder {
 
     /// A signal slot that holds the temperature of heat node `node` (a law's input).
     pub fn temperature_tap(&mut self, node: usize) -> usize {
+        self.temperature_tap_for(node, None)
+    }
+
+    /// `temperature_tap` for a parameter that reads it (a Brake's `mu_T`), which the
+    /// messages about its heat port then name.
+    pub fn temperature_tap_for(&mut self, node: usize, param: Option<&'static str>) -> usize {
         let slot = self.sys.signals.slots;
         self.sys.signals.slots += 1;
         let owner = self.name().to_string();
-        (self.sys.thermal.taps).push(crate::thermal::TemperatureTap { owner, node, slot });
+        let tap = crate::thermal::TemperatureTap {
+            owner,
+            node,
+            slot,
+            param,
+        };
+        self.sys.thermal.taps.push(tap);
         slot
     }
 

@@ -2,6 +2,7 @@
 //! against its housing), `Clutch` (between two shafts) and `BearingFriction` (a torque table, no
 //! normal force). They share `FrictionElem`; the Boolean logic is in `logic`.
 
+pub(crate) mod fade;
 pub mod lossy_gear;
 
 use super::{heat_port, with_support, Component, Entry, Ports};
@@ -9,6 +10,7 @@ use crate::components::decl::{PEAK, PHI_REL, USE_HEAT_PORT, USE_SUPPORT, W_REL, 
 use crate::error::ModelResult;
 use crate::lookup_table::Table1D;
 use crate::model::{InitValue, Params};
+use crate::switching::fade::Fade;
 use crate::switching::friction::{FrictionElem, OneWay};
 use crate::switching::logic::{self, Discrete};
 use crate::system::outputs::SwitchVar as V;
@@ -21,6 +23,8 @@ pub(crate) struct FrictionParams {
     pub fn_max: f64,
     pub w_small: f64,
     pub use_heat_port: bool,
+    /// Beyond MSL: friction over temperature and normal force (`fade`); None: MSL's.
+    pub fade: Option<Fade>,
 }
 
 /// The names a friction element reports under, by domain (MSL's Rotational and Translational
@@ -71,13 +75,15 @@ fn read_params(p: &Params) -> ModelResult<FrictionParams> {
         "coefficients",
     )?;
     let peak = p.at_least("peak", p.real(PEAK, 1.0)?, 1.0)?;
+    let use_heat_port = p.boolean(USE_HEAT_PORT, false)?;
     Ok(FrictionParams {
         mu_pos,
         peak,
         cgeo: p.at_least("cgeo", p.real(CGEO, 1.0)?, 0.0)?,
         fn_max: p.at_least("fn_max", p.required(FN_MAX)?, 0.0)?,
         w_small: p.positive("w_small", p.real(W_SMALL, 1.0e10)?)?,
-        use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
+        use_heat_port,
+        fade: fade::read_fade(p, use_heat_port, peak, false)?,
     })
 }
 
@@ -272,6 +278,7 @@ fn add_elem(
     } else {
         None
     };
+    let fade = p.fade.as_ref().map(|f| Box::new(tapped(b, f, heat)));
     let mu0 = p.mu_pos.eval(0.0);
     let (one_way, initial, peak) = match kind {
         Kind::OneWay {
@@ -299,7 +306,11 @@ fn add_elem(
         } else {
             "mu_pos"
         },
-        negative_beyond: p.mu_pos.zero_beyond_last(),
+        // a mu_table holds its edges: never negative
+        negative_beyond: match fade.as_ref().and_then(|f| f.mu_table.as_ref()) {
+            Some(_) => f64::INFINITY,
+            None => p.mu_pos.zero_beyond_last(),
+        },
         mu_pos: p.mu_pos.clone(),
         peak,
         cgeo: p.cgeo,
@@ -311,9 +322,20 @@ fn add_elem(
         one_way,
         initial,
         stop: None,
+        fade,
     }));
     friction_outputs(b, k, slot, heat, one_way.is_some(), names);
     Ok(k)
+}
+
+/// A fade with the heat port's temperature tapped, when a table reads it (`read_fade` has
+/// checked that the port is there).
+fn tapped(b: &mut Builder, f: &Fade, heat: Option<usize>) -> Fade {
+    let mut f = f.clone();
+    if let (Some(param), Some(node)) = (fade::thermal_param(&f), heat) {
+        f.temperature = Some(b.temperature_tap_for(node, Some(param)));
+    }
+    f
 }
 
 fn brake(p: &Params) -> ModelResult<Box<dyn Component>> {
@@ -341,6 +363,7 @@ fn bearing_friction(p: &Params) -> ModelResult<Box<dyn Component>> {
         fn_max: 1.0,
         w_small: p.positive("w_small", p.real(W_SMALL, 1.0e10)?)?,
         use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
+        fade: None,
     };
     Ok(Box::new(Brake {
         p: params,

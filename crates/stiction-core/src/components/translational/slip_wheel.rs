@@ -85,6 +85,7 @@ impl Component for SlipWheel {
             one_way: None,
             initial: Discrete::INITIAL,
             stop: None,
+            fade: None,
         }));
         outputs(b, k, input, self.fn_constant);
         // the element's force f acts on the vehicle (+f) and brakes the wheel (−R·f); a flange

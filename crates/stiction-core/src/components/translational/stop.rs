@@ -86,6 +86,7 @@ impl Component for MassWithStop {
             heat_node: heat,
             one_way: None,
             initial: Discrete::INITIAL,
+            fade: None,
             stop: Some(Box::new(StopFriction {
                 f_prop: self.f_prop,
                 f_coulomb: self.f_coulomb,

@@ -17,6 +17,7 @@ mod initial_state;
 mod integrator;
 mod locate;
 mod record_all;
+mod redrive;
 mod reset;
 mod samples;
 mod saved;

@@ -10,21 +10,11 @@ use diffsol::OdeSolverMethod;
 
 use super::integrator::{with_solver, Eqn};
 use super::stepper::{EventKind, Stepper};
+use super::watch::{first_crossing, Watch};
 use super::Simulation;
 use crate::engine::eval::{evaluate, Layout, Workspace};
 use crate::error::SimError;
 use crate::result::row_values;
-
-/// A level that `advance_until` waits for: output `column` (index into `sys.outputs`) minus
-/// `level` changes sign from `side` (+1 or -1); `hit` is the instant found.
-pub(super) struct Watch {
-    column: usize,
-    level: f64,
-    side: f64,
-    pub(super) hit: Option<f64>,
-    ws: Workspace,
-    x: Vec<f64>,
-}
 
 impl Simulation {
     /// Sets the speed of inertia (or mass) `mass` to `w` at the current time, as an event:
@@ -140,10 +130,24 @@ impl Stepper {
         self.restart(solver, t, order, implicit)
     }
 
+    /// The time to process the pending step up to: `target`, or the crossing of the watched
+    /// level before the step's event or end (the run then stops there).
+    pub(super) fn watched_target<'a, S>(&mut self, solver: &S, target: f64) -> Result<f64, SimError>
+    where
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let p = self.pending.as_ref().expect("a step is pending");
+        let end = p.located.as_ref().map_or(p.t_now, |(t_e, _)| *t_e);
+        let start = self.now.max(self.t_prev);
+        Ok(self
+            .watched_crossing(solver, start, end.min(target))?
+            .unwrap_or(target))
+    }
+
     /// The crossing of the watched level in [start, end] of the pending step, if any (the
     /// first instant at or past it, to round-off), found by regula falsi (Illinois) on the
     /// dense output.
-    pub(super) fn watched_crossing<'a, S>(
+    fn watched_crossing<'a, S>(
         &mut self,
         solver: &S,
         start: f64,
@@ -176,45 +180,16 @@ impl Stepper {
         if watch.hit.is_some() || end < start {
             return Ok(None);
         }
-        let mut g = |t: f64| -> Result<f64, SimError> { self.watched_value(solver, watch, t) };
-        let (mut b, mut gb) = (end, g(end)?);
-        if gb > 0.0 {
-            return Ok(None);
-        }
-        let (mut a, mut ga) = (start, g(start)?);
-        if ga <= 0.0 {
-            return Ok(Some(start));
-        }
-        // ga > 0 >= gb: keep the bracket, halving the weight of an end kept twice (Illinois)
-        let mut kept = 0i8;
-        for _ in 0..200 {
-            if b - a <= 4.0 * f64::EPSILON * b.abs().max(1e-300) {
-                break;
-            }
-            let mut t = b - gb * (b - a) / (gb - ga);
-            if !(t > a && t < b) {
-                t = 0.5 * (a + b);
-            }
-            let gt = g(t)?;
-            if gt > 0.0 {
-                (a, ga) = (t, gt);
-                if kept == 1 {
-                    gb *= 0.5;
-                }
-                kept = 1;
-            } else {
-                (b, gb) = (t, gt);
-                if kept == -1 {
-                    ga *= 0.5;
-                }
-                kept = -1;
-            }
-        }
-        Ok(Some(b))
+        first_crossing(|t| self.watched_value(solver, watch, t), start, end)
     }
 
     /// (value − level)·side at t inside the pending step: > 0 before the crossing.
-    fn watched_value<'a, S>(&mut self, solver: &S, watch: &mut Watch, t: f64) -> Result<f64, SimError>
+    fn watched_value<'a, S>(
+        &mut self,
+        solver: &S,
+        watch: &mut Watch,
+        t: f64,
+    ) -> Result<f64, SimError>
     where
         S: OdeSolverMethod<'a, Eqn>,
     {
@@ -224,7 +199,15 @@ impl Stepper {
         r?;
         let phase = self.phase.borrow();
         let ws = &mut watch.ws;
-        evaluate(&self.sys, &phase.mm, &phase.disc, t, &watch.x, phase.horizon, ws);
+        evaluate(
+            &self.sys,
+            &phase.mm,
+            &phase.disc,
+            t,
+            &watch.x,
+            phase.horizon,
+            ws,
+        );
         let v = row_values(&self.sys, ws, &phase.disc)[watch.column + 1];
         Ok((v - watch.level) * watch.side)
     }

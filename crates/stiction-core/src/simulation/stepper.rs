@@ -15,9 +15,9 @@ use super::auto::StiffnessWatch;
 use super::chatter::ChatterWatch;
 use super::dense::StepPoly;
 use super::guard::Guard;
-use super::redrive::Watch;
 use super::integrator::{integrator_error, Eqn, StepBudget, V};
 use super::samples::StepSamples;
+use super::watch::Watch;
 use super::{Observer, Phase};
 use crate::engine::eval::{evaluate, DiscreteState};
 use crate::engine::{indicator_count, indicator_label, indicators, ModeCache};
@@ -437,13 +437,7 @@ impl Stepper {
                 self.take_step(solver)?;
             }
             if self.watch.is_some() {
-                // a watched level reached before the step's event or end: the run stops there
-                let p = self.pending.as_ref().expect("a step is pending");
-                let end = p.located.as_ref().map_or(p.t_now, |(t_e, _)| *t_e);
-                let start = self.now.max(self.t_prev);
-                if let Some(t_c) = self.watched_crossing(solver, start, end.min(target))? {
-                    target = t_c;
-                }
+                target = self.watched_target(solver, target)?; // `advance_until` (redrive.rs)
             }
             let p = self.pending.as_ref().expect("a step is pending");
             let t_now = p.t_now;

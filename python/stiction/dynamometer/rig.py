@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from stiction.dyno.schedule import Rig, Schedule, ScheduleError
+from stiction.dynamometer.schedule import Rig, Schedule, ScheduleError
 from stiction.model.components import FACTORIES
 from stiction.model.model import Model
 

@@ -58,7 +58,7 @@ class DynoReport:
         self.stops.to_csv(files[1], index=False)
         self.samples.to_parquet(files[2], index=False)
         if plots:
-            from stiction.dyno.plots import plot_report
+            from stiction.dynamometer.plots import plot_report
 
             files.append(plot_report(self, out / "dyno.png"))
         return files
@@ -78,7 +78,7 @@ class DynoReport:
     def plot(self, path: str | os.PathLike[str] | None = None) -> Any:
         """The report's figure (mu per stop by section, temperatures, mu over temperature,
         fade and recovery); saved to ``path`` when given."""
-        from stiction.dyno.plots import plot_report, report_figure
+        from stiction.dynamometer.plots import plot_report, report_figure
 
         return plot_report(self, path) if path is not None else report_figure(self)
 

@@ -10,10 +10,10 @@ from __future__ import annotations
 
 import os
 
-from stiction.dyno.report import DynoReport
-from stiction.dyno.rig import rig_model
-from stiction.dyno.runner import LEVELS, run_schedule
-from stiction.dyno.schedule import Rig, Schedule, ScheduleError, Section, load_schedule, loads_schedule
+from stiction.dynamometer.report import DynoReport
+from stiction.dynamometer.rig import rig_model
+from stiction.dynamometer.runner import LEVELS, run_schedule
+from stiction.dynamometer.schedule import Rig, Schedule, ScheduleError, Section, load_schedule, loads_schedule
 from stiction.model.model import Model
 
 __all__ = [
@@ -36,16 +36,24 @@ def dyno(
 ) -> DynoReport:
     """Run a dynamometer schedule on a brake model.
 
-    Args:
-        model: the brake model (a ``Model``, or the path of a ``.toml`` or ``.mo`` file).
-        schedule: a ``Schedule`` or the path of a schedule file (TOML, see docs/dyno.md).
-        progress: show a progress bar (tqdm) over the stops.
+    Parameters
+    ----------
+    model
+        The brake model: a ``Model``, or the path of a ``.toml`` or ``.mo`` file.
+    schedule
+        A ``Schedule``, or the path of a schedule file (TOML; see docs/dyno.md).
+    progress
+        Show a progress bar (tqdm) over the stops.
 
-    Returns:
-        The ``DynoReport``: one row per stop (``stops``), the samples, the time it took.
+    Returns
+    -------
+    DynoReport
+        One row per stop (``stops``), the samples behind them, the wall-clock time it took.
 
-    Raises:
-        ScheduleError: a schedule that cannot run on the model, naming the section and line.
+    Raises
+    ------
+    ScheduleError
+        A schedule that cannot run on the model, naming the section and the line.
     """
     if not isinstance(model, Model):
         path = os.fspath(model)

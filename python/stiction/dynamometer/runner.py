@@ -21,8 +21,8 @@ import time
 from typing import Any
 
 from stiction import _deps
-from stiction.dyno.rig import ZERO_C, Rigged
-from stiction.dyno.schedule import Schedule, ScheduleError, Section
+from stiction.dynamometer.rig import ZERO_C, Rigged
+from stiction.dynamometer.schedule import Schedule, ScheduleError, Section
 from stiction.run.simulation import Simulation
 
 __all__ = ["LEVELS", "run_schedule"]

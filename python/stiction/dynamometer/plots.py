@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any
 from stiction import _deps
 
 if TYPE_CHECKING:
-    from stiction.dyno.report import DynoReport
+    from stiction.dynamometer.report import DynoReport
 
 __all__ = ["plot_report", "report_figure"]
 

@@ -1,0 +1,122 @@
+"""The virtual dynamometer against closed forms: adiabatic stops (temperature, energy, mean
+mu, stop time), cooling with constant convection (its exponential, the time to the IBT), the
+exact end of a stop above standstill, and the re-drive hooks it is built on."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+import stiction as st
+from stiction.dynamometer import dyno, loads_schedule
+
+J, C, MU, CGEO, FN_PER_BAR, FN_MAX = 2.0, 500.0, 0.4, 0.2, 100.0, 1e5
+T0 = 300.0  # K
+G = 4.0  # W/K, the cooling models' conductance
+T_AMB = 293.15
+
+
+def brake_model(cooling: bool) -> st.Model:
+    """A brake with constant mu heating a capacitor, cooled through G to an ambient or not."""
+    m = st.Model("dyno_test")
+    m.add("brake", st.Brake(fn_max=FN_MAX, cgeo=CGEO, mu_pos=[[0.0, MU]], peak=1.0, useHeatPort=True))
+    m.add("disc", st.HeatCapacitor(C=C, T=T0))
+    m.connect("brake.heatPort", "disc.port")
+    if cooling:
+        m.add("cooling", st.ThermalConductor(G=G))
+        m.add("ambient", st.FixedTemperature(T=T_AMB))
+        m.connect("disc.port", "cooling.port_a")
+        m.connect("cooling.port_b", "ambient.port")
+    m.experiment["Tolerance"] = 1e-11
+    return m
+
+
+RIG = f"""
+[dyno]
+brake = "brake"
+flange = "brake.flange_a"
+J = {J}
+temperature = "disc.T"
+fn_per_bar = {FN_PER_BAR}
+"""
+
+
+def section(name: str, w0: float, w1: float, p: float, extra: str = "interval = 0.0") -> str:
+    return f'\n[[section]]\nname = "{name}"\nv_initial = {w0}\nv_final = {w1}\npressure = {p}\n{extra}\n'
+
+
+def test_three_adiabatic_stops_match_the_closed_forms() -> None:
+    stops = [(100.0, 0.0, 20.0), (80.0, 20.0, 35.0), (60.0, 10.0, 50.0)]
+    text = RIG + "".join(section(f"s{k}", *s, "interval = 5.0") for k, s in enumerate(stops))
+    report = dyno(brake_model(cooling=False), loads_schedule(text), progress=False)
+    T = T0
+    for row, (w0, w1, p) in zip(report.stops.itertuples(), stops):
+        energy = J * (w0**2 - w1**2) / 2
+        assert row.T_initial + 273.15 == pytest.approx(T, rel=1e-10)
+        T += energy / C
+        assert row.T_final + 273.15 == pytest.approx(T, rel=1e-10)
+        assert row.T_peak == pytest.approx(row.T_final, rel=1e-10)
+        assert row.energy == pytest.approx(energy, rel=1e-12)
+        assert row.fn == pytest.approx(p * FN_PER_BAR)
+        for mu in (row.mu_mean, row.mu_min, row.mu_max):
+            assert mu == pytest.approx(MU, rel=1e-8)
+        # constant torque: a linear speed fall, ending at the closed-form instant (w1 > 0:
+        # the crossing found on the dense output; w1 = 0: the stick event)
+        assert row.time == pytest.approx(J * (w0 - w1) / (MU * CGEO * p * FN_PER_BAR), rel=1e-8)
+    assert list(report.stops["stop"]) == [1, 1, 1]
+
+
+def test_cooling_follows_the_exponential_and_stops_at_the_ibt() -> None:
+    ibt = 40.0  # °C
+    text = (
+        RIG
+        + section("heat", 100.0, 0.0, 50.0)
+        + section("to IBT", 50.0, 0.0, 50.0, f"IBT = {ibt}")
+        + section("fixed", 50.0, 0.0, 50.0, "interval = 120.0")
+    )
+    model = brake_model(cooling=True)
+    model.components["disc"] = st.HeatCapacitor(C=C, T=330.0)
+    stops = dyno(model, loads_schedule(text), progress=False).stops
+    first, second, third = (stops.iloc[k] for k in range(3))
+    T1 = first.T_final + 273.15
+    # brake released, the disc cools through G alone: T_amb + (T1 - T_amb)·exp(-G·t/C)
+    t_ibt = C / G * math.log((T1 - T_AMB) / (ibt + 273.15 - T_AMB))
+    assert second.cooling_time == pytest.approx(t_ibt, rel=1e-7)
+    assert second.T_initial == pytest.approx(ibt, abs=1e-9)
+    T2 = second.T_final + 273.15
+    expected = T_AMB + (T2 - T_AMB) * math.exp(-G * 120.0 / C)
+    assert third.T_initial + 273.15 == pytest.approx(expected, rel=1e-8)
+    assert third.cooling_time == pytest.approx(120.0)
+
+
+def test_advance_until_and_reinit_on_a_plain_simulation() -> None:
+    m = brake_model(cooling=False)
+    m.add("J1", st.Inertia(J=J, w=10.0))
+    m.connect("J1.flange_b", "brake.flange_a")
+    m.input("brake.f_normalized", 0.0)
+    sim = m.simulation(StopTime=100.0)
+    sim.advance_to(1.0)
+    fn = 1000.0
+    sim.set_input("brake.f_normalized", fn / FN_MAX)
+    assert sim.advance_until("J1.w", 4.0, 50.0)
+    assert sim.time == pytest.approx(1.0 + J * 6.0 / (MU * CGEO * fn), rel=1e-12)
+    assert sim.get("J1.w") == pytest.approx(4.0, rel=1e-12)
+    assert not sim.advance_until("J1.w", -1.0, 60.0)  # it sticks at 0 and stays there
+    assert sim.time == 60.0 and abs(sim.get("J1.w")) < 1e-9
+    sim.set_input("brake.f_normalized", 0.0)
+    sim.reinit("J1.w", 7.0)
+    assert sim.get("J1.w") == 7.0
+    phi = sim.get("J1.phi")
+    sim.advance_to(61.0)
+    # released: it turns freely at the speed it was given
+    assert sim.get("J1.w") == pytest.approx(7.0, rel=1e-12)
+    assert sim.get("J1.phi") - phi == pytest.approx(7.0, rel=1e-10)
+    # the energy the reinit gave counts as work supplied: the balance closes
+    kinetic, lost, work = (sim.get(f"system.{n}") for n in ("kineticEnergy", "dissipatedEnergy", "sourceWork"))
+    assert work == pytest.approx(J * 7.0**2 / 2, rel=1e-9)
+    assert kinetic + lost - work == pytest.approx(J * 10.0**2 / 2, rel=1e-9)
+    with pytest.raises(st.UsageError, match="cannot be saved"):
+        sim.state()
+    with pytest.raises(st.UsageError, match="not an inertia"):
+        sim.reinit("brake.w", 1.0)

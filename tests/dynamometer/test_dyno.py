@@ -113,10 +113,34 @@ def test_advance_until_and_reinit_on_a_plain_simulation() -> None:
     assert sim.get("J1.w") == pytest.approx(7.0, rel=1e-12)
     assert sim.get("J1.phi") - phi == pytest.approx(7.0, rel=1e-10)
     # the energy the reinit gave counts as work supplied: the balance closes
-    kinetic, lost, work = (sim.get(f"system.{n}") for n in ("kineticEnergy", "dissipatedEnergy", "sourceWork"))
+    kinetic, lost, work = (
+        sim.get(f"system.{n}") for n in ("kineticEnergy", "dissipatedEnergy", "sourceWork")
+    )
     assert work == pytest.approx(J * 7.0**2 / 2, rel=1e-9)
     assert kinetic + lost - work == pytest.approx(J * 10.0**2 / 2, rel=1e-9)
     with pytest.raises(st.UsageError, match="cannot be saved"):
         sim.state()
     with pytest.raises(st.UsageError, match="not an inertia"):
         sim.reinit("brake.w", 1.0)
+
+
+def test_a_drag_holds_the_speed_and_heats_by_the_closed_form() -> None:
+    v, p, duration = 30.0, 20.0, 10.0
+    drag = f'\n[[section]]\nname = "drag"\nkind = "drags"\nrepeat = 2\nv_initial = {v}\npressure = {p}\nduration = {duration}\ninterval = 1.0\n'
+    report = dyno(brake_model(cooling=False), loads_schedule(RIG + drag), progress=False)
+    stops, fn = report.stops, p * FN_PER_BAR
+    # held through the coupling, which engages sliding at zero slip and locks at its stick
+    # event a moment later: the held speed is off by that event's resolution
+    assert report.samples["w"].to_numpy() == pytest.approx(v, rel=1e-6)
+    energy = MU * CGEO * fn * v * duration  # the motor holds v: the brake's torque times angle
+    T = T0
+    for row in stops.itertuples():
+        assert (row.kind, row.v_final, row.time) == ("drags", v, duration)
+        assert row.energy == pytest.approx(energy, rel=1e-6)
+        assert row.T_initial + 273.15 == pytest.approx(T, rel=1e-7)
+        T += energy / C
+        assert row.T_final + 273.15 == pytest.approx(T, rel=1e-7)
+        assert row.mu_min == pytest.approx(MU, rel=1e-12) and row.mu_max == pytest.approx(MU, rel=1e-12)
+        # a drag's mean takes the work from the integrated dissipation (and the held speed is
+        # off as above): closed to about 1e-7
+        assert row.mu_mean == pytest.approx(MU, rel=1e-6)

@@ -57,12 +57,16 @@ def cooled(cooling: bool = True) -> st.Model:
 
 
 def test_a_negative_speed_is_refused_by_section_and_line() -> None:
-    message = refused('\n[[section]]\nname = "bad"\nv_initial = 50.0\nv_final = -3.0\npressure = 5.0\n', "v_final = -3")
+    message = refused(
+        '\n[[section]]\nname = "bad"\nv_initial = 50.0\nv_final = -3.0\npressure = 5.0\n', "v_final = -3"
+    )
     assert "section 'bad'" in message and "negative speed" in message
 
 
 def test_a_final_speed_above_the_initial_is_refused() -> None:
-    message = refused('\n[[section]]\nname = "up"\nv_initial = 50.0\nv_final = 80.0\npressure = 5.0\n', "v_final = 80")
+    message = refused(
+        '\n[[section]]\nname = "up"\nv_initial = 50.0\nv_final = 80.0\npressure = 5.0\n', "v_final = 80"
+    )
     assert "section 'up'" in message and "not below v_initial" in message
 
 
@@ -96,7 +100,9 @@ def test_the_cli_writes_parquet_and_csv_that_read_back_equal(tmp_path) -> None:
     schedule = tmp_path / "schedule.toml"
     schedule.write_text(RIG + GOOD + GOOD.replace('"first"', '"second"').replace("100.0", "80.0"))
     out = tmp_path / "report"
-    result = CliRunner().invoke(main, ["dyno", str(model), str(schedule), "-o", str(out), "--quiet", "--no-plots"])
+    result = CliRunner().invoke(
+        main, ["dyno", str(model), str(schedule), "-o", str(out), "--quiet", "--no-plots"]
+    )
     assert result.exit_code == 0, result.output
     assert "2 stops" in result.output
     parquet, csv = DynoReport.read_stops(out), DynoReport.read_stops(out, "csv")

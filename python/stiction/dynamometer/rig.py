@@ -2,7 +2,8 @@
 
 The dyno drives the brake's ``f_normalized`` as a model input (declared here unless the model
 declared it), stops either an inertia of the model or its own ``dyno_inertia`` joined to the
-flange the schedule names, and reads the brake temperature variable. Whatever it needs that the
+flange the schedule names, and reads the brake temperature variable. A schedule with drags
+also gets the motor that holds the speed (``_add_motor``). Whatever it needs that the
 model lacks is refused here, by name, before anything runs.
 """
 
@@ -11,12 +12,14 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from stiction.dynamometer.schedule import Rig, Schedule, ScheduleError
-from stiction.model.components import FACTORIES
+from stiction.errors import ModelError
+from stiction.model.components import Component
 from stiction.model.model import Model
 
-__all__ = ["DYNO_INERTIA", "Rigged", "rig_model"]
+__all__ = ["DYNO_COUPLING", "DYNO_INERTIA", "DYNO_MOTOR", "DYNO_SPEED", "Rigged", "rig_model"]
 
 DYNO_INERTIA = "dyno_inertia"
+DYNO_MOTOR, DYNO_COUPLING, DYNO_SPEED = "dyno_motor", "dyno_coupling", "dyno_speed"
 ZERO_C = 273.15
 
 
@@ -33,6 +36,7 @@ class Rigged:
     temperature: str
     wear: str | None  # "<brake>.wearVolume" when the brake keeps one (found at run time)
     ambients: list[str]  # FixedTemperature components: the ends of cooling paths
+    motor: bool = False  # a Speed source and a coupling clutch hold the speed in drags
 
 
 def rig_model(model: Model, schedule: Schedule) -> Rigged:
@@ -68,12 +72,15 @@ def rig_model(model: Model, schedule: Schedule) -> Rigged:
         inertia, J = DYNO_INERTIA, rig.J
         if DYNO_INERTIA in comps:
             raise ScheduleError(f"{where}: the model has a component '{DYNO_INERTIA}', the dyno's name")
-        rigged.add(DYNO_INERTIA, FACTORIES["Inertia"](J=J))
+        rigged.add(DYNO_INERTIA, Component("Inertia", {"J": J}))
         try:
             rigged.connect(f"{DYNO_INERTIA}.flange_a", rig.flange)
-        except Exception as exc:  # the model's words on the flange
+        except ModelError as exc:  # the model's words on the flange
             raise ScheduleError(f"{where}: flange '{rig.flange}': {exc}") from None
     ambients = [name for name, c in comps.items() if c.type == "FixedTemperature"]
+    motor = any(section.kind == "drags" for section in schedule.sections)
+    if motor:
+        _add_motor(rigged, inertia, where)
     return Rigged(
         model=rigged,
         inertia=inertia,
@@ -84,4 +91,28 @@ def rig_model(model: Model, schedule: Schedule) -> Rigged:
         temperature=rig.temperature or f"{rig.brake}.heatPort.T",
         wear=None,
         ambients=ambients,
+        motor=motor,
     )
+
+
+def _add_motor(model: Model, inertia: str, where: str) -> None:
+    """The motor that holds the speed in a drag: a ``Speed`` source following its reference
+    exactly (a ``Constant`` whose ``k`` the dyno sets, a parameter event: a model input's
+    derivative is unknown, a constant's is 0) and a coupling ``Clutch`` to the inertia's free
+    flange, open (``f_normalized = 0``, no torque) except during a drag, where it locks."""
+    for name in (DYNO_MOTOR, DYNO_COUPLING, DYNO_SPEED):
+        if name in model.components:
+            raise ScheduleError(f"{where}: the model has a component '{name}', the dyno's name")
+    used = {end for pair in model.connections for end in pair}
+    free = [f"{inertia}.{f}" for f in ("flange_b", "flange_a") if f"{inertia}.{f}" not in used]
+    if not free:
+        raise ScheduleError(f"{where}: drags need a free flange on inertia '{inertia}' for the dyno's motor")
+    model.add(DYNO_SPEED, Component("Constant", {"k": 0.0}))
+    model.add(DYNO_MOTOR, Component("Speed", {"exact": True}))
+    model.connect(f"{DYNO_SPEED}.y", f"{DYNO_MOTOR}.w_ref")
+    model.add(
+        DYNO_COUPLING, Component("Clutch", {"fn_max": 1e9, "mu_pos": [[0.0, 1.0]], "cgeo": 1.0, "peak": 1.0})
+    )
+    model.connect(f"{DYNO_MOTOR}.flange", f"{DYNO_COUPLING}.flange_a")
+    model.connect(f"{DYNO_COUPLING}.flange_b", free[0])
+    model.input(f"{DYNO_COUPLING}.f_normalized", 0.0)

@@ -9,9 +9,9 @@ one event and held, the run advanced to the exact instants the speed passes 10 %
 of the speed drop (samples) and reaches the final speed (a stop to standstill ends at the
 brake's stick event). A target deceleration is met per stop, feed-forward: the clamp force
 ``J·alpha/(mu·cgeo)`` with the previous stop's mean mu (``mu_nominal`` for the first), not by a
-controller within the stop. A drag: the inertia at the speed, the pressure held for the
-duration while the dyno holds the speed (the inertia's speed set back to it at the drag's end
-samples: see ``_drag``).
+controller within the stop. A drag: the inertia at the speed, coupled (a Clutch, locked) to
+the dyno's motor (a Speed source following a Constant exactly) that holds it while the
+pressure is held for the duration; the samples are at 10 %, 15 %, … 80 % of the duration.
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ import time
 from typing import Any
 
 from stiction import _deps
-from stiction.dynamometer.rig import ZERO_C, Rigged
+from stiction.dynamometer.rig import DYNO_COUPLING, DYNO_SPEED, ZERO_C, Rigged
 from stiction.dynamometer.schedule import Schedule, ScheduleError, Section
 from stiction.run.simulation import Simulation
 
@@ -39,7 +39,8 @@ class _Run:
         self.r, self.schedule, self.rig = rigged, schedule, schedule.rig
         # StopTime: the longest the schedule can take (chatter is judged against the span)
         horizon = 1.0 + sum(
-            s.repeat * (self.rig.max_stop + (s.interval or 0.0) + (self.rig.max_cooling if s.IBT is not None else 0.0))
+            s.repeat
+            * (self.rig.max_stop + (s.interval or 0.0) + (self.rig.max_cooling if s.IBT is not None else 0.0))
             for s in schedule.sections
         )
         self.sim: Simulation = rigged.model.simulation(StopTime=horizon, Interval=horizon)
@@ -49,7 +50,11 @@ class _Run:
             if name not in names:
                 raise ScheduleError(
                     f"{schedule.source}: [dyno] (line {self.rig.line}): the run has no variable '{name}'"
-                    + (" (set temperature = the brake temperature variable)" if name == rigged.temperature else "")
+                    + (
+                        " (set temperature = the brake temperature variable)"
+                        if name == rigged.temperature
+                        else ""
+                    )
                 )
         self.wear = f"{self.rig.brake}.wearVolume" if f"{self.rig.brake}.wearVolume" in names else None
         self.T, self.w, self.phi = rigged.temperature, f"{rigged.inertia}.w", f"{rigged.inertia}.phi"
@@ -111,31 +116,71 @@ class _Run:
                 f"max_stop = {self.rig.max_stop:g} s (too little pressure?)"
             )
 
-    def stop(self, s: Section, k: int, index: int) -> dict[str, Any]:
-        rig, sim = self.rig, self.sim
-        w0, w1 = rig.to_rad_s(s.v_initial), rig.to_rad_s(s.v_final)
-        sim.set_input(self.r.pressure_input, 0.0)
+    def sample(self, s: Section, index: int, q: float) -> tuple[float, float]:
+        """mu and temperature now, kept as the sample at fraction ``q`` of the stop."""
+        mu, T = self.mu_now(), self.sim.get(self.T)
+        self.samples.append(
+            {
+                "index": index,
+                "section": s.name,
+                "fraction": q,
+                "w": self.sim.get(self.w),
+                "mu": mu,
+                "T": T - ZERO_C,
+            }
+        )
+        return mu, T
+
+    def press(self, s: Section, k: int, w0: float) -> tuple[float, float, float, float]:
+        """Release, spin up to ``w0``, cool, (for a drag: couple the motor), press: the clamp
+        force, the cooling time, the start's temperature and wear."""
+        sim, r = self.sim, self.r
+        sim.set_input(r.pressure_input, 0.0)
+        if r.motor:
+            sim.set_input(f"{DYNO_COUPLING}.f_normalized", 0.0)
+            sim.set_parameter(f"{DYNO_SPEED}.k", w0)  # the motor runs at the stop's speed
         sim.reinit(self.w, w0)
         cooling = self.cool(s)
-        started = time.perf_counter()
+        if s.kind == "drags":  # coupled at equal speeds: the coupling locks at once
+            sim.set_input(f"{DYNO_COUPLING}.f_normalized", 1.0)
         fn = self.clamp(s, k)
-        t0, T0 = sim.time, sim.get(self.T)
-        wear0 = sim.get(self.wear) if self.wear else 0.0
-        sim.set_input(self.r.pressure_input, fn / self.r.fn_max)
+        T0, wear0 = sim.get(self.T), sim.get(self.wear) if self.wear else 0.0
+        sim.set_input(r.pressure_input, fn / r.fn_max)
+        return fn, cooling, T0, wear0
+
+    def stop(self, s: Section, k: int, index: int) -> dict[str, Any]:
+        """One stop (or drag) and its row of the report."""
+        rig, sim = self.rig, self.sim
+        w0, w1 = rig.to_rad_s(s.v_initial), rig.to_rad_s(s.v_final)
+        fn, cooling, T0, wear0 = self.press(s, k, w0)
+        started, t0 = time.perf_counter(), sim.time
         mus, peak, window = [], T0, {}
+        lost0 = sim.get("system.dissipatedEnergy")
         for q in LEVELS:
-            self.reach(s, w0 - q * (w0 - w1), t0 + rig.max_stop)
-            mu, T = self.mu_now(), sim.get(self.T)
+            if s.kind == "drags":
+                sim.advance_to(t0 + q * float(s.duration))
+            else:
+                self.reach(s, w0 - q * (w0 - w1), t0 + rig.max_stop)
+            mu, T = self.sample(s, index, q)
             mus.append(mu)
             peak = max(peak, T)
             if q in (LEVELS[0], LEVELS[-1]):
-                window[q] = (sim.get(self.w), sim.get(self.phi))
-            self.samples.append({"index": index, "section": s.name, "fraction": q, "w": sim.get(self.w), "mu": mu, "T": T - ZERO_C})
-        self.reach(s, w1, t0 + rig.max_stop)
+                window[q] = (sim.get(self.w), sim.get(self.phi), sim.get("system.dissipatedEnergy"))
+        if s.kind == "drags":
+            sim.advance_to(t0 + float(s.duration))
+        else:
+            self.reach(s, w1, t0 + rig.max_stop)
         T1 = sim.get(self.T)
-        (wa, pa), (wb, pb) = window[LEVELS[0]], window[LEVELS[-1]]
-        mu_mean = self.r.J * (wa * wa - wb * wb) / 2 / (self.r.cgeo * fn * (pb - pa))
+        (wa, pa, ea), (wb, pb, eb) = window[LEVELS[0]], window[LEVELS[-1]]
+        # the torque's work over the window: from the inertia in a stop, the dissipation in a drag
+        work = eb - ea if s.kind == "drags" else self.r.J * (wa * wa - wb * wb) / 2
+        mu_mean = work / (self.r.cgeo * fn * (pb - pa))
         self.mu_last = mu_mean
+        energy = (
+            sim.get("system.dissipatedEnergy") - lost0
+            if s.kind == "drags"
+            else self.r.J * (w0 * w0 - w1 * w1) / 2
+        )
         sim.set_input(self.r.pressure_input, 0.0)
         self.clock["stops"] += time.perf_counter() - started
         row = {
@@ -154,7 +199,7 @@ class _Run:
             "mu_min": min(mus),
             "mu_max": max(mus),
             "time": sim.time - t0,
-            "energy": self.r.J * (w0 * w0 - w1 * w1) / 2,
+            "energy": energy,
             "cooling_time": cooling,
             "t_start": t0,
         }
@@ -163,18 +208,17 @@ class _Run:
         return row
 
 
-def run_schedule(rigged: Rigged, schedule: Schedule, progress: bool = True) -> tuple[Any, Any, dict[str, float]]:
+def run_schedule(
+    rigged: Rigged, schedule: Schedule, progress: bool = True
+) -> tuple[Any, Any, dict[str, float]]:
     """Run every stop of ``schedule`` on ``rigged``: the per-stop table, the samples and the
     wall-clock split (``stops``, ``cooling``, ``setup``) in s."""
     started = time.perf_counter()
     run = _Run(rigged, schedule)
     run.check_cooling()
-    for s in schedule.sections:
-        if s.kind == "drags":
-            raise ScheduleError(f"{schedule.source}: {s.where('kind')}: drags are not supported yet")
     setup = time.perf_counter() - started
     bar = _deps.tqdm_auto.tqdm(total=schedule.stops, desc="dyno", unit="stop", disable=not progress)
-    rows = []
+    rows: list[dict[str, Any]] = []
     try:
         for s in schedule.sections:
             for k in range(s.repeat):

@@ -166,14 +166,20 @@ def _rig(table: Any, lines: dict[str, int], source: str) -> Rig:
     _unknown(table, RIG_KEYS, at)
     if not isinstance(table.get("brake"), str):
         raise ScheduleError(f"{at('brake')}: brake = the name of the model's Brake is missing")
-    values = {k: _number(table[k], at(k), k, positive=True) for k in RIG_KEYS if k in table and k
-              in ("J", "mass", "axle_share", "r_dyn", "fn_per_bar", "mu_nominal", "max_cooling", "max_stop")}
+    values = {
+        k: _number(table[k], at(k), k, positive=True)
+        for k in RIG_KEYS
+        if k in table
+        and k in ("J", "mass", "axle_share", "r_dyn", "fn_per_bar", "mu_nominal", "max_cooling", "max_stop")
+    }
     J = values.pop("J", None)
     mass, share = values.pop("mass", None), values.pop("axle_share", None)
     r_dyn = values.get("r_dyn")
     if mass is not None or share is not None:
         if mass is None or share is None or r_dyn is None or J is not None:
-            raise ScheduleError(f"{at('mass')}: the inertia from the vehicle needs mass, axle_share and r_dyn (and no J)")
+            raise ScheduleError(
+                f"{at('mass')}: the inertia from the vehicle needs mass, axle_share and r_dyn (and no J)"
+            )
         J = mass * share * r_dyn**2
     if ("inertia" in table) == ("flange" in table):
         raise ScheduleError(f"{at()}: name either the model's inertia or a flange for the dyno's own inertia")
@@ -183,7 +189,7 @@ def _rig(table: Any, lines: dict[str, int], source: str) -> Rig:
         raise ScheduleError(f"{at('J')}: J is the model's inertia's when 'inertia' names it")
     unit = table.get("speed_unit", "km/h" if r_dyn else "rad/s")
     if unit not in ("km/h", "rad/s") or (unit == "km/h" and r_dyn is None):
-        raise ScheduleError(f"{at('speed_unit')}: speed_unit = {unit!r}: \"rad/s\", or \"km/h\" with r_dyn")
+        raise ScheduleError(f'{at("speed_unit")}: speed_unit = {unit!r}: "rad/s", or "km/h" with r_dyn')
     for key in ("inertia", "flange", "temperature"):
         if key in table and not isinstance(table[key], str):
             raise ScheduleError(f"{at(key)}: {key} must be a name, got {table[key]!r}")
@@ -205,7 +211,7 @@ def _section(table: Any, lines: dict[str, int], k: int, source: str) -> Section:
     _unknown(table, SECTION_KEYS, at)
     kind = table.get("kind", "stops")
     if kind not in ("stops", "drags"):
-        raise ScheduleError(f"{at('kind')}: kind = {kind!r}: \"stops\" or \"drags\"")
+        raise ScheduleError(f'{at("kind")}: kind = {kind!r}: "stops" or "drags"')
     repeat = table.get("repeat", 1)
     if isinstance(repeat, bool) or not isinstance(repeat, int) or repeat < 1:
         raise ScheduleError(f"{at('repeat')}: repeat = {repeat!r} must be a whole number ≥ 1")
@@ -217,7 +223,9 @@ def _section(table: Any, lines: dict[str, int], k: int, source: str) -> Section:
     v0 = _number(table["v_initial"], at("v_initial"), "v_initial", positive=True)
     v1 = _number(table.get("v_final", 0.0), at("v_final"), "v_final")
     if kind == "stops" and v1 >= v0:
-        raise ScheduleError(f"{at('v_final')}: v_final = {v1} is not below v_initial = {v0}: a stop slows down")
+        raise ScheduleError(
+            f"{at('v_final')}: v_final = {v1} is not below v_initial = {v0}: a stop slows down"
+        )
     pressures = table.get("pressure")
     if isinstance(pressures, list):  # one pressure per stop: a pressure-sensitivity section
         if "repeat" in table and len(pressures) != repeat:
@@ -225,7 +233,11 @@ def _section(table: Any, lines: dict[str, int], k: int, source: str) -> Section:
         repeat = len(pressures)
         table = {**table, "pressure": pressures[0] if pressures else None}
         pressures = tuple(_number(p, at("pressure"), "pressure", positive=True) for p in pressures)
-    nums = {k: _number(table[k], at(k), k, positive=k != "interval") for k in ("pressure", "decel", "interval", "duration") if k in table}
+    nums = {
+        k: _number(table[k], at(k), k, positive=k != "interval")
+        for k in ("pressure", "decel", "interval", "duration")
+        if k in table
+    }
     if "pressure" in nums and not isinstance(pressures, tuple):
         pressures = (nums["pressure"],) * repeat
     if ("pressure" in nums) == ("decel" in nums):
@@ -265,7 +277,9 @@ def loads_schedule(text: str, source: str = "schedule") -> Schedule:
     rig_lines, section_lines = _positions(text)
     for key in data:
         if key not in ("dyno", "section", "name", "description"):
-            raise ScheduleError(f"{source}: unknown top-level key '{key}' (a schedule has [dyno] and [[section]]s)")
+            raise ScheduleError(
+                f"{source}: unknown top-level key '{key}' (a schedule has [dyno] and [[section]]s)"
+            )
     rig = _rig(data.get("dyno"), rig_lines, source)
     tables = data.get("section", [])
     if not isinstance(tables, list) or not tables or len(tables) != len(section_lines):

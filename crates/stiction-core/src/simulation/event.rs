@@ -90,18 +90,22 @@ impl Stepper {
             let Some(r) = self.sys.switching[k].reset(phi, w) else {
                 continue;
             };
-            let removed = self.move_node(r.node, r.phi, r.w);
             let loss = crate::engine::eval::Layout::of(&self.sys).loss();
-            self.x[loss] += removed;
+            self.move_node(r.node, (r.phi, r.w), (loss, 1.0));
         }
     }
 
     /// Puts `node` at angle `phi` and speed `w`, the nodes joined to it through relative
-    /// states moved along (`reset::carried`); returns the kinetic energy this removes.
-    pub(super) fn move_node(&mut self, node: usize, phi: f64, w: f64) -> f64 {
+    /// states moved along (`reset::carried`); the kinetic energy each node loses is booked,
+    /// times `sign`, into state `book` (dissipated at a hard stop, negative work for a reinit).
+    pub(super) fn move_node(
+        &mut self,
+        node: usize,
+        (phi, w): (f64, f64),
+        (book, sign): (usize, f64),
+    ) {
         let n = self.sys.nodes;
         let (dphi, dw) = (phi - self.x[node], w - self.x[n + node]);
-        let mut removed = 0.0;
         for at in super::reset::carried(&self.sys, node) {
             let m: f64 = (self.sys.masses.iter())
                 .filter(|(_, on, _)| *on == at)
@@ -109,11 +113,10 @@ impl Stepper {
                 .sum();
             let w_old = self.x[n + at];
             let w_new = if at == node { w } else { w_old + dw };
-            removed += 0.5 * m * (w_old * w_old - w_new * w_new);
+            self.x[book] += sign * (0.5 * m * (w_old * w_old - w_new * w_new));
             self.x[at] = if at == node { phi } else { self.x[at] + dphi };
             self.x[n + at] = w_new;
         }
-        removed
     }
 
     /// Restarts the integrator at (t, self.x) after an event.

@@ -117,10 +117,8 @@ impl Stepper {
         if self.last_row != t {
             self.record_here(t); // the left row, with the speed before
         }
-        let phi = self.x[node];
-        let supplied = -self.move_node(node, phi, w);
-        let work = Layout::of(&self.sys).work();
-        self.x[work] += supplied;
+        let (phi, work) = (self.x[node], Layout::of(&self.sys).work());
+        self.move_node(node, (phi, w), (work, -1.0)); // the energy given is work supplied
         self.reinits += 1;
         let horizon = self.phase.borrow().horizon;
         self.handle_event(t, horizon, EventKind::Parameter, cause)?;

@@ -73,7 +73,7 @@ class DynoReport:
             for column in ("section", "kind"):
                 table[column] = table[column].astype("string")
             return table
-        return pd.read_parquet(path)
+        return _deps.parquet.read_table(path).to_pandas()
 
     def plot(self, path: str | os.PathLike[str] | None = None) -> Any:
         """The report's figure (mu per stop by section, temperatures, mu over temperature,

@@ -144,3 +144,36 @@ def test_a_drag_holds_the_speed_and_heats_by_the_closed_form() -> None:
         # a drag's mean takes the work from the integrated dissipation (and the held speed is
         # off as above): closed to about 1e-7
         assert row.mu_mean == pytest.approx(MU, rel=1e-6)
+
+
+def test_a_target_deceleration_and_the_wear_column() -> None:
+    """With mu_nominal the brake's mu, the feed-forward clamp force meets the deceleration
+    exactly, stop after stop (each set from the last stop's mean mu); a wear variable (here an
+    energy-proportional one, alpha·E) is reported per stop."""
+    alpha, decel = 2e-12, 25.0  # m³/J; rad/s²
+    model = brake_model(cooling=False)
+    model.variable("pad_wear", f"system.dissipatedEnergy*{alpha}")
+    rig = RIG + f'mu_nominal = {MU}\nwear = "pad_wear"\n'
+    text = (
+        rig
+        + f'\n[[section]]\nname = "decel"\nrepeat = 2\nv_initial = 100.0\nv_final = 20.0\ndecel = {decel}\ninterval = 1.0\n'
+    )
+    stops = dyno(model, loads_schedule(text), progress=False).stops
+    for row in stops.itertuples():
+        assert row.time == pytest.approx(80.0 / decel, rel=1e-10)
+        assert row.fn == pytest.approx(J * decel / (MU * CGEO), rel=1e-8)
+        assert row.wear == pytest.approx(alpha * row.energy, rel=1e-8)
+
+
+def test_the_report_figure_shows_each_section_and_is_written(tmp_path) -> None:
+    pytest.importorskip("matplotlib")
+    stops = [(100.0, 0.0, 20.0), (80.0, 20.0, 35.0)]
+    text = RIG + "".join(section(n, *s) for n, s in zip(("fade 1", "recovery 1"), stops))
+    report = dyno(brake_model(cooling=False), loads_schedule(text), progress=False)
+    fig = report.plot()
+    mu_axes, *_, fade_axes, _twin = fig.axes
+    assert [t.get_text() for t in mu_axes.get_legend().get_texts()] == ["fade 1", "recovery 1"]
+    assert [line.get_label() for line in fade_axes.get_lines()] == ["fade 1", "recovery 1"]
+    files = report.write(tmp_path)
+    assert [f.name for f in files] == ["stops.parquet", "stops.csv", "samples.parquet", "dyno.png"]
+    assert (tmp_path / "dyno.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

@@ -15,7 +15,8 @@ Columns of ``DynoReport.stops`` (one row per stop, in schedule order):
   between 10 % and 80 % of the speed drop (every 5 %);
 - ``time`` [s]: the stop's duration; ``energy`` [J]: ``J·(w0² − w1²)/2``;
 - ``cooling_time`` [s]: the cooling before the stop; ``t_start``: the stop's simulation time;
-- ``wear`` [m³]: the growth of ``<brake>.wearVolume`` over the stop, when the brake has one.
+- ``wear`` [m³]: the growth of the wear variable over the stop (``[dyno] wear``, else
+  ``<brake>.wearVolume`` when the brake keeps one).
 """
 
 from __future__ import annotations

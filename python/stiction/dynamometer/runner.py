@@ -56,7 +56,12 @@ class _Run:
                         else ""
                     )
                 )
-        self.wear = f"{self.rig.brake}.wearVolume" if f"{self.rig.brake}.wearVolume" in names else None
+        wear = f"{self.rig.brake}.wearVolume"
+        self.wear = self.rig.wear or (wear if wear in names else None)
+        if self.wear not in names and self.wear is not None:
+            raise ScheduleError(
+                f"{schedule.source}: [dyno] (line {self.rig.line}): the run has no wear variable '{self.wear}'"
+            )
         self.T, self.w, self.phi = rigged.temperature, f"{rigged.inertia}.w", f"{rigged.inertia}.phi"
         self.ambient = [self.sim.get(f"{a}.port.T") for a in rigged.ambients]
         self.clock = {"stops": 0.0, "cooling": 0.0}

@@ -163,7 +163,7 @@ class _Run:
         lost0 = sim.get("system.dissipatedEnergy")
         for q in LEVELS:
             if s.kind == "drags":
-                sim.advance_to(t0 + q * float(s.duration))
+                sim.advance_to(t0 + q * (s.duration or 0.0))
             else:
                 self.reach(s, w0 - q * (w0 - w1), t0 + rig.max_stop)
             mu, T = self.sample(s, index, q)
@@ -172,7 +172,7 @@ class _Run:
             if q in (LEVELS[0], LEVELS[-1]):
                 window[q] = (sim.get(self.w), sim.get(self.phi), sim.get("system.dissipatedEnergy"))
         if s.kind == "drags":
-            sim.advance_to(t0 + float(s.duration))
+            sim.advance_to(t0 + (s.duration or 0.0))
         else:
             self.reach(s, w1, t0 + rig.max_stop)
         T1 = sim.get(self.T)

@@ -36,7 +36,7 @@ def report_figure(report: DynoReport) -> Any:
     samples = report.samples
     ax_mt.plot(samples["T"], samples["mu"], ",", color="0.6", zorder=0)
     ax_mu.set(xlabel="stop", ylabel="mu (mean 10–80 %, bar: min–max)", title="friction per stop")
-    ax_mu.legend(fontsize="small", ncols=2)
+    ax_mu.legend(fontsize="x-small", ncols=3, loc="best")
     ax_t.set(xlabel="stop", ylabel="brake temperature [°C]", title="initial (▽) and peak (△)")
     ax_mt.set(xlabel="brake temperature [°C]", ylabel="mu", title="mu over temperature")
     # the sections named fade or recovery (else the last two), with their peak temperatures

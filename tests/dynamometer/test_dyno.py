@@ -90,40 +90,6 @@ def test_cooling_follows_the_exponential_and_stops_at_the_ibt() -> None:
     assert third.cooling_time == pytest.approx(120.0)
 
 
-def test_advance_until_and_reinit_on_a_plain_simulation() -> None:
-    m = brake_model(cooling=False)
-    m.add("J1", st.Inertia(J=J, w=10.0))
-    m.connect("J1.flange_b", "brake.flange_a")
-    m.input("brake.f_normalized", 0.0)
-    sim = m.simulation(StopTime=100.0)
-    sim.advance_to(1.0)
-    fn = 1000.0
-    sim.set_input("brake.f_normalized", fn / FN_MAX)
-    assert sim.advance_until("J1.w", 4.0, 50.0)
-    assert sim.time == pytest.approx(1.0 + J * 6.0 / (MU * CGEO * fn), rel=1e-12)
-    assert sim.get("J1.w") == pytest.approx(4.0, rel=1e-12)
-    assert not sim.advance_until("J1.w", -1.0, 60.0)  # it sticks at 0 and stays there
-    assert sim.time == 60.0 and abs(sim.get("J1.w")) < 1e-9
-    sim.set_input("brake.f_normalized", 0.0)
-    sim.reinit("J1.w", 7.0)
-    assert sim.get("J1.w") == 7.0
-    phi = sim.get("J1.phi")
-    sim.advance_to(61.0)
-    # released: it turns freely at the speed it was given
-    assert sim.get("J1.w") == pytest.approx(7.0, rel=1e-12)
-    assert sim.get("J1.phi") - phi == pytest.approx(7.0, rel=1e-10)
-    # the energy the reinit gave counts as work supplied: the balance closes
-    kinetic, lost, work = (
-        sim.get(f"system.{n}") for n in ("kineticEnergy", "dissipatedEnergy", "sourceWork")
-    )
-    assert work == pytest.approx(J * 7.0**2 / 2, rel=1e-9)
-    assert kinetic + lost - work == pytest.approx(J * 10.0**2 / 2, rel=1e-9)
-    with pytest.raises(st.UsageError, match="cannot be saved"):
-        sim.state()
-    with pytest.raises(st.UsageError, match="not an inertia"):
-        sim.reinit("brake.w", 1.0)
-
-
 def test_a_drag_holds_the_speed_and_heats_by_the_closed_form() -> None:
     v, p, duration = 30.0, 20.0, 10.0
     drag = f'\n[[section]]\nname = "drag"\nkind = "drags"\nrepeat = 2\nv_initial = {v}\npressure = {p}\nduration = {duration}\ninterval = 1.0\n'

@@ -128,3 +128,8 @@ def test_the_example_schedules_read() -> None:
     for name in ("j2522_like", "iso26867_like"):
         schedule = load_schedule(EXAMPLES / "dyno" / f"{name}.toml")
         assert 150 <= schedule.stops <= 260
+
+
+def test_an_unknown_top_level_key_names_its_line() -> None:
+    with pytest.raises(ScheduleError, match=re.escape("line 2: unknown top-level key 'repeats'")):
+        loads_schedule('name = "x"\nrepeats = 3\n' + RIG + GOOD)

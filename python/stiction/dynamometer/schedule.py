@@ -280,8 +280,11 @@ def loads_schedule(text: str, source: str = "schedule") -> Schedule:
     rig_lines, section_lines = _positions(text)
     for key in data:
         if key not in ("dyno", "section", "name", "description"):
+            keys = (_KEY.match(t) for t in text.splitlines())
+            line = next((n for n, m in enumerate(keys, 1) if m and m.group(2) == key), 0)
             raise ScheduleError(
-                f"{source}: unknown top-level key '{key}' (a schedule has [dyno] and [[section]]s)"
+                f"{source}: line {line}: unknown top-level key '{key}' "
+                "(a schedule has name, description, [dyno] and [[section]]s)"
             )
     rig = _rig(data.get("dyno"), rig_lines, source)
     tables = data.get("section", [])

@@ -35,6 +35,8 @@ from .errors import (
 _moved.install()  # the module paths before the package was split by job keep importing
 
 if TYPE_CHECKING:  # what ``__getattr__`` loads, spelled out for type checkers and IDEs
+    from .dynamometer import dyno
+    from .dynamometer.report import DynoReport
     from .fitting import fit
     from .fitting.result import FitResult
     from .model.catalogue import ComponentInfo, describe
@@ -143,6 +145,7 @@ __all__ = [
     "Convection",
     "Damper",
     "Disc",
+    "DynoReport",
     "EddyCurrentTorque",
     "ElastoBacklash",
     "ElastoBacklash2",
@@ -213,6 +216,7 @@ __all__ = [
     "UsageError",
     "compare",
     "describe",
+    "dyno",
     "expr",
     "fit",
     "grid",
@@ -244,6 +248,7 @@ _LAZY = {
     "Convection": "model.components",
     "Damper": "model.components",
     "Disc": "model.components",
+    "DynoReport": "dynamometer.report",
     "EddyCurrentTorque": "model.components",
     "ElastoBacklash": "model.components",
     "ElastoBacklash2": "model.components",
@@ -301,6 +306,7 @@ _LAZY = {
     "TorqueToAngleAdaptor": "model.components",
     "compare": "results.comparison",
     "describe": "model.catalogue",
+    "dyno": "dynamometer",
     "expr": "model.parameters",
     "fit": "fitting",
     "grid": "sweeps.variants",

@@ -412,6 +412,35 @@ impl PySimulation {
         guarded(|| sim.set_input(name, value))
     }
 
+    /// Sets an inertia's (or mass's) speed at the current time, as an event.
+    fn reinit_speed(&mut self, mass: &str, w: f64) -> PyResult<()> {
+        let sim = self.sim()?;
+        guarded(|| sim.reinit_speed(mass, w))
+    }
+
+    /// Advances until `name` reaches `level` (at most to `t_max`), with the GIL released.
+    fn advance_until(
+        &mut self,
+        py: Python<'_>,
+        name: &str,
+        level: f64,
+        t_max: f64,
+    ) -> PyResult<bool> {
+        let on_this_thread = OnThisThread(self.sim()?);
+        let reached = py.detach(move || {
+            let sim = on_this_thread;
+            guarded(|| sim.0.advance_until(name, level, t_max))
+        })?;
+        py.check_signals()?;
+        Ok(reached)
+    }
+
+    /// Whether rows are kept for `result()` (a long driven run keeps none).
+    fn set_recording(&mut self, recording: bool) -> PyResult<()> {
+        self.sim()?.set_recording(recording);
+        Ok(())
+    }
+
     /// Sets tunable parameters (`{"brake.fn_max": 200.0}`) from now on, at one event.
     fn set_parameters(&mut self, values: &Bound<'_, PyDict>) -> PyResult<()> {
         let mut pairs: Vec<(String, toml::Value)> = Vec::new();

@@ -1,5 +1,5 @@
 """The ``stiction`` command: simulate, check, compare against references, convert, sweep, fit,
-benchmark; one module per command, added to the group here.
+dyno, benchmark; one module per command, added to the group here.
 
 User mistakes (a bad model, a missing file, malformed TOML) and engine failures end in
 one ``error: …`` line on stderr and exit code 2, never a traceback; a failed comparison
@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import click
 
-from stiction.cli import bench, catalogue, check, compare, convert, fit, simulate, sweep
+from stiction.cli import bench, catalogue, check, compare, convert, dyno, fit, simulate, sweep
 
 __all__ = ["main"]
 
@@ -32,6 +32,7 @@ for _command in (
     compare.compare_cmd,
     sweep.sweep_cmd,
     fit.fit_cmd,
+    dyno.dyno_cmd,
     bench.bench,
 ):
     main.add_command(_command)

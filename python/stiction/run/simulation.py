@@ -70,6 +70,35 @@ class Simulation:
         """Set a model input from the current time on; a new value is an event now."""
         self._core.set_input(name, float(value))
 
+    def reinit(self, name: str, value: float) -> None:
+        """Set an inertia's speed (``"J.w"``) or a mass's (``"m.v"``) to ``value`` now.
+
+        An event at this instant, like MSL's ``reinit`` driven from outside (a dynamometer's
+        motor spinning the inertia up): the left row keeps the old speed, the modes are found
+        anew. The kinetic energy it adds counts as work supplied to the model. A run re-driven
+        so cannot be saved with ``state()``.
+        """
+        comp, var = split_last(name)
+        if var not in ("w", "v") or not comp:
+            raise UsageError(f"reinit '{name}': expected an inertia's speed 'J.w' or a mass's 'm.v'")
+        self._core.reinit_speed(comp, float(value))
+
+    def advance_until(self, name: str, level: float, t_max: float | None = None) -> bool:
+        """Advance until variable ``name`` reaches ``level`` from the side it is on now, at
+        most to ``t_max`` (StopTime when not given); returns whether it did.
+
+        The run then stands exactly at the crossing: found on the integrator's dense output
+        inside a step (to round-off), or at the state event where the variable lands on the
+        level (a speed reaching 0 where a brake sticks).
+        """
+        t_max = self._core.stop_time if t_max is None else min(float(t_max), self._core.stop_time)
+        return bool(self._core.advance_until(name, float(level), t_max))
+
+    def set_recording(self, recording: bool) -> None:
+        """Whether rows are kept for ``result()``: a long driven run (a dynamometer schedule)
+        that reads its values live keeps none."""
+        self._core.set_recording(bool(recording))
+
     def set_parameter(self, name: str, value: float | str | Sequence[Sequence[float]]) -> None:
         """Set a tunable parameter (``"brake.fn_max"``) from the current time on.
 

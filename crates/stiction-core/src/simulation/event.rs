@@ -90,24 +90,32 @@ impl Stepper {
             let Some(r) = self.sys.switching[k].reset(phi, w) else {
                 continue;
             };
-            let (dphi, dw) = (r.phi - phi[r.node], r.w - w[r.node]);
-            let moved = super::reset::carried(&self.sys, r.node);
             let loss = crate::engine::eval::Layout::of(&self.sys).loss();
-            for node in moved {
-                let m: f64 = (self.sys.masses.iter())
-                    .filter(|(_, at, _)| *at == node)
-                    .map(|(_, _, m)| m)
-                    .sum();
-                let w_old = self.x[n + node];
-                let w_new = if node == r.node { r.w } else { w_old + dw };
-                self.x[loss] += 0.5 * m * (w_old * w_old - w_new * w_new);
-                self.x[node] = if node == r.node {
-                    r.phi
-                } else {
-                    self.x[node] + dphi
-                };
-                self.x[n + node] = w_new;
-            }
+            self.move_node(r.node, (r.phi, r.w), (loss, 1.0));
+        }
+    }
+
+    /// Puts `node` at angle `phi` and speed `w`, the nodes joined to it through relative
+    /// states moved along (`reset::carried`); the kinetic energy each node loses is booked,
+    /// times `sign`, into state `book` (dissipated at a hard stop, negative work for a reinit).
+    pub(super) fn move_node(
+        &mut self,
+        node: usize,
+        (phi, w): (f64, f64),
+        (book, sign): (usize, f64),
+    ) {
+        let n = self.sys.nodes;
+        let (dphi, dw) = (phi - self.x[node], w - self.x[n + node]);
+        for at in super::reset::carried(&self.sys, node) {
+            let m: f64 = (self.sys.masses.iter())
+                .filter(|(_, on, _)| *on == at)
+                .map(|(_, _, m)| m)
+                .sum();
+            let w_old = self.x[n + at];
+            let w_new = if at == node { w } else { w_old + dw };
+            self.x[book] += sign * (0.5 * m * (w_old * w_old - w_new * w_new));
+            self.x[at] = if at == node { phi } else { self.x[at] + dphi };
+            self.x[n + at] = w_new;
         }
     }
 

@@ -17,6 +17,7 @@ mod initial_state;
 mod integrator;
 mod locate;
 mod record_all;
+mod redrive;
 mod reset;
 mod samples;
 mod saved;
@@ -24,12 +25,11 @@ mod scan;
 mod state_bytes;
 mod stepper;
 mod tune;
+mod watch;
 
-use std::cell::RefCell;
-use std::rc::Rc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
-use std::time::Instant;
+use std::{cell::RefCell, rc::Rc, time::Instant};
 
 use diffsol::OdeSolverMethod;
 

@@ -61,6 +61,11 @@ fn another_model(why: &str) -> SimError {
 impl Simulation {
     /// The whole state at the current time.
     pub fn state(&mut self) -> Result<SimState, SimError> {
+        if self.stepper.reinits > 0 {
+            return Err(SimError::Usage(
+                "state(): a run whose speeds were set from outside (reinit) cannot be saved: its replay knows inputs and parameters only".to_string(),
+            ));
+        }
         let x = self.state_now()?;
         let phase = self.stepper.phase.borrow();
         Ok(SimState {

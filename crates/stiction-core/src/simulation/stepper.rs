@@ -17,6 +17,7 @@ use super::dense::StepPoly;
 use super::guard::Guard;
 use super::integrator::{integrator_error, Eqn, StepBudget, V};
 use super::samples::StepSamples;
+use super::watch::Watch;
 use super::{Observer, Phase};
 use crate::engine::eval::{evaluate, DiscreteState};
 use crate::engine::{indicator_count, indicator_label, indicators, ModeCache};
@@ -133,6 +134,10 @@ pub(super) struct Stepper {
     pub(super) prescribes: bool,
     /// What every step's end is checked for besides crossings (`guard.rs`).
     pub(super) guard: Guard,
+    /// A level `advance_until` waits for (`redrive.rs`); none in an ordinary run.
+    pub(super) watch: Option<Watch>,
+    /// How many times a speed was set from outside (`reinit_speed`).
+    pub(super) reinits: usize,
 }
 
 impl Stepper {
@@ -203,6 +208,8 @@ impl Stepper {
             max_step,
             prescribes: sys_prescribes,
             guard,
+            watch: None,
+            reinits: 0,
         }
     }
 
@@ -407,7 +414,7 @@ impl Stepper {
     pub fn advance<'a, S>(
         &mut self,
         solver: &mut S,
-        target: f64,
+        mut target: f64,
         order: usize,
         implicit: bool,
     ) -> Result<bool, SimError>
@@ -428,6 +435,9 @@ impl Stepper {
                     return Ok(false);
                 }
                 self.take_step(solver)?;
+            }
+            if self.watch.is_some() {
+                target = self.watched_target(solver, target)?; // `advance_until` (redrive.rs)
             }
             let p = self.pending.as_ref().expect("a step is pending");
             let t_now = p.t_now;

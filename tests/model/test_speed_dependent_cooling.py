@@ -225,3 +225,24 @@ def test_an_msl_style_model_imports_exports_and_imports_to_the_same_result() -> 
     t, temp = on_grid(r, "disc.T")
     rate = -np.gradient(temp, t)
     assert math.isfinite(rate[-1]) and rate[(t > 55) & (t < 60)].mean() < rate[(t > 40) & (t < 45)].mean()
+
+
+def test_a_table_of_several_columns_outputs_each_and_round_trips() -> None:
+    """``columns = {2, 3}``: outputs y[1] and y[2], each linear in its column (u = 2·t)."""
+    m = st.Model("two_columns")
+    m.add("ramp", st.Ramp(height=2.0, duration=1.0))
+    m.add("t", st.CombiTable1Ds(table=[[0, 0, 10], [1, 1, 20], [2, 4, 30]], columns=[2, 3]))
+    m.add("g1", st.Gain(k=1.0))
+    m.add("g2", st.Gain(k=1.0))
+    m.connect("ramp.y", "t.u")
+    m.connect("t.y[1]", "g1.u")
+    m.connect("t.y[2]", "g2.u")
+    r = m.simulate(StopTime=1.0, Interval=0.25)
+    np.testing.assert_allclose(r["g1.y"], [0.0, 0.5, 1.0, 2.5, 4.0], rtol=1e-15)
+    np.testing.assert_allclose(r["g2.y"], [10.0, 15.0, 20.0, 25.0, 30.0], rtol=1e-15)
+    text = m.to_modelica()
+    assert "connect(t.y[2], g2.u);" in text and "columns={2, 3}" in text
+    back = st.Model.from_modelica(text)
+    np.testing.assert_array_equal(back.simulate(StopTime=1.0, Interval=0.25)["g2.y"], r["g2.y"])
+    with pytest.raises(st.ModelError, match=r"y\[3\]"):
+        m.connect("t.y[3]", "g2.u")

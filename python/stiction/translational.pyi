@@ -533,9 +533,9 @@ class GeneralForceToPositionAdaptor(_Factory):
     Variables
     ---------
     - f [N]
-    - p [rad] (displayUnit deg)
-    - pder [rad/s]
-    - pder2 [rad/s2]
+    - p [m]
+    - pder [m/s]
+    - pder2 [m/s2]
     - flange.s [m]
     - flange.f [N]
     """
@@ -569,9 +569,9 @@ class GeneralPositionToForceAdaptor(_Factory):
     Variables
     ---------
     - f [N]
-    - p [rad] (displayUnit deg)
-    - pder [rad/s]
-    - pder2 [rad/s2]
+    - p [m]
+    - pder [m/s]
+    - pder2 [m/s2]
     - flange.s [m]
     - flange.f [N]
     """

@@ -2262,7 +2262,7 @@ class CombiTable1Ds(_Factory):
     Variables
     ---------
     - u [1]
-    - y[1]
+    - y[1] [1]
     """
 
     def __init__(

@@ -18,6 +18,8 @@ __all__ = [
     "Force2",
     "ForceSensor",
     "ForceStep",
+    "GeneralForceToPositionAdaptor",
+    "GeneralPositionToForceAdaptor",
     "LinearSpeedDependentForce",
     "Mass",
     "MassWithStopAndFriction",
@@ -521,6 +523,76 @@ class ForceStep(_Factory):
         stepForce: float = ...,
         offsetForce: float = ...,
         useSupport: bool = ...,
+    ) -> None: ...
+
+class GeneralForceToPositionAdaptor(_Factory):
+    """Signal adaptor for a Translational flange with position, speed, and acceleration as outputs and force as input (especially useful for FMUs).
+
+    MSL class: ``Modelica.Mechanics.Translational.Components.GeneralForceToPositionAdaptor``
+
+    Parameters
+    ----------
+    use_pder : Boolean, default true
+        true: enable the output pder (velocity)
+    use_pder2 : Boolean, default true
+        true: enable the output pder2 (acceleration; only with use_pder)
+
+    Ports
+    -----
+    - flange: translational flange
+    - f: signal input
+
+    Variables
+    ---------
+    - f [N]
+    - p [m]
+    - pder [m/s]
+    - pder2 [m/s2]
+    - flange.s [m]
+    - flange.f [N]
+    """
+
+    def __init__(
+        self,
+        *,
+        use_pder: bool = ...,
+        use_pder2: bool = ...,
+    ) -> None: ...
+
+class GeneralPositionToForceAdaptor(_Factory):
+    """Signal adaptor for a Translational flange with force as output and position, speed and acceleration as input (especially useful for FMUs).
+
+    MSL class: ``Modelica.Mechanics.Translational.Components.GeneralPositionToForceAdaptor``
+
+    Parameters
+    ----------
+    use_pder : Boolean, default true
+        true: enable the input pder (velocity)
+    use_pder2 : Boolean, default true
+        true: enable the input pder2 (acceleration; only with use_pder)
+
+    Ports
+    -----
+    - flange: translational flange
+    - p: signal input
+    - pder: signal input (if use_pder = true)
+    - pder2: signal input
+
+    Variables
+    ---------
+    - f [N]
+    - p [m]
+    - pder [m/s]
+    - pder2 [m/s2]
+    - flange.s [m]
+    - flange.f [N]
+    """
+
+    def __init__(
+        self,
+        *,
+        use_pder: bool = ...,
+        use_pder2: bool = ...,
     ) -> None: ...
 
 class LinearSpeedDependentForce(_Factory):

@@ -16,11 +16,6 @@ from stiction.expressions.lexer import ModelicaError
 DIR = EXAMPLES / "msl-translational"
 REFS = DATA / "msl-translational"
 NAMES = sorted(p.stem for p in DIR.glob("*.mo"))
-# HeatLosses' brake engages at t = 1e-15 s with a round-off holding force (-2.8e-13 N: the
-# absolute positions' springDamper1.s_rel, where Dymola's relative state is 0 exactly), and its
-# sa < -f0_max relation, true at initialization (f0_max = 0 there), holds by the event
-# hysteresis: startBackward is 1 for 1.6e-13 s. Its mode and every later event match.
-SKIPPED = {"HeatLosses": {"brake.startBackward"}}
 
 
 @cache
@@ -51,7 +46,6 @@ def test_modelica_twin_is_the_same_model_with_the_identical_result(name: str) ->
 def test_modelica_file_stays_in_the_msl_tube(name: str) -> None:
     _, r_mo, _, _ = _runs(name)
     listed = (REFS / f"{name}.signals.txt").read_text().split()[1:]  # minus time
-    listed = [s for s in listed if s not in SKIPPED.get(name, set())]
     report = st.compare(r_mo, REFS / f"{name}.csv", tolerance=2e-3, signals=listed)
     assert len(report) == len(listed)
     assert report.passed, str(report)

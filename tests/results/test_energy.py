@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from paths import EXAMPLES as ALL_EXAMPLES
 from paths import MSL_EXAMPLES
 
 import stiction as st
@@ -194,3 +195,31 @@ def test_a_withheld_power_is_judged_against_the_torque_times_the_slip_bound() ->
     assert EnergyAudit([one_way(0.9e-5)]).ok()
     assert not EnergyAudit([one_way(2e-5)]).ok()
     assert "c4 is off by 2e-05 W" in str(EnergyAudit([one_way(2e-5)]))
+
+
+def test_a_stop_hitting_mass_counts_its_resets_in_its_own_dissipated() -> None:
+    """MSL's translational HeatLosses: the MassWithStopAndFriction hits its stop twice, and
+    each `reinit` takes its kinetic energy in an instant. The element's `dissipated` is its
+    friction loss plus those resets (`reset_loss`, the kinetic energy jump over each event's
+    two rows), and its energy balance over the run closes to the trapezoid rule's error on
+    the 1 ms grid only with them counted."""
+    r = st.Model.load(ALL_EXAMPLES / "msl-translational" / "HeatLosses.toml").simulate()
+    mass = next(e for e in r.audit().elements if e.component == "massWithStopAndFriction")
+    hits = [e.time for e in r.events if e.component == mass.component and "hard stop" in e.cause]
+    assert len(hits) == 2
+    t, v = r.time, r["massWithStopAndFriction.v"]
+    jumps = [
+        0.5 * (v[i] ** 2 - v[i + 1] ** 2) for i in range(len(t) - 1) if t[i] == t[i + 1] and t[i] in hits
+    ]
+    assert len(jumps) == 2 and min(jumps) > 0.1
+    assert mass.reset_loss == pytest.approx(sum(jumps), rel=1e-12)
+    friction = np.trapezoid(r["massWithStopAndFriction.lossPower"], t)
+    assert mass.dissipated == pytest.approx(friction + mass.reset_loss, rel=1e-12)
+    gained = 0.5 * (v[-1] ** 2 - v[0] ** 2)  # m = 1
+    closes = mass.energy_in - mass.dissipated - gained
+    assert abs(closes) < 1e-4 * mass.energy_in
+    assert abs(closes + mass.reset_loss) > 0.4 * mass.energy_in  # not without the resets
+    # no other element resets
+    assert all(
+        e.reset_loss == 0.0 for e in r.audit().elements if e is not mass and e.component != mass.component
+    )

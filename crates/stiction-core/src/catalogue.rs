@@ -274,6 +274,8 @@ pub fn variable_unit(name: &str) -> &'static str {
         "der_T" => "K/s",
         "fn" => "N",
         "mu" | "eta_mf1" | "eta_mf2" | "f_normalized" | "u" | "y" | "u1" | "u2" => "1",
+        // a table's outputs (TimeTable's several columns, CombiTable1Ds's always)
+        n if n.starts_with("y[") => "1",
         "Gc" => "W/K",
         _ => "",
     }
@@ -289,6 +291,10 @@ pub fn translational_unit(name: &str) -> &'static str {
         "f" | "f_c" | "f_d" | "f_input" | "sa" | "f0" | "f0_max" | "fN" => "N",
         "s_ref" | "u[1]" => "m",
         "v_ref" | "vWind" | "u[2]" => "m/s",
+        // the General adaptors' generic names on a translational flange
+        "p" => "m",
+        "pder" => "m/s",
+        "pder2" => "m/s2",
         "inclination" | "cr" => "1",
         // SlipWheel's slip speed R·w − v
         "v_slip" => "m/s",

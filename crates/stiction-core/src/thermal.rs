@@ -23,7 +23,14 @@ pub enum Conductance {
     Constant(f64),
     /// Read from a signal slot (Convection's `Gc`).
     Signal(usize),
+    /// BodyRadiation's `Gr` [m2]: the flow is `Gr·σ·(T_a⁴ − T_b⁴)`, not linear in the
+    /// temperatures, so the assembly allows it only between nodes whose temperature is a
+    /// state or fixed (the flow is then explicit; the linear balance never sees it).
+    Radiation(f64),
 }
+
+/// Modelica.Constants.sigma, the Stefan-Boltzmann constant [W/(m2.K4)].
+pub const SIGMA: f64 = 5.670374419e-8;
 
 #[derive(Debug, Clone)]
 pub struct Link {
@@ -33,11 +40,27 @@ pub struct Link {
 }
 
 impl Link {
+    /// The linear conductance (0 for radiation, which joins no algebraic node).
     pub fn conductance(&self, signals: &[f64]) -> f64 {
         match self.g {
             Conductance::Constant(g) => g,
             Conductance::Signal(slot) => signals[slot],
+            Conductance::Radiation(_) => 0.0,
         }
+    }
+
+    /// The heat flow from `a` to `b` at the node temperatures `temps`.
+    #[inline]
+    pub fn flow(&self, temps: &[f64], signals: &[f64]) -> f64 {
+        let (ta, tb) = (temps[self.a], temps[self.b]);
+        match self.g {
+            Conductance::Radiation(gr) => gr * SIGMA * (ta.powi(4) - tb.powi(4)),
+            _ => self.conductance(signals) * (ta - tb),
+        }
+    }
+
+    pub fn is_radiation(&self) -> bool {
+        matches!(self.g, Conductance::Radiation(_))
     }
 }
 
@@ -80,6 +103,8 @@ pub struct ThermalNet {
     /// slot before the laws are evaluated. Only nodes whose temperature is a state or fixed
     /// qualify (an algebraic one would depend on the law's own loss).
     pub taps: Vec<TemperatureTap>,
+    /// The radiation links and their components (checked by the assembly).
+    pub radiation: Vec<(usize, String)>,
 }
 
 #[derive(Debug, Clone)]
@@ -209,7 +234,7 @@ impl ThermalNet {
     pub fn net_inflow(&self, temps: &[f64], signals: &[f64], heat_in: &[f64], q: &mut [f64]) {
         q.copy_from_slice(heat_in);
         for link in &self.links {
-            let flow = link.conductance(signals) * (temps[link.a] - temps[link.b]);
+            let flow = link.flow(temps, signals);
             q[link.a] -= flow;
             q[link.b] += flow;
         }

@@ -1,7 +1,8 @@
 //! `MassWithStopAndFriction` (issue 31) against closed forms: pushed from rest by a constant
 //! force F against Coulomb friction alone, it reaches its stop at
 //! `t = sqrt(2·m·(smax − L/2 − s0)/(F − F_Coulomb))`, is put there at rest (MSL's `reinit`) and
-//! stays; the kinetic energy the stop removes counts as dissipated, so the run's energy closes;
+//! stays; the kinetic energy the stop removes counts as dissipated, so the run's energy closes,
+//! and the element's own audit;
 //! bad parameters are refused by name.
 
 use stiction_core::{simulate, ModelSpec, SimResult};
@@ -96,6 +97,74 @@ fn the_kinetic_energy_the_stop_removes_is_dissipated() {
     assert!(
         (lost - (fc * top + 0.5 * m * v_hit2)).abs() < 1e-7,
         "dissipated {lost}"
+    );
+}
+
+/// The element's own audit holds the reset too: its `dissipated` is its friction loss plus the
+/// kinetic energy the stop removed (`reset_loss`), and its energy in equals that (at rest at
+/// both ends).
+#[test]
+fn the_elements_audit_counts_the_reset_as_dissipated() {
+    let (f, fc, m, top) = (10.0, 3.0, 2.0, 1.0);
+    let r = run(&pushed(f, ""));
+    let audit = r.audit();
+    let mass = (audit.iter().find(|a| a.component == "mass")).expect("the mass audited");
+    let kinetic_at_hit = 0.5 * m * 2.0 * (f - fc) / m * top;
+    assert!(
+        (mass.reset_loss - kinetic_at_hit).abs() < 1e-7,
+        "reset loss {} vs {kinetic_at_hit}",
+        mass.reset_loss
+    );
+    let friction = fc * top;
+    assert!(
+        (mass.dissipated - (friction + mass.reset_loss)).abs() < 1e-7,
+        "dissipated {} vs {friction} + {}",
+        mass.dissipated,
+        mass.reset_loss
+    );
+    assert!((mass.energy_in - mass.dissipated).abs() < 1e-7, "{mass:?}");
+    // nothing else resets
+    for a in audit.iter().filter(|a| a.component != "mass") {
+        assert_eq!(a.reset_loss, 0.0, "{a:?}");
+    }
+}
+
+/// Shaken between its stops by a sine force, the mass hits them again and again: over the run
+/// its energy in equals its dissipated plus the kinetic energy it gained, to the trapezoid
+/// rule's error on the grid, only with the resets counted (they are a large share).
+#[test]
+fn a_shaken_mass_between_its_stops_closes_its_audit() {
+    let text = pushed(0.0, "")
+        .replace(
+            r#"push = { type = "Translational.ConstantForce", f_constant = 0 }"#,
+            r#"push = { type = "Translational.Force" }
+sine = { type = "Sine", amplitude = 80.0, f = 0.5 }"#,
+        )
+        .replace(
+            r#"connect = [["push.flange", "mass.flange_a"]]"#,
+            r#"connect = [["push.flange", "mass.flange_a"], ["sine.y", "push.f"]]"#,
+        )
+        .replace("Interval = 0.01", "Interval = 1e-4")
+        .replace("StopTime = 3.0", "StopTime = 6.0");
+    let r = run(&text);
+    let hits = (r.events.iter())
+        .filter(|e| e.cause.contains("hard stop"))
+        .count();
+    assert!(hits >= 4, "{:#?}", r.events);
+    let v = col(&r, "mass.v");
+    let gained = 0.5 * 2.0 * (v.last().unwrap().powi(2) - v[0].powi(2));
+    let audit = r.audit();
+    let mass = (audit.iter().find(|a| a.component == "mass")).expect("the mass audited");
+    assert!(mass.reset_loss > 0.1 * mass.dissipated, "{mass:?}");
+    let open = mass.energy_in - mass.dissipated - gained;
+    assert!(open.abs() < 1e-5 * mass.energy_in, "{open} of {mass:?}");
+    let unreset = open + mass.reset_loss;
+    assert!(unreset.abs() > 1e3 * open.abs(), "{mass:?}");
+    // the run's own balance agrees with the element's
+    let lost = *col(&r, "system.dissipatedEnergy").last().unwrap();
+    assert!(
+        (lost - mass.dissipated).abs() < 1e-5 * lost,
+        "{lost} vs {mass:?}"
     );
 }
 

@@ -202,6 +202,7 @@ impl RawResult {
                 ("min_dissipation", a.min_dissipation),
                 ("energy_in", a.energy_in),
                 ("dissipated", a.dissipated),
+                ("reset_loss", a.reset_loss),
                 ("withheld", a.withheld),
                 ("slip_bound", a.slip_bound),
             ] {

@@ -33,6 +33,7 @@ __all__ = [
     "factory",
     "in_si",
     "si_overrides",
+    "table_1ds_ports",
     "time_table_ports",
 ]
 
@@ -305,6 +306,14 @@ def factory(type_name: str) -> type[Component]:
         {"__doc__": f"{type_name} (engine type).", "__module__": __name__},
     )
     return cls
+
+
+def table_1ds_ports(params: Mapping[str, Any]) -> list[str]:
+    """A CombiTable1Ds's ports: its input ``u`` and one output ``y[1]``…``y[k]`` per entry
+    of ``columns`` (default: every value column of its table), always indexed as MSL's
+    output vector is."""
+    outputs = time_table_ports(params)
+    return ["u", *(["y[1]"] if outputs == ["y"] else outputs)]
 
 
 def time_table_ports(params: Mapping[str, Any]) -> list[str]:

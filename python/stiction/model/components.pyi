@@ -28,14 +28,17 @@ class _Factory(Component):
 
 __all__ = [
     "FACTORIES",
+    "Abs",
     "AccSensor",
     "Accelerate",
     "Add",
     "AngleSensor",
     "AngleToTorqueAdaptor",
     "BearingFriction",
+    "BodyRadiation",
     "Brake",
     "Clutch",
+    "CombiTable1Ds",
     "Component",
     "Constant",
     "ConstantSpeed",
@@ -2271,6 +2274,69 @@ class TimeTable(_Factory):
         startTime: float = ...,
     ) -> None: ...
 
+class CombiTable1Ds(_Factory):
+    """Table look-up in one dimension (matrix) with one input and n outputs.
+
+    MSL class: ``Modelica.Blocks.Tables.CombiTable1Ds``
+
+    Parameters
+    ----------
+    table : table [:, 2] [1], default [[0, 0]]
+        Table matrix (grid = first column, strictly increasing; e.g. table = [[0, 0], [1, 1], [2, 4]]); linear between rows, beyond them as `extrapolation` says
+    columns : vector [1], default [2]
+        Columns of table to be interpolated, 1-based (column 1 is the grid); default all the others
+    smoothness : choice, default 'LinearSegments'
+        Smoothness of table interpolation: LinearSegments (the only one stiction has)
+    extrapolation : choice, default 'LastTwoPoints'
+        Extrapolation of data outside the definition range: LastTwoPoints (linearly through the first or last two rows) or HoldLastPoint (the first or last row's value)
+
+    Ports
+    -----
+    - u: signal input
+    - y[1]: signal output
+
+    Variables
+    ---------
+    - u [1]
+    - y[1] [1]
+    """
+
+    def __init__(
+        self,
+        *,
+        table: Sequence[Sequence[float | str]] = ...,
+        columns: float | Sequence[float] = ...,
+        smoothness: Literal["LinearSegments"] = ...,
+        extrapolation: Literal["LastTwoPoints", "HoldLastPoint"] = ...,
+    ) -> None: ...
+
+class Abs(_Factory):
+    """Output the absolute value of the input.
+
+    MSL class: ``Modelica.Blocks.Math.Abs``
+
+    Parameters
+    ----------
+    generateEvent : Boolean, default false
+        true: generate an event at u = 0 (stiction: the output is |u| either way, without an event)
+
+    Ports
+    -----
+    - u: signal input
+    - y: signal output
+
+    Variables
+    ---------
+    - u [1]
+    - y [1]
+    """
+
+    def __init__(
+        self,
+        *,
+        generateEvent: bool = ...,
+    ) -> None: ...
+
 class HeatCapacitor(_Factory):
     """Lumped thermal element storing heat.
 
@@ -2356,6 +2422,37 @@ class Convection(_Factory):
     """
 
     def __init__(self) -> None: ...
+
+class BodyRadiation(_Factory):
+    """Lumped thermal element for radiation heat transfer: Q_flow = Gr*sigma*(port_a.T^4 - port_b.T^4).
+
+    MSL class: ``Modelica.Thermal.HeatTransfer.Components.BodyRadiation``
+
+    Parameters
+    ----------
+    Gr : Real [m2], required, >= 0
+        Net radiation conductance between two surfaces (see docu)
+
+    Ports
+    -----
+    - port_a: heat port
+    - port_b: heat port
+
+    Variables
+    ---------
+    - Q_flow [W]
+    - dT [K] (displayUnit degC)
+    - port_a.T [K] (displayUnit degC)
+    - port_a.Q_flow [W]
+    - port_b.T [K] (displayUnit degC)
+    - port_b.Q_flow [W]
+    """
+
+    def __init__(
+        self,
+        *,
+        Gr: float = ...,
+    ) -> None: ...
 
 class FixedTemperature(_Factory):
     """Fixed temperature boundary condition in kelvin.

@@ -19,7 +19,13 @@ from typing import TYPE_CHECKING, Any
 
 from stiction.errors import ModelError
 from stiction.model import modelfile
-from stiction.model.components import FACTORIES, Component, component_types, time_table_ports
+from stiction.model.components import (
+    FACTORIES,
+    Component,
+    component_types,
+    table_1ds_ports,
+    time_table_ports,
+)
 from stiction.model.names import COMPONENT_NAME, IDENTIFIER, PathIndex, split_last
 from stiction.model.parameters import is_expr
 from stiction.model.runinfo import RunInfo
@@ -173,6 +179,8 @@ class Model:
             ports = known[comp_type].get("ports", [])
             if comp_type == "TimeTable":  # its outputs follow its columns
                 ports = time_table_ports(self.components[comp_name].params)
+            if comp_type == "CombiTable1Ds":  # so do these
+                ports = table_1ds_ports(self.components[comp_name].params)
             if port not in ports:
                 raise ModelError(
                     f"component '{comp_name}' ({comp_type}): port '{port}': "

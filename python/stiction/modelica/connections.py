@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 from stiction.errors import ModelError
 from stiction.expressions.ast import Literal, Ref
 from stiction.expressions.lexer import ModelicaError, Pos
-from stiction.model.components import time_table_ports
+from stiction.model.components import table_1ds_ports, time_table_ports
 from stiction.model.names import owner
 from stiction.model.parameters import resolve_params
 
@@ -203,6 +203,9 @@ class ConnectionSets:
         if component is None:
             raise ModelicaError(ref.pos, f"connect to '{ref.name}': no component '{comp}' in the model")
         ports = _port_kinds().get(component.type)
+        if ports is not None and component.type == "CombiTable1Ds":  # outputs follow columns
+            out = ports["y[1]"]
+            ports = {p: ports.get(p, out) for p in table_1ds_ports(component.params)}
         element = _element(ref, port)
         if ports is not None and element in ports:  # an array connector's element: Move's u[1]
             return f"{comp}.{element}", ports[element][0]

@@ -111,6 +111,8 @@ MSL_CLASSES: dict[str, str] = {
             "Brake",
             "SupportFriction",
             "MassWithStopAndFriction",
+            "GeneralForceToPositionAdaptor",
+            "GeneralPositionToForceAdaptor",
         ]
     },
     **{
@@ -146,8 +148,12 @@ MSL_CLASSES: dict[str, str] = {
         ]
     },
     **{t: f"Modelica.Blocks.Sources.{t}" for t in ["Constant", "Step", "Ramp", "Sine", "Pulse", "TimeTable"]},
-    **{t: f"Modelica.Blocks.Math.{t}" for t in ["Product", "Feedback", "Add", "Gain"]},
-    **{t: f"{_HEAT}.Components.{t}" for t in ["HeatCapacitor", "ThermalConductor", "Convection"]},
+    **{t: f"Modelica.Blocks.Math.{t}" for t in ["Product", "Feedback", "Add", "Gain", "Abs"]},
+    "CombiTable1Ds": "Modelica.Blocks.Tables.CombiTable1Ds",
+    **{
+        t: f"{_HEAT}.Components.{t}"
+        for t in ["HeatCapacitor", "ThermalConductor", "Convection", "BodyRadiation"]
+    },
     "FixedTemperature": f"{_HEAT}.Sources.FixedTemperature",
     "Celsius.FixedTemperature": f"{_HEAT}.Celsius.FixedTemperature",
     # stiction's own components, not MSL's: a class in the Stiction namespace, which only

@@ -67,7 +67,8 @@ class ElementBalance:
     Off by order ``Interval**2`` where a power oscillates within an output interval (0.18 % on a
     Gearbox with backlash at ``Interval=0.01``); ``system.dissipatedEnergy`` is integrated with
     the states and exact to solver tolerance. Includes the spring energy an ElastoBacklash
-    loses where a contact opens still compressed, which MSL's ``lossPower`` leaves out.
+    loses where a contact opens still compressed, which MSL's ``lossPower`` leaves out, and
+    ``reset_loss``.
     """
     withheld: float = 0.0
     """Largest |tau·w_rel − lossPower| over the rows: what MSL's loss law leaves out (a
@@ -76,6 +77,9 @@ class ElementBalance:
     """How far its relative speed may be off [rad/s]: the event band plus
     ``2·Tolerance·(1 + largest flange speed)``, the integrator's error bound on a difference
     of two speeds."""
+    reset_loss: float = 0.0
+    """Kinetic energy its resets removed at state events (MSL's ``reinit`` of a
+    MassWithStopAndFriction at a stop), part of ``dissipated``; 0 for most elements."""
 
 
 class EnergyAudit:

@@ -343,6 +343,21 @@ fn finish_thermal(b: &mut Builder) -> ModelResult<()> {
     for (k, cap) in net.capacities.iter().enumerate() {
         net.kind[cap.node] = NodeKind::Capacitive(k);
     }
+    for (k, owner) in &net.radiation {
+        let link = &net.links[*k];
+        if let Some(node) = [link.a, link.b]
+            .into_iter()
+            .find(|&n| matches!(net.kind[n], NodeKind::Algebraic(_)))
+        {
+            return Err(ModelError::Component {
+                component: owner.clone(),
+                message: format!(
+                    "radiation to heat port '{}', whose temperature is neither a HeatCapacitor's nor fixed: its heat balance would be nonlinear in the temperature (T^4), which stiction's thermal network does not solve; connect a HeatCapacitor or a FixedTemperature there",
+                    net.node_ports[node].join(", ")
+                ),
+            });
+        }
+    }
     for tap in &net.taps {
         if let NodeKind::Algebraic(_) = net.kind[tap.node] {
             return Err(ModelError::Component {

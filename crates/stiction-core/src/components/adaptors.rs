@@ -29,13 +29,15 @@ impl ForceLaw for InputTorque {
 }
 
 /// What an adaptor's connectors are called: the plain adaptors' (`tau`, `phi`, `w`, `a`) or the
-/// General ones' (`f`, `p`, `pder`, `pder2`, `general_adaptors.rs`). One implementation serves
-/// both.
+/// General ones' (`f`, `p`, `pder`, `pder2`, `general_adaptors.rs`), and the domain of its
+/// flange (the translational General adaptors are the same build on a translational flange).
+/// One implementation serves all.
 pub(super) struct Names {
     pub flow: &'static str,
     pub angle: &'static str,
     pub speed: &'static str,
     pub accel: &'static str,
+    pub translational: bool,
 }
 
 const PLAIN: Names = Names {
@@ -43,7 +45,23 @@ const PLAIN: Names = Names {
     angle: "phi",
     speed: "w",
     accel: "a",
+    translational: false,
 };
+
+/// The ports of an adaptor: its one flange, in its domain, and its inputs.
+fn adaptor_ports(names: &Names, signal_in: Vec<&'static str>) -> Ports {
+    let mech = vec!["flange"];
+    Ports {
+        translational: if names.translational {
+            mech.clone()
+        } else {
+            vec![]
+        },
+        mech,
+        signal_in,
+        ..Ports::default()
+    }
+}
 
 /// Torque in, motion out: a torque source on the flange that reports the flange's angle, and
 /// its speed and acceleration where their outputs are enabled (MSL: 0 and not reported else).
@@ -55,11 +73,7 @@ pub(super) struct TorqueToAngle {
 
 impl Component for TorqueToAngle {
     fn ports(&self) -> Ports {
-        Ports {
-            mech: vec!["flange"],
-            signal_in: vec![self.names.flow],
-            ..Ports::default()
-        }
+        adaptor_ports(self.names, vec![self.names.flow])
     }
 
     fn build(&self, b: &mut Builder) -> ModelResult<()> {
@@ -125,11 +139,7 @@ impl Component for AngleToTorque {
         if self.accel_in.is_some() {
             signal_in.push(n.accel);
         }
-        Ports {
-            mech: vec!["flange"],
-            signal_in,
-            ..Ports::default()
-        }
+        adaptor_ports(n, signal_in)
     }
 
     fn build(&self, b: &mut Builder) -> ModelResult<()> {

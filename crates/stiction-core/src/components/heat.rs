@@ -1,5 +1,5 @@
 //! Modelica.Thermal.HeatTransfer components: HeatCapacitor, ThermalConductor, Convection,
-//! FixedTemperature (kelvin and Celsius).
+//! BodyRadiation, FixedTemperature (kelvin and Celsius).
 
 use super::{Component, Entry, Ports};
 use crate::error::ModelResult;
@@ -36,8 +36,18 @@ impl Component for HeatCapacitor {
     }
 }
 
+/// How a two-port element passes heat.
+enum Law {
+    /// `G·ΔT` with a constant G (ThermalConductor).
+    Constant(f64),
+    /// `Gc·ΔT` with Gc from the input (Convection).
+    Input,
+    /// `Gr·σ·(T_a⁴ − T_b⁴)` (BodyRadiation).
+    Radiation(f64),
+}
+
 struct Conductor {
-    g: Option<f64>,
+    g: Law,
     ports: (&'static str, &'static str),
 }
 
@@ -45,7 +55,11 @@ impl Component for Conductor {
     fn ports(&self) -> Ports {
         Ports {
             heat: vec![self.ports.0, self.ports.1],
-            signal_in: if self.g.is_none() { vec!["Gc"] } else { vec![] },
+            signal_in: if matches!(self.g, Law::Input) {
+                vec!["Gc"]
+            } else {
+                vec![]
+            },
             ..Ports::default()
         }
     }
@@ -54,15 +68,24 @@ impl Component for Conductor {
         let (pa, pb) = self.ports;
         let a = b.heat_node(pa)?;
         let c = b.heat_node(pb)?;
-        let g = match self.g {
-            Some(g) => Conductance::Constant(g),
-            None => {
+        let link = match self.g {
+            Law::Constant(g) => b.add_heat_link(Link {
+                a,
+                b: c,
+                g: Conductance::Constant(g),
+            }),
+            Law::Input => {
                 let slot = b.signal_in("Gc")?;
                 b.output("Gc", Out::Signal(slot));
-                Conductance::Signal(slot)
+                let g = Conductance::Signal(slot);
+                b.add_heat_link(Link { a, b: c, g })
             }
+            Law::Radiation(gr) => b.add_radiation_link(Link {
+                a,
+                b: c,
+                g: Conductance::Radiation(gr),
+            }),
         };
-        let link = b.add_heat_link(Link { a, b: c, g });
         b.output("Q_flow", Out::HeatLinkFlow(link, 1.0));
         b.output("dT", Out::HeatDiff(a, c));
         b.output(&format!("{pa}.T"), Out::HeatT(a));
@@ -110,15 +133,27 @@ fn thermal_conductor(p: &Params) -> ModelResult<Box<dyn Component>> {
         0.0,
     )?;
     Ok(Box::new(Conductor {
-        g: Some(g),
+        g: Law::Constant(g),
         ports: ("port_a", "port_b"),
     }))
 }
 
 fn convection(_p: &Params) -> ModelResult<Box<dyn Component>> {
     Ok(Box::new(Conductor {
-        g: None,
+        g: Law::Input,
         ports: ("solid", "fluid"),
+    }))
+}
+
+fn body_radiation(p: &Params) -> ModelResult<Box<dyn Component>> {
+    let gr = p.at_least(
+        "Gr",
+        p.required("Gr [m2] Net radiation conductance between two surfaces (see docu)")?,
+        0.0,
+    )?;
+    Ok(Box::new(Conductor {
+        g: Law::Radiation(gr),
+        ports: ("port_a", "port_b"),
     }))
 }
 
@@ -156,6 +191,12 @@ pub const REGISTRY: &[Entry] = &[
         "Modelica.Thermal.HeatTransfer.Components.Convection",
         "Lumped thermal element for heat convection (conductance from the input Gc)",
         convection,
+    ),
+    Entry::new(
+        "BodyRadiation",
+        "Modelica.Thermal.HeatTransfer.Components.BodyRadiation",
+        "Lumped thermal element for radiation heat transfer: Q_flow = Gr*sigma*(port_a.T^4 - port_b.T^4)",
+        body_radiation,
     ),
     Entry::new(
         "FixedTemperature",

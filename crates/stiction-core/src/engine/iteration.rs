@@ -151,7 +151,7 @@ fn nothing_starts(sys: &System, r: &RelationValues) -> RelationValues {
         .collect()
 }
 
-/// The relations at the values in `ws`, from `r` (literal at initialization).
+/// The relations at the values in `ws`, from `r` (from none at initialization).
 fn updated(sys: &System, r: &RelationValues, ws: &Workspace, initial: bool) -> RelationValues {
     (sys.switching.iter().zip(r).zip(&ws.elements))
         .map(|((e, r), v)| e.relations(*r, v, initial))

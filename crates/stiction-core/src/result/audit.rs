@@ -7,6 +7,12 @@
 //! independently. A passive element (no source law, no working constraint) must never dissipate
 //! negative power: it never delivers net energy.
 //!
+//! A reset at a state event (MSL's `reinit` of a MassWithStopAndFriction at its stop) takes
+//! kinetic energy out in an instant, between the event's left and right rows, where no power
+//! integral sees it: the jump of the kinetic energy of the masses of a component with a
+//! switching element over such a pair is that component's `reset_loss`, and part of its
+//! `dissipated`, as the run's `system.dissipatedEnergy` counts it.
+//!
 //! A friction element's `tau·w_rel` that its `lossPower` leaves out is kept apart as `withheld`:
 //! MSL's OneWayClutch reports no loss while stuck (`w_rel ≤ 0`), including a forward start
 //! whose integrated relative speed drifts a little below 0. That power is the element's torque
@@ -45,6 +51,9 @@ pub struct ElementAudit {
     /// an interval, 0.18 % on a Gearbox at 0.01 s; `system.dissipatedEnergy` is exact).
     pub energy_in: f64,
     pub dissipated: f64,
+    /// Kinetic energy its resets removed (MSL's `reinit` at a stop) [J], included in
+    /// `dissipated`; 0 for a component that never resets.
+    pub reset_loss: f64,
 }
 
 /// Where each component's power goes, as indices into the system.
@@ -65,6 +74,7 @@ impl SimResult {
         let parts = parts_of(sys);
         let mut audits: Vec<ElementAudit> = parts.iter().map(|p| empty(&p.name)).collect();
         let mut last: Vec<Option<(f64, f64, f64)>> = vec![None; parts.len()];
+        let mut last_kinetic = vec![0.0; parts.len()];
         let tr = &self.trajectory;
         let mut flange_tau = vec![0.0; sys.flange_torques.ports()];
         let mut scratch = Vec::new();
@@ -87,12 +97,20 @@ impl SimResult {
                     m.max(slip_bound(sys.experiment.tolerance, rel.dot(&ws.w)))
                 });
                 a.min_dissipation = a.min_dissipation.min(dissipation);
+                let kinetic = kinetic_energy(ws, p);
                 if let Some((t0, p0, d0)) = last[k] {
                     let dt = tr.t[r] - t0;
                     a.energy_in += 0.5 * (p0 + power_in) * dt;
                     a.dissipated += 0.5 * (d0 + dissipation) * dt;
+                    // the two rows of one event: a reset's loss (speeds are states, else equal)
+                    if dt == 0.0 && !p.switching.is_empty() {
+                        let removed = last_kinetic[k] - kinetic;
+                        a.dissipated += removed;
+                        a.reset_loss += removed;
+                    }
                 }
                 last[k] = Some((tr.t[r], power_in, dissipation));
+                last_kinetic[k] = kinetic;
             }
         });
         for (a, p) in audits.iter_mut().zip(&parts) {
@@ -114,7 +132,15 @@ fn empty(name: &str) -> ElementAudit {
         min_dissipation: f64::INFINITY,
         energy_in: 0.0,
         dissipated: 0.0,
+        reset_loss: 0.0,
     }
+}
+
+/// The kinetic energy of a component's masses at one row (`½·J·w²`, `½·m·v²`).
+fn kinetic_energy(ws: &Workspace, p: &Parts) -> f64 {
+    (p.masses.iter())
+        .map(|&(n, j)| 0.5 * j * ws.w[n] * ws.w[n])
+        .sum()
 }
 
 /// (power in through the flanges, power taken by the parts, power dissipated) at one row.

@@ -116,6 +116,9 @@ pub(super) fn value(
         Out::HeatDiff(a, b) => ws.temps[*a] - ws.temps[*b],
         Out::HeatLinkFlow(k, s) => {
             let l = &sys.thermal.links[*k];
+            if l.is_radiation() {
+                return s * l.flow(&ws.temps, &ws.signals);
+            }
             s * l.conductance(&ws.signals) * (ws.temps[l.a] - ws.temps[l.b])
         }
         Out::HeatNodeInflow(node, s) => s * ws.heat_net[*node],

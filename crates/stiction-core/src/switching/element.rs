@@ -263,7 +263,7 @@ pub trait SwitchingElement: Send + Sync {
     fn is_free(&self, _signals: &[f64]) -> bool {
         false
     }
-    /// Its relations at `v`, from their previous values (literal at initialization); by
+    /// Its relations at `v`, from their previous values (from none at initialization); by
     /// default one, `w > 0`.
     fn relations(&self, previous: RelationSet, v: &ElementValues, initial: bool) -> RelationSet {
         previous.update(&[v.w], initial)

@@ -68,7 +68,7 @@ pub fn relation_functions(q: &Quantities) -> [f64; 8] {
     ]
 }
 
-/// The relations at `q`, from their previous values (literal at initialization).
+/// The relations at `q`, from their previous values (from none at initialization).
 pub fn relations(previous: Relations, q: &Quantities, initial: bool) -> Relations {
     previous.update(&relation_functions(q), initial)
 }

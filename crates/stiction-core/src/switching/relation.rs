@@ -48,14 +48,14 @@ impl RelationSet {
     }
 
     /// The relations `g[i] > 0` from these previous values (see `update`); the others keep theirs.
+    /// At initialization there is no previous value: a relation starts false and is true only
+    /// once `g` clears the band, as it would become true afterwards. A `g` within the band is
+    /// round-off of a quantity that is zero exactly (a relative position computed from absolute
+    /// ones), and comparing it literally made the sign of the last bit a start condition.
     pub fn update(self, g: &[f64], initial: bool) -> Self {
         let mut next = self;
         for (i, &g) in g.iter().enumerate() {
-            next.0[i] = if initial {
-                g > 0.0
-            } else {
-                hysteresis(self.0[i], g)
-            };
+            next.0[i] = hysteresis(!initial && self.0[i], g);
         }
         next
     }
@@ -102,6 +102,9 @@ mod tests {
         }
         let previous = RelationSet([false, true, false, false, false, false, false, false]);
         assert_eq!(previous.update(&[0.0, 0.0], true), RelationSet::default());
+        // at initialization a round-off g is no start condition, a real one is
+        let start = previous.update(&[0.5 * EVENT_EPSILON, 2.0 * EVENT_EPSILON], true);
+        assert!(!start.get(0) && start.get(1));
         assert_eq!(previous.update(&[0.0, 0.0], false), previous);
     }
 }

@@ -372,6 +372,15 @@ impl Builder {
         self.sys.thermal.links.len() - 1
     }
 
+    /// A radiation link, recorded with its component: the assembly refuses it by name where
+    /// it touches a node whose temperature is algebraic.
+    pub fn add_radiation_link(&mut self, link: Link) -> usize {
+        let k = self.add_heat_link(link);
+        let owner = self.name().to_string();
+        self.sys.thermal.radiation.push((k, owner));
+        k
+    }
+
     pub fn init_angle(&mut self, rel: Rel, value: InitValue, variable: &str) {
         let eq = self.start_value(rel, value, variable);
         self.sys.init_phi.push(eq);

@@ -1,9 +1,10 @@
 //! The Modelica.Blocks components: sources and math (`sources_math`), the time table
-//! (`timetable`), and their registry here.
+//! (`timetable`), the table of a signal and Abs (`tables`), and their registry here.
 
 use super::Entry;
 
 mod sources_math;
+mod tables;
 mod timetable;
 
 /// All signal component types.
@@ -67,5 +68,17 @@ pub const REGISTRY: &[Entry] = &[
         "Modelica.Blocks.Sources.TimeTable",
         "Generate a piecewise linear signal from a table or CSV file",
         timetable::time_table,
+    ),
+    Entry::new(
+        "CombiTable1Ds",
+        "Modelica.Blocks.Tables.CombiTable1Ds",
+        "Table look-up in one dimension (matrix) with one input and n outputs",
+        tables::combi_table_1ds,
+    ),
+    Entry::new(
+        "Abs",
+        "Modelica.Blocks.Math.Abs",
+        "Output the absolute value of the input",
+        tables::abs,
     ),
 ];

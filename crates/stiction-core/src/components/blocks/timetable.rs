@@ -71,7 +71,7 @@ impl TimeTable {
 }
 
 /// Names of the outputs of a table of several columns (port names are static).
-const Y: [&str; 32] = [
+pub(super) const Y: [&str; 32] = [
     "y[1]", "y[2]", "y[3]", "y[4]", "y[5]", "y[6]", "y[7]", "y[8]", "y[9]", "y[10]", "y[11]",
     "y[12]", "y[13]", "y[14]", "y[15]", "y[16]", "y[17]", "y[18]", "y[19]", "y[20]", "y[21]",
     "y[22]", "y[23]", "y[24]", "y[25]", "y[26]", "y[27]", "y[28]", "y[29]", "y[30]", "y[31]",

@@ -183,6 +183,10 @@ impl Layout {
         let diff = self.derived(Key::Diff(a, b), Op::Diff { dst: 0, a, b });
         match link.g {
             Conductance::Constant(g) => self.scale(diff, s * g),
+            // returned above (before the difference)
+            Conductance::Radiation(_) => {
+                self.eval(Key::Eval(2, k, s.to_bits()), &Out::HeatLinkFlow(k, s))
+            }
             Conductance::Signal(slot) => {
                 let g = self.scaled_read(sys, Array::Signals, slot, s);
                 self.derived(

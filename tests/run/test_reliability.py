@@ -66,6 +66,7 @@ def test_ctrl_c_interrupts_a_long_run_promptly(ctrl_c_acts):
     import time
 
     model = st.Model.load(MSL / "CoupledClutches.toml")
+    model.simulate()  # the first run's imports happen before the interrupt, not during it
     timer = threading.Timer(0.3, _thread.interrupt_main)
     started = time.perf_counter()
     timer.start()
@@ -84,6 +85,9 @@ def test_ctrl_c_interrupts_a_sweep_inside_its_runs(ctrl_c_acts):
     import time
 
     model = st.Model.load(MSL / "CoupledClutches.toml")
+    # a short sweep first: the interrupt must land in the runs, not in the first import of
+    # pandas a sweep makes (a module half imported stays broken for the rest of the process)
+    st.sweep(model, {"clutch1.fn_max": [10.0, 20.0]}, ["max(J1.w)"], workers=2, progress=False)
     variants = {"clutch1.fn_max": [10.0, 20.0, 30.0, 40.0], "StopTime": [20_000.0] * 4, "Interval": [1.0] * 4}
     timer = threading.Timer(0.3, _thread.interrupt_main)
     started = time.perf_counter()

@@ -85,6 +85,8 @@ pub struct ThermalNet {
 #[derive(Debug, Clone)]
 pub struct TemperatureTap {
     pub owner: String,
+    /// What reads it, for messages ("its torque", "its wear").
+    pub reader: &'static str,
     pub node: usize,
     pub slot: usize,
 }

@@ -332,11 +332,28 @@ impl Builder {
 
     /// A signal slot that holds the temperature of heat node `node` (a law's input).
     pub fn temperature_tap(&mut self, node: usize) -> usize {
+        self.temperature_tap_for(node, "its torque")
+    }
+
+    /// The same for `reader` (named in messages: "its wear").
+    pub fn temperature_tap_for(&mut self, node: usize, reader: &'static str) -> usize {
         let slot = self.sys.signals.slots;
         self.sys.signals.slots += 1;
         let owner = self.name().to_string();
-        (self.sys.thermal.taps).push(crate::thermal::TemperatureTap { owner, node, slot });
+        let tap = crate::thermal::TemperatureTap {
+            owner,
+            reader,
+            node,
+            slot,
+        };
+        self.sys.thermal.taps.push(tap);
         slot
+    }
+
+    /// Adds a worn element's wear state; gives its index among the worn elements.
+    pub fn add_wear(&mut self, wear: crate::wear::Wear) -> usize {
+        self.sys.wear.push(wear);
+        self.sys.wear.len() - 1
     }
 
     pub fn add_heat_capacity(&mut self, node: usize, c: f64, init: InitValue) {

@@ -3,6 +3,7 @@
 //! normal force). They share `FrictionElem`; the Boolean logic is in `logic`.
 
 pub mod lossy_gear;
+pub(crate) mod wear;
 
 use super::{heat_port, with_support, Component, Entry, Ports};
 use crate::components::decl::{PEAK, PHI_REL, USE_HEAT_PORT, USE_SUPPORT, W_REL, W_SMALL};
@@ -21,6 +22,8 @@ pub(crate) struct FrictionParams {
     pub fn_max: f64,
     pub w_small: f64,
     pub use_heat_port: bool,
+    /// The `wear` record (a stiction extension), if given.
+    pub wear: Option<wear::WearConfig>,
 }
 
 /// The names a friction element reports under, by domain (MSL's Rotational and Translational
@@ -71,14 +74,17 @@ fn read_params(p: &Params) -> ModelResult<FrictionParams> {
         "coefficients",
     )?;
     let peak = p.at_least("peak", p.real(PEAK, 1.0)?, 1.0)?;
-    Ok(FrictionParams {
+    let mut params = FrictionParams {
         mu_pos,
         peak,
         cgeo: p.at_least("cgeo", p.real(CGEO, 1.0)?, 0.0)?,
         fn_max: p.at_least("fn_max", p.required(FN_MAX)?, 0.0)?,
         w_small: p.positive("w_small", p.real(W_SMALL, 1.0e10)?)?,
         use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
-    })
+        wear: None,
+    };
+    params.wear = wear::read_wear(p, false, params.use_heat_port)?;
+    Ok(params)
 }
 
 /// The declaration of a friction table's `extrapolation`.
@@ -313,6 +319,9 @@ fn add_elem(
         stop: None,
     }));
     friction_outputs(b, k, slot, heat, one_way.is_some(), names);
+    if let Some(config) = &p.wear {
+        wear::attach(b, k, config, heat)?;
+    }
     Ok(k)
 }
 
@@ -341,6 +350,7 @@ fn bearing_friction(p: &Params) -> ModelResult<Box<dyn Component>> {
         fn_max: 1.0,
         w_small: p.positive("w_small", p.real(W_SMALL, 1.0e10)?)?,
         use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
+        wear: None,
     };
     Ok(Box::new(Brake {
         p: params,

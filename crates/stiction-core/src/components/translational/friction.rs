@@ -3,6 +3,7 @@
 //! MSL's translational names (`f`, `f0`, `f0_max`, `s`, `v`) and units. No stick/slip logic
 //! lives here: only the parameter declarations of the translational classes.
 
+use crate::components::friction::wear::read_wear;
 use crate::components::friction::{friction_table, Brake, FrictionParams, TRANSLATIONAL};
 use crate::components::{decl::USE_HEAT_PORT, Component, Entry};
 use crate::error::ModelResult;
@@ -38,13 +39,15 @@ fn brake(p: &Params) -> ModelResult<Box<dyn Component>> {
         p.required("fn_max [N] Maximum normal force")?,
         0.0,
     )?;
+    let use_heat_port = p.boolean(USE_HEAT_PORT, false)?;
     let params = FrictionParams {
         mu_pos,
         peak,
         cgeo,
         fn_max,
         w_small: v_small(p)?,
-        use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
+        use_heat_port,
+        wear: read_wear(p, true, use_heat_port)?,
     };
     Ok(Box::new(Brake {
         p: params,
@@ -79,6 +82,7 @@ fn support_friction(p: &Params) -> ModelResult<Box<dyn Component>> {
         fn_max: 1.0,
         w_small: v_small(p)?,
         use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
+        wear: None,
     };
     Ok(Box::new(Brake {
         p: params,

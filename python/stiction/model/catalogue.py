@@ -33,6 +33,7 @@ _ANNOTATIONS = {
     "Boolean start value": "bool | StartValue",
     "String": "str | os.PathLike[str]",
     "vector": "float | Sequence[float]",
+    "record": "Mapping[str, Any]",
 }
 
 
@@ -144,6 +145,8 @@ class Parameter:
         parts = [self.kind + _unit_text(self.unit)]
         if self.required:
             parts.append("required")
+        elif self.kind == "record":
+            parts.append("optional")
         elif self.default is not None:
             what = {"start value": "start (a guess unless given)", "Boolean start value": "start"}
             what = what.get(self.kind, "default")
@@ -222,7 +225,7 @@ class ComponentInfo:
         for p in self.parameters:
             default: Any = inspect.Parameter.empty if p.required else p.default
             annotation = p.annotation
-            if "start" in p.kind or p.kind == "String":
+            if "start" in p.kind or p.kind in ("String", "record"):
                 default, annotation = None, f"{annotation} | None"  # not given: a guess / no file
             params.append(
                 inspect.Parameter(

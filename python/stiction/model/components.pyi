@@ -1595,6 +1595,8 @@ class Brake(_Factory):
         Relative speed above which a speed jump reverses sliding directly
     useHeatPort : Boolean, default false
         true: enable the heatPort connector (else the loss power goes nowhere)
+    wear : record, optional
+        Wear model (a stiction extension): { model = "archard", k, H, r_eff }, { model = "energy", alpha } or { model = "arrhenius", alpha0, k0, E, T_threshold }, each optionally with A [m2] and thickness [m] (then `thickness` is reported), thickness_min [m] (the run stops with an error when reached) and nominal [m3]
     useSupport : Boolean, default false
         true: enable the support connector (else the housing is fixed at angle 0)
 
@@ -1644,6 +1646,7 @@ class Brake(_Factory):
         fn_max: float = ...,
         w_small: float = ...,
         useHeatPort: bool = ...,
+        wear: Mapping[str, Any] = ...,
         useSupport: bool = ...,
     ) -> None: ...
 
@@ -1668,6 +1671,8 @@ class Clutch(_Factory):
         Relative speed above which a speed jump reverses sliding directly
     useHeatPort : Boolean, default false
         true: enable the heatPort connector (else the loss power goes nowhere)
+    wear : record, optional
+        Wear model (a stiction extension): { model = "archard", k, H, r_eff }, { model = "energy", alpha } or { model = "arrhenius", alpha0, k0, E, T_threshold }, each optionally with A [m2] and thickness [m] (then `thickness` is reported), thickness_min [m] (the run stops with an error when reached) and nominal [m3]
     phi_rel : start value [rad] (displayUnit deg), start (a guess unless given) 0
         Relative rotation angle flange_b.phi - flange_a.phi (start value)
     w_rel : start value [rad/s], start (a guess unless given) 0
@@ -1716,6 +1721,7 @@ class Clutch(_Factory):
         fn_max: float = ...,
         w_small: float = ...,
         useHeatPort: bool = ...,
+        wear: Mapping[str, Any] = ...,
         phi_rel: float | StartValue = ...,
         w_rel: float | StartValue = ...,
     ) -> None: ...
@@ -1803,6 +1809,8 @@ class OneWayClutch(_Factory):
         Relative speed above which a speed jump reverses sliding directly
     useHeatPort : Boolean, default false
         true: enable the heatPort connector (else the loss power goes nowhere)
+    wear : record, optional
+        Wear model (a stiction extension): { model = "archard", k, H, r_eff }, { model = "energy", alpha } or { model = "arrhenius", alpha0, k0, E, T_threshold }, each optionally with A [m2] and thickness [m] (then `thickness` is reported), thickness_min [m] (the run stops with an error when reached) and nominal [m3]
     phi_rel : start value [rad] (displayUnit deg), start (a guess unless given) 0
         Relative rotation angle flange_b.phi - flange_a.phi (start value)
     w_rel : start value [rad/s], start (a guess unless given) 0
@@ -1854,6 +1862,7 @@ class OneWayClutch(_Factory):
         fn_max: float = ...,
         w_small: float = ...,
         useHeatPort: bool = ...,
+        wear: Mapping[str, Any] = ...,
         phi_rel: float | StartValue = ...,
         w_rel: float | StartValue = ...,
         stuck: bool | StartValue = ...,

@@ -121,7 +121,7 @@ class Brake(_Factory):
         true: enable the heatPort connector (else the loss power goes nowhere)
     v_small : Real [m/s], default 0.001, > 0
         Relative velocity near to zero (see model info text)
-    wear : record, optional
+    wear : record, default {}
         Wear model (a stiction extension): { model = "archard", k, H, r_eff }, { model = "energy", alpha } or { model = "arrhenius", alpha0, k0, E, T_threshold }, each optionally with A [m2] and thickness [m] (then `thickness` is reported), thickness_min [m] (the run stops with an error when reached) and nominal [m3]
     useSupport : Boolean, default false
         true: enable the support connector (else the housing is fixed at position 0)

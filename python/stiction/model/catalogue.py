@@ -145,8 +145,6 @@ class Parameter:
         parts = [self.kind + _unit_text(self.unit)]
         if self.required:
             parts.append("required")
-        elif self.kind == "record":
-            parts.append("optional")
         elif self.default is not None:
             what = {"start value": "start (a guess unless given)", "Boolean start value": "start"}
             what = what.get(self.kind, "default")

@@ -1595,7 +1595,7 @@ class Brake(_Factory):
         Relative speed above which a speed jump reverses sliding directly
     useHeatPort : Boolean, default false
         true: enable the heatPort connector (else the loss power goes nowhere)
-    wear : record, optional
+    wear : record, default {}
         Wear model (a stiction extension): { model = "archard", k, H, r_eff }, { model = "energy", alpha } or { model = "arrhenius", alpha0, k0, E, T_threshold }, each optionally with A [m2] and thickness [m] (then `thickness` is reported), thickness_min [m] (the run stops with an error when reached) and nominal [m3]
     useSupport : Boolean, default false
         true: enable the support connector (else the housing is fixed at angle 0)
@@ -1671,7 +1671,7 @@ class Clutch(_Factory):
         Relative speed above which a speed jump reverses sliding directly
     useHeatPort : Boolean, default false
         true: enable the heatPort connector (else the loss power goes nowhere)
-    wear : record, optional
+    wear : record, default {}
         Wear model (a stiction extension): { model = "archard", k, H, r_eff }, { model = "energy", alpha } or { model = "arrhenius", alpha0, k0, E, T_threshold }, each optionally with A [m2] and thickness [m] (then `thickness` is reported), thickness_min [m] (the run stops with an error when reached) and nominal [m3]
     phi_rel : start value [rad] (displayUnit deg), start (a guess unless given) 0
         Relative rotation angle flange_b.phi - flange_a.phi (start value)
@@ -1809,7 +1809,7 @@ class OneWayClutch(_Factory):
         Relative speed above which a speed jump reverses sliding directly
     useHeatPort : Boolean, default false
         true: enable the heatPort connector (else the loss power goes nowhere)
-    wear : record, optional
+    wear : record, default {}
         Wear model (a stiction extension): { model = "archard", k, H, r_eff }, { model = "energy", alpha } or { model = "arrhenius", alpha0, k0, E, T_threshold }, each optionally with A [m2] and thickness [m] (then `thickness` is reported), thickness_min [m] (the run stops with an error when reached) and nominal [m3]
     phi_rel : start value [rad] (displayUnit deg), start (a guess unless given) 0
         Relative rotation angle flange_b.phi - flange_a.phi (start value)

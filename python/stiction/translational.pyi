@@ -117,10 +117,10 @@ class Brake(_Factory):
         Geometry constant containing friction distribution assumption
     fn_max : Real [N], required, >= 0
         Maximum normal force
-    useHeatPort : Boolean, default false
-        true: enable the heatPort connector (else the loss power goes nowhere)
     v_small : Real [m/s], default 0.001, > 0
         Relative velocity near to zero (see model info text)
+    useHeatPort : Boolean, default false
+        true: enable the heatPort connector (else the loss power goes nowhere)
     wear : record, default {}
         Wear model (a stiction extension): { model = "archard", k, H, r_eff }, { model = "energy", alpha } or { model = "arrhenius", alpha0, k0, E, T_threshold }, each optionally with A [m2] and thickness [m] (then `thickness` is reported), thickness_min [m] (the run stops with an error when reached) and nominal [m3]
     useSupport : Boolean, default false
@@ -151,6 +151,8 @@ class Brake(_Factory):
     - startBackward
     - heatPort.T [K] (displayUnit degC)
     - heatPort.Q_flow [W]
+    - wearVolume [m3]
+    - thickness [m]
     - s [m]
     - v [m/s]
     - a [m/s2]
@@ -170,8 +172,8 @@ class Brake(_Factory):
         peak: float = ...,
         cgeo: float = ...,
         fn_max: float = ...,
-        useHeatPort: bool = ...,
         v_small: float = ...,
+        useHeatPort: bool = ...,
         wear: Mapping[str, Any] = ...,
         useSupport: bool = ...,
     ) -> None: ...

@@ -40,6 +40,7 @@ def test_energy_wear_of_a_stop_and_the_thickness_left() -> None:
     volume = alpha * J * W0**2 / 2
     assert r["brake.wearVolume"][-1] == pytest.approx(volume, rel=1e-10)
     assert r["brake.thickness"][-1] == pytest.approx(h0 - volume / area, rel=1e-12)
+    assert (r.unit("brake.wearVolume"), r.unit("brake.thickness")) == ("m3", "m")
     audit = r.audit()
     assert audit.ok(), audit.worst
 

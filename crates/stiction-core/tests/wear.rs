@@ -278,3 +278,31 @@ fn bad_wear_records_are_refused_by_name() {
     let wear = r#"{ model = "arrhenius", k0 = 1e-9, E = 5e4, T_threshold = 500 }"#;
     refused(wear, algebraic, &["its wear depends on the temperature"]);
 }
+
+/// A Clutch engaging two inertias at different speeds wears alpha times the energy its slip
+/// dissipates, `J1·J2/(J1 + J2)·Δw²/2`, and nothing once they turn together.
+#[test]
+fn a_clutch_wears_alpha_times_its_slip_energy() {
+    let (j1, j2, w1, w2, alpha) = (1.5, 0.5, 40.0, 10.0, 2e-13);
+    let text = format!(
+        r#"
+name = "engage"
+connect = [["J1.flange_b", "clutch.flange_a"], ["clutch.flange_b", "J2.flange_a"], ["press.y", "clutch.f_normalized"]]
+
+[experiment]
+StopTime = 1.0
+Interval = 0.01
+Tolerance = 1e-8
+
+[components]
+J1 = {{ type = "Inertia", J = {j1}, phi = 0.0, w = {w1} }}
+J2 = {{ type = "Inertia", J = {j2}, phi = 0.0, w = {w2} }}
+clutch = {{ type = "Clutch", fn_max = 500.0, cgeo = 0.1, mu_pos = [[0.0, 0.3]], wear = {{ model = "energy", alpha = {alpha} }} }}
+press = {{ type = "Constant", k = 1.0 }}
+"#
+    );
+    let r = run(&text).unwrap();
+    let dw = w1 - w2;
+    let want = alpha * j1 * j2 / (j1 + j2) * dw * dw / 2.0;
+    assert_rel("wearVolume", last(&r, "clutch.wearVolume"), want, 1e-10);
+}

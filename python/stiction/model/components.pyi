@@ -1625,6 +1625,8 @@ class Brake(_Factory):
     - startBackward
     - heatPort.T [K] (displayUnit degC)
     - heatPort.Q_flow [W]
+    - wearVolume [m3]
+    - thickness [m]
     - phi [rad] (displayUnit deg)
     - w [rad/s]
     - a [rad/s2]
@@ -1702,6 +1704,8 @@ class Clutch(_Factory):
     - startBackward
     - heatPort.T [K] (displayUnit degC)
     - heatPort.Q_flow [W]
+    - wearVolume [m3]
+    - thickness [m]
     - phi_rel [rad] (displayUnit deg)
     - w_rel [rad/s]
     - a_rel [rad/s2]
@@ -1843,6 +1847,8 @@ class OneWayClutch(_Factory):
     - stuck
     - heatPort.T [K] (displayUnit degC)
     - heatPort.Q_flow [W]
+    - wearVolume [m3]
+    - thickness [m]
     - phi_rel [rad] (displayUnit deg)
     - w_rel [rad/s]
     - a_rel [rad/s2]

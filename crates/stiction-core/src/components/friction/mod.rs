@@ -74,17 +74,15 @@ fn read_params(p: &Params) -> ModelResult<FrictionParams> {
         "coefficients",
     )?;
     let peak = p.at_least("peak", p.real(PEAK, 1.0)?, 1.0)?;
-    let mut params = FrictionParams {
+    Ok(FrictionParams {
         mu_pos,
         peak,
         cgeo: p.at_least("cgeo", p.real(CGEO, 1.0)?, 0.0)?,
         fn_max: p.at_least("fn_max", p.required(FN_MAX)?, 0.0)?,
         w_small: p.positive("w_small", p.real(W_SMALL, 1.0e10)?)?,
         use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
-        wear: None,
-    };
-    params.wear = wear::read_wear(p, false, params.use_heat_port)?;
-    Ok(params)
+        wear: wear::read_wear(p, false)?,
+    })
 }
 
 /// The declaration of a friction table's `extrapolation`.

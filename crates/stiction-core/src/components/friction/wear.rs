@@ -3,6 +3,7 @@
 //! build time as a state of the run (`crate::wear`), reported as `wearVolume` (and `thickness`
 //! where the pad's area and thickness are given).
 
+use crate::components::decl::USE_HEAT_PORT;
 use crate::error::ModelResult;
 use crate::model::Params;
 use crate::system::{Builder, Out};
@@ -36,16 +37,13 @@ fn model_keys(model: &str, translational: bool) -> Option<&'static [&'static str
 
 const COMMON: &[&str] = &["model", "A", "thickness", "thickness_min", "nominal"];
 
-/// Reads `wear`: None when not given. `use_heat_port`: whether the element has a heat port
-/// (the Arrhenius model reads its temperature).
-pub(crate) fn read_wear(
-    p: &Params,
-    translational: bool,
-    use_heat_port: bool,
-) -> ModelResult<Option<WearConfig>> {
+/// Reads `wear` (after `useHeatPort`: the Arrhenius model reads the heat port's temperature);
+/// None when not given.
+pub(crate) fn read_wear(p: &Params, translational: bool) -> ModelResult<Option<WearConfig>> {
     let Some(t) = p.record(WEAR)? else {
         return Ok(None);
     };
+    let use_heat_port = p.boolean(USE_HEAT_PORT, false)?;
     let err = |m: String| p.error("wear", m);
     let model = match t.get("model").map(|v| v.as_str()) {
         Some(Some(m)) => m,

@@ -39,15 +39,14 @@ fn brake(p: &Params) -> ModelResult<Box<dyn Component>> {
         p.required("fn_max [N] Maximum normal force")?,
         0.0,
     )?;
-    let use_heat_port = p.boolean(USE_HEAT_PORT, false)?;
     let params = FrictionParams {
         mu_pos,
         peak,
         cgeo,
         fn_max,
         w_small: v_small(p)?,
-        use_heat_port,
-        wear: read_wear(p, true, use_heat_port)?,
+        use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
+        wear: read_wear(p, true)?,
     };
     Ok(Box::new(Brake {
         p: params,

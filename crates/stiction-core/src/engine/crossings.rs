@@ -26,9 +26,8 @@ fn law_base(sys: &System) -> usize {
 
 pub fn indicators(sys: &System, disc: &DiscreteState, ws: &Workspace, z: &mut [f64]) {
     let (elements, laws) = z.split_at_mut(law_base(sys));
-    let (laws, worn) = laws.split_at_mut(sys.relation_count);
-    for ((wear, z), volume) in sys.wear.iter().zip(worn).zip(&ws.wear) {
-        *z = wear.limit.map_or(NEVER, |(limit, _)| volume - limit);
+    if !sys.wear.is_empty() {
+        wear_limits(sys, ws, &mut laws[sys.relation_count..]);
     }
     for (((e, st), v), slot) in sys
         .switching
@@ -51,6 +50,14 @@ pub fn indicators(sys: &System, disc: &DiscreteState, ws: &Workspace, z: &mut [f
             let frozen = disc.relations[law.relation_base + r];
             laws[law.relation_base + r] = if frozen { -scratch[r] } else { scratch[r] };
         }
+    }
+}
+
+/// The pads' limit indicators: worn volume − the volume at `thickness_min` (NEVER without one).
+#[inline(never)]
+fn wear_limits(sys: &System, ws: &Workspace, z: &mut [f64]) {
+    for ((wear, z), volume) in sys.wear.iter().zip(z).zip(&ws.wear) {
+        *z = wear.limit.map_or(NEVER, |(limit, _)| volume - limit);
     }
 }
 

@@ -98,3 +98,19 @@ def test_the_wear_record_round_trips_through_modelica(tmp_path: Path) -> None:
         loaded = st.Result.load(path)
         assert loaded["brake.wearVolume"][-1] == pytest.approx(a["brake.wearVolume"][-1], rel=1e-12)
         assert loaded["brake.thickness"][-1] == pytest.approx(a["brake.thickness"][-1], rel=1e-12)
+
+
+def test_a_running_simulation_carries_the_wear_across_advances_and_a_restored_state() -> None:
+    """What a dynamometer schedule relies on: one Simulation, advanced and restored."""
+    alpha = 3e-13
+    sim = _stop(Energy(alpha=alpha)).simulation()
+    sim.advance_to(0.3)
+    w = W0 - MU * CGEO * FN / J * 0.3
+    assert sim.get("brake.wearVolume") == pytest.approx(alpha * J * (W0**2 - w**2) / 2, rel=1e-10)
+    saved = sim.state()
+    sim.advance_to(1.0)
+    end = sim.get("brake.wearVolume")
+    assert end == pytest.approx(alpha * J * W0**2 / 2, rel=1e-10)
+    sim.set_state(saved)
+    sim.advance_to(1.0)
+    assert sim.get("brake.wearVolume") == end

@@ -155,7 +155,11 @@ press = { type = "Sine", amplitude = 0.4, f = 0.7, offset = 0.7 }
     assert!(locked.iter().any(|&l| l > 0.5));
     for i in 1..a.len() {
         if locked[i - 1] > 0.5 && locked[i] > 0.5 {
-            assert_eq!(a[i].to_bits(), a[i - 1].to_bits(), "wear grew while held, row {i}");
+            assert_eq!(
+                a[i].to_bits(),
+                a[i - 1].to_bits(),
+                "wear grew while held, row {i}"
+            );
         }
     }
 }

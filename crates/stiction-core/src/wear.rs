@@ -4,7 +4,25 @@
 //! — and so is exactly 0 while the element is stuck (its relative speed is then 0). Nothing
 //! reads the wear back: it changes no trajectory, only adds its own states.
 
-use crate::switching::element::ElementValues;
+use crate::switching::element::{ElementValues, SwitchState};
+
+/// The wear rates of `wear` at an evaluation (the elements' discrete states, values and the
+/// signals), 0 while an element is locked. Out of line: a model without wear pays one branch.
+#[inline(never)]
+pub fn rates(
+    wear: &[Wear],
+    states: &[SwitchState],
+    elements: &[ElementValues],
+    signals: &[f64],
+    rates: &mut [f64],
+) {
+    for (w, rate) in wear.iter().zip(rates) {
+        *rate = match states[w.element].locked {
+            true => 0.0,
+            false => w.model.rate(&elements[w.element], signals),
+        };
+    }
+}
 
 /// The molar gas constant R [J/(mol·K)] of the Arrhenius law.
 pub const GAS_CONSTANT: f64 = 8.314_462_618;

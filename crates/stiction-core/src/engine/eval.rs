@@ -497,7 +497,9 @@ fn heat_and_energy(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Works
         .sum();
     ws.energy = [kinetic, potential, x[lay.loss()], x[lay.work()]];
     if !sys.wear.is_empty() {
-        wear_and_rates(sys, disc, &x[lay.wear()..], ws);
+        ws.wear.copy_from_slice(&x[lay.wear()..]);
+        let (states, rates) = (&disc.switching, &mut ws.wear_rates);
+        crate::wear::rates(&sys.wear, states, &ws.elements, &ws.signals, rates);
     }
     if sys.thermal.nodes > 0 {
         sys.thermal.temperatures(
@@ -511,21 +513,6 @@ fn heat_and_energy(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Works
             .net_inflow(&ws.temps, &ws.signals, &ws.heat_in, &mut ws.heat_net);
     }
     ws.rates = (loss, work);
-}
-
-/// The worn volumes from their states and their rates, 0 while the element is locked. Out of
-/// line: a model without wear pays one branch for it.
-#[inline(never)]
-fn wear_and_rates(sys: &System, disc: &DiscreteState, worn: &[f64], ws: &mut Workspace) {
-    ws.wear.copy_from_slice(&worn[..sys.wear.len()]);
-    for (wear, rate) in sys.wear.iter().zip(&mut ws.wear_rates) {
-        let (st, v) = (&disc.switching[wear.element], &ws.elements[wear.element]);
-        *rate = if st.locked {
-            0.0
-        } else {
-            wear.model.rate(v, &ws.signals)
-        };
-    }
 }
 
 /// The state derivative after `evaluate`.

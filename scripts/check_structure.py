@@ -45,6 +45,7 @@ LAYERS = [
     "switching",  # stick/slip and quadrant logic: the SwitchingElement trait and its kinds
     "signals",  # the run-time signal network
     "thermal",  # the run-time thermal network
+    "wear",  # pad wear of friction elements at run time
     "system",  # the assembled System and the Builder components contribute through
     "components",  # the component constructors
     "assembly",  # creating components, resolving the topology, building; CompiledModel

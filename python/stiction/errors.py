@@ -14,6 +14,7 @@ them up by name), so ``except stiction.ModelError`` catches an error from either
         ├── LimitExceededError                  a limit the user set (max_events, max_steps, timeout)
         ├── NonFiniteStateError                 the state became infinite or NaN
         ├── NegativeFrictionError               a friction table extrapolated below 0 in the run
+        ├── WearLimitError                      a worn pad reached its thickness_min
         ├── IntegratorError                     the ODE integrator failed
         └── SimulationCancelled                 the run was cancelled
 
@@ -38,6 +39,7 @@ __all__ = [
     "StepLimitError",
     "StictionError",
     "UsageError",
+    "WearLimitError",
     "core_available",
 ]
 
@@ -90,6 +92,11 @@ class NegativeFrictionError(SimulationError):
     instead."""
 
 
+class WearLimitError(SimulationError):
+    """A friction element's pad wore down to the ``thickness_min`` of its ``wear`` record; the
+    message names the element and the instant (located as a state event)."""
+
+
 class IntegratorError(SimulationError):
     """The ODE integrator failed (step size too small, nonlinear solver failures, …)."""
 
@@ -115,6 +122,7 @@ for _cls in (
     StepLimitError,
     NonFiniteStateError,
     NegativeFrictionError,
+    WearLimitError,
     IntegratorError,
     SimulationCancelled,
     EnergyWarning,

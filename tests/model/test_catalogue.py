@@ -85,7 +85,9 @@ def test_signatures_are_the_catalogue_parameters() -> None:
 def test_catalogue_variables_are_what_a_run_reports() -> None:
     m = st.Model("m")
     m.add("J", st.Inertia(J=1.0, w=1.0))
-    m.add("brake", st.Brake(fn_max=10.0, useSupport=True, useHeatPort=True))
+    # every conditional port and variable on (the wear record's `wearVolume`, `thickness`)
+    wear = st.wear.Energy(alpha=1e-13, A=1e-3, thickness=0.01)
+    m.add("brake", st.Brake(fn_max=10.0, useSupport=True, useHeatPort=True, wear=wear))
     m.add("fix", st.Fixed())
     m.add("disc", st.HeatCapacitor(C=10.0))
     m.add("f", st.Constant(k=0.5))

@@ -124,6 +124,14 @@ fn instance(entry: &Entry, params: &[ParamInfo]) -> ComponentSpec {
             ParamKind::Real if p.required => {
                 table.insert(p.name.clone(), 1.0.into());
             }
+            // a friction element's wear with a pad: its `wearVolume` and `thickness` listed
+            ParamKind::Record if p.name == "wear" => {
+                let wear = "model = \"energy\"\nalpha = 0\nA = 1\nthickness = 1";
+                table.insert(
+                    p.name.clone(),
+                    toml::from_str::<toml::Table>(wear).expect("valid").into(),
+                );
+            }
             _ => {}
         }
     }
@@ -277,6 +285,9 @@ pub fn variable_unit(name: &str) -> &'static str {
         // a table's outputs (TimeTable's several columns, CombiTable1Ds's always)
         n if n.starts_with("y[") => "1",
         "Gc" => "W/K",
+        // a friction element's wear (docs/wear.md)
+        "wearVolume" => "m3",
+        "thickness" => "m",
         _ => "",
     }
 }

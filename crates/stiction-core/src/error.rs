@@ -71,6 +71,14 @@ pub enum SimError {
         element: String,
         message: String,
     },
+    /// A worn pad reached its `thickness_min` (the `wear` record): the run stops there.
+    #[error("at t = {time}: '{element}': the pad wore down to thickness_min = {thickness_min} m (worn volume {volume} m3)")]
+    WearLimit {
+        time: f64,
+        element: String,
+        thickness_min: f64,
+        volume: f64,
+    },
     /// The ODE integrator itself failed (step size too small, nonlinear solver failures, …).
     #[error("at t = {time}: integrator: {message}")]
     Integrator { time: f64, message: String },
@@ -95,6 +103,7 @@ impl SimError {
             SimError::Limit { .. } => "LimitExceededError",
             SimError::NonFiniteState { .. } => "NonFiniteStateError",
             SimError::NegativeFriction { .. } => "NegativeFrictionError",
+            SimError::WearLimit { .. } => "WearLimitError",
             SimError::Integrator { .. } => "IntegratorError",
             SimError::Cancelled { .. } => "SimulationCancelled",
             SimError::Usage(_) => "UsageError",

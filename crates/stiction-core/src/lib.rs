@@ -25,6 +25,8 @@ mod switching;
 mod signals;
 // the run-time thermal network
 mod thermal;
+// pad wear of friction elements at run time
+mod wear;
 // the assembled System and the Builder components contribute through
 mod system;
 // the component constructors

@@ -110,6 +110,8 @@ pub struct ThermalNet {
 #[derive(Debug, Clone)]
 pub struct TemperatureTap {
     pub owner: String,
+    /// What reads it, for messages ("its torque", "its wear").
+    pub reader: &'static str,
     pub node: usize,
     pub slot: usize,
     /// The parameter that reads it (a Brake's `mu_T`), named when the port is not connected to

@@ -33,6 +33,7 @@ _ANNOTATIONS = {
     "Boolean start value": "bool | StartValue",
     "String": "str | os.PathLike[str]",
     "vector": "float | Sequence[float]",
+    "record": "Mapping[str, Any]",
 }
 
 
@@ -222,7 +223,7 @@ class ComponentInfo:
         for p in self.parameters:
             default: Any = inspect.Parameter.empty if p.required else p.default
             annotation = p.annotation
-            if "start" in p.kind or p.kind == "String":
+            if "start" in p.kind or p.kind in ("String", "record"):
                 default, annotation = None, f"{annotation} | None"  # not given: a guess / no file
             params.append(
                 inspect.Parameter(

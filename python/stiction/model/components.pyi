@@ -1606,6 +1606,8 @@ class Brake(_Factory):
         Beyond MSL: factor over the normal force fn on the whole friction coefficient: rows [fn, factor], linear between rows, held beyond them (default: none)
     mu_table : table [:, 2] [rad/s, 1], default [[0, 293.15], [0, 0.5]], coefficients >= 0
         Beyond MSL: friction coefficient over slip speed and temperature, in place of mu_pos and mu_T; CombiTable2D's layout: first row [_, T1, T2…] in K, then rows [w, mu(w, T1), mu(w, T2)…] for w >= 0; bilinear, held beyond the edges (default: none)
+    wear : record, default {}
+        Wear model (a stiction extension): { model = "archard", k, H, r_eff }, { model = "energy", alpha } or { model = "arrhenius", alpha0, k0, E, T_threshold }, each optionally with A [m2] and thickness [m] (then `thickness` is reported), thickness_min [m] (the run stops with an error when reached) and nominal [m3]
     useSupport : Boolean, default false
         true: enable the support connector (else the housing is fixed at angle 0)
 
@@ -1634,6 +1636,8 @@ class Brake(_Factory):
     - startBackward
     - heatPort.T [K] (displayUnit degC)
     - heatPort.Q_flow [W]
+    - wearVolume [m3]
+    - thickness [m]
     - phi [rad] (displayUnit deg)
     - w [rad/s]
     - a [rad/s2]
@@ -1659,6 +1663,7 @@ class Brake(_Factory):
         peak_T: Sequence[Sequence[float | str]] = ...,
         mu_fn: Sequence[Sequence[float | str]] = ...,
         mu_table: Sequence[Sequence[float | str]] = ...,
+        wear: Mapping[str, Any] = ...,
         useSupport: bool = ...,
     ) -> None: ...
 
@@ -1691,6 +1696,8 @@ class Clutch(_Factory):
         Beyond MSL: factor over the normal force fn on the whole friction coefficient: rows [fn, factor], linear between rows, held beyond them (default: none)
     mu_table : table [:, 2] [rad/s, 1], default [[0, 293.15], [0, 0.5]], coefficients >= 0
         Beyond MSL: friction coefficient over slip speed and temperature, in place of mu_pos and mu_T; CombiTable2D's layout: first row [_, T1, T2…] in K, then rows [w, mu(w, T1), mu(w, T2)…] for w >= 0; bilinear, held beyond the edges (default: none)
+    wear : record, default {}
+        Wear model (a stiction extension): { model = "archard", k, H, r_eff }, { model = "energy", alpha } or { model = "arrhenius", alpha0, k0, E, T_threshold }, each optionally with A [m2] and thickness [m] (then `thickness` is reported), thickness_min [m] (the run stops with an error when reached) and nominal [m3]
     phi_rel : start value [rad] (displayUnit deg), start (a guess unless given) 0
         Relative rotation angle flange_b.phi - flange_a.phi (start value)
     w_rel : start value [rad/s], start (a guess unless given) 0
@@ -1720,6 +1727,8 @@ class Clutch(_Factory):
     - startBackward
     - heatPort.T [K] (displayUnit degC)
     - heatPort.Q_flow [W]
+    - wearVolume [m3]
+    - thickness [m]
     - phi_rel [rad] (displayUnit deg)
     - w_rel [rad/s]
     - a_rel [rad/s2]
@@ -1743,6 +1752,7 @@ class Clutch(_Factory):
         peak_T: Sequence[Sequence[float | str]] = ...,
         mu_fn: Sequence[Sequence[float | str]] = ...,
         mu_table: Sequence[Sequence[float | str]] = ...,
+        wear: Mapping[str, Any] = ...,
         phi_rel: float | StartValue = ...,
         w_rel: float | StartValue = ...,
     ) -> None: ...
@@ -1838,6 +1848,8 @@ class OneWayClutch(_Factory):
         Beyond MSL: factor over the normal force fn on the whole friction coefficient: rows [fn, factor], linear between rows, held beyond them (default: none)
     mu_table : table [:, 2] [rad/s, 1], default [[0, 293.15], [0, 0.5]], coefficients >= 0
         Beyond MSL: friction coefficient over slip speed and temperature, in place of mu_pos and mu_T; CombiTable2D's layout: first row [_, T1, T2…] in K, then rows [w, mu(w, T1), mu(w, T2)…] for w >= 0; bilinear, held beyond the edges (default: none)
+    wear : record, default {}
+        Wear model (a stiction extension): { model = "archard", k, H, r_eff }, { model = "energy", alpha } or { model = "arrhenius", alpha0, k0, E, T_threshold }, each optionally with A [m2] and thickness [m] (then `thickness` is reported), thickness_min [m] (the run stops with an error when reached) and nominal [m3]
     phi_rel : start value [rad] (displayUnit deg), start (a guess unless given) 0
         Relative rotation angle flange_b.phi - flange_a.phi (start value)
     w_rel : start value [rad/s], start (a guess unless given) 0
@@ -1870,6 +1882,8 @@ class OneWayClutch(_Factory):
     - stuck
     - heatPort.T [K] (displayUnit degC)
     - heatPort.Q_flow [W]
+    - wearVolume [m3]
+    - thickness [m]
     - phi_rel [rad] (displayUnit deg)
     - w_rel [rad/s]
     - a_rel [rad/s2]
@@ -1893,6 +1907,7 @@ class OneWayClutch(_Factory):
         peak_T: Sequence[Sequence[float | str]] = ...,
         mu_fn: Sequence[Sequence[float | str]] = ...,
         mu_table: Sequence[Sequence[float | str]] = ...,
+        wear: Mapping[str, Any] = ...,
         phi_rel: float | StartValue = ...,
         w_rel: float | StartValue = ...,
         stuck: bool | StartValue = ...,

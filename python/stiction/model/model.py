@@ -473,8 +473,11 @@ class Model:
 
     @classmethod
     def load(cls, path: str | os.PathLike[str]) -> Model:
-        """Read a model file; its folder becomes the base of relative file names."""
+        """Read a model file (TOML, or Modelica when it ends in ``.mo``, as ``from_modelica``);
+        its folder becomes the base of relative file names."""
         path = Path(path)
+        if path.suffix == ".mo":
+            return cls.from_modelica(path)
         text = path.read_text(encoding="utf-8")
         try:
             return cls.loads(

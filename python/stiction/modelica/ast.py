@@ -39,6 +39,8 @@ class Declaration:
     binding: Expr | None = None
     description: str = ""
     refused: bool = False  # read past an error the parser reported (conditional, array, …)
+    # stiction's own annotations of the component (``__stiction_wear(…)``); graphics are skipped
+    annotation: list[Modification] = field(default_factory=list)
 
 
 @dataclass

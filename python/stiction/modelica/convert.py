@@ -32,6 +32,7 @@ from stiction.modelica.names import (
     MSL_CLASSES,
     PARAMETER_RENAMES,
     TYPE_OF,
+    WEAR_ANNOTATION,
     Scope,
     is_enumeration,
     is_icon,
@@ -411,6 +412,13 @@ class _Converter(ConnectionSets):
             if key is not None:
                 params[key] = value
                 self.positions[(name, key)] = mod.pos
+        for mod in decl.annotation:
+            if mod.name == WEAR_ANNOTATION:
+                params["wear"] = {  # `kind`: the record's `model`, a keyword in Modelica
+                    "model" if sub.name == "kind" else sub.name: python_value(self.expression(sub.value))
+                    for sub in mod.args or []
+                    if sub.value is not None
+                }
         if PHI_NOMINAL in params:
             with_phi_nominal(params, params.pop(PHI_NOMINAL))
         if stype == "CombiTimeTable":

@@ -21,7 +21,7 @@ from stiction.model.components import START_VARIABLES
 from stiction.model.names import owner
 from stiction.model.parameters import is_expr, is_table
 from stiction.model.quantities import is_quantity, si_base
-from stiction.modelica.names import FADE_CLASSES, FADE_PARAMETERS, MSL_CLASSES
+from stiction.modelica.names import FADE_CLASSES, FADE_PARAMETERS, MSL_CLASSES, WEAR_ANNOTATION
 from stiction.modelica.timetable import COMBI_CLASS, time_table_modifiers
 
 if TYPE_CHECKING:
@@ -113,9 +113,20 @@ def _declaration(model: Model, name: str, ctype: str, params: dict[str, Any]) ->
         cls = FADE_CLASSES[ctype]  # beyond the MSL (docs/fade.md)
     if _is_combi(model, name):
         cls, params = COMBI_CLASS, time_table_modifiers(params, _table_rows(model, name, params))
+    wear = params.get("wear")
+    params = {k: v for k, v in params.items() if k != "wear"}
     starts = _start_variables(ctype)
     mods = [_modifier(key, value, key in starts) for key, value in params.items()]
-    return f"{cls} {_quoted(name)}({', '.join(mods)})" if mods else f"{cls} {_quoted(name)}"
+    text = f"{cls} {_quoted(name)}({', '.join(mods)})" if mods else f"{cls} {_quoted(name)}"
+    return text + _wear_annotation(wear) if wear else text
+
+
+def _wear_annotation(wear: Mapping[str, Any]) -> str:
+    """A friction element's wear record as stiction's own annotation, which other tools
+    ignore: `` annotation(__stiction_wear(kind="energy", alpha=2e-13))`` (docs/wear.md; the
+    record's `model` is `kind` there, `model` being a Modelica keyword)."""
+    args = ", ".join(f"{'kind' if k == 'model' else k}={format_literal(v)}" for k, v in wear.items())
+    return f" annotation({WEAR_ANNOTATION}({args}))"
 
 
 def _parameter(name: str, value: Any, declared: Mapping[str, Any]) -> str:

@@ -22,6 +22,7 @@ __all__ = [
     "OWN_COMPONENTS",
     "PARAMETER_RENAMES",
     "TYPE_OF",
+    "WEAR_ANNOTATION",
     "Scope",
     "is_enumeration",
     "is_icon",
@@ -31,6 +32,8 @@ __all__ = [
 _ROT = "Modelica.Mechanics.Rotational"
 _TRANS = "Modelica.Mechanics.Translational"
 _HEAT = "Modelica.Thermal.HeatTransfer"
+# a friction element's `wear` record (a stiction extension) as a component annotation
+WEAR_ANNOTATION = "__stiction_wear"
 OWN_COMPONENTS = ("SlipWheel",)  # beyond the MSL: exported as Stiction.Components.<type>
 
 # stiction type -> MSL class (the name export writes)

@@ -324,8 +324,16 @@ class _Parser(ExpressionParser):
         if self.kinds[self.i] == "string":
             decl.description = self.string_comment()
         if texts[self.i] == "annotation":
-            self.skip_annotation()
+            if self.own_annotation():
+                decl.annotation = self.annotation()
+            else:
+                self.skip_annotation()
         return decl
+
+    def own_annotation(self) -> bool:
+        """Whether the annotation ahead carries one of stiction's own entries at its top
+        (``annotation(__stiction_wear(…))``, as the exporter writes it): then it is parsed."""
+        return self.texts[self.i + 1] == "(" and self.texts[self.i + 2].startswith("__stiction_")
 
     # --- modifications ----------------------------------------------------------------
     def class_modification(self) -> list[Modification]:

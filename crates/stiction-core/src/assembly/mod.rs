@@ -205,6 +205,7 @@ fn builder(spec: &SpecView, topo: &Topology) -> Builder {
             inputs: topo.inputs.clone(),
             followers: Vec::new(),
             derived: Default::default(),
+            wear: Vec::new(),
         },
         flanges: FlangeBuilder::default(),
         fixed_temperature: vec![None; heat_nodes],
@@ -363,7 +364,8 @@ fn finish_thermal(b: &mut Builder) -> ModelResult<()> {
             return Err(ModelError::Component {
                 component: tap.owner.clone(),
                 message: format!(
-                    "its torque depends on the temperature of heat port '{}', which is neither a HeatCapacitor's nor fixed: it would depend on the component's own loss (an algebraic loop stiction does not solve); connect a HeatCapacitor or a FixedTemperature, or set useHeatPort = false",
+                    "{} depends on the temperature of heat port '{}', which is neither a HeatCapacitor's nor fixed: it would depend on the component's own loss (an algebraic loop stiction does not solve); connect a HeatCapacitor or a FixedTemperature, or set useHeatPort = false",
+                    tap.reader,
                     net.node_ports[tap.node].join(", ")
                 ),
             });

@@ -5,14 +5,19 @@
 //! noise in its relative speed.
 
 use crate::engine::eval::{DiscreteState, Workspace};
-use crate::switching::element::INDICATORS;
+use crate::switching::element::{INDICATORS, NEVER};
 use crate::system::law::MAX_LAW_RELATIONS;
 use crate::system::System;
 
 /// `INDICATORS` per switching element (what each means is the element's business), then one
-/// per law relation.
+/// per law relation, then one per worn element (its pad reaching `thickness_min`).
 pub fn indicator_count(sys: &System) -> usize {
-    INDICATORS * sys.switching.len() + sys.relation_count
+    INDICATORS * sys.switching.len() + sys.relation_count + sys.wear.len()
+}
+
+/// The worn element whose limit indicator `i` is, if it is one.
+pub fn wear_indicator(sys: &System, i: usize) -> Option<usize> {
+    i.checked_sub(law_base(sys) + sys.relation_count)
 }
 
 fn law_base(sys: &System) -> usize {
@@ -21,6 +26,9 @@ fn law_base(sys: &System) -> usize {
 
 pub fn indicators(sys: &System, disc: &DiscreteState, ws: &Workspace, z: &mut [f64]) {
     let (elements, laws) = z.split_at_mut(law_base(sys));
+    if !sys.wear.is_empty() {
+        wear_limits(sys, ws, &mut laws[sys.relation_count..]);
+    }
     for (((e, st), v), slot) in sys
         .switching
         .iter()
@@ -42,6 +50,14 @@ pub fn indicators(sys: &System, disc: &DiscreteState, ws: &Workspace, z: &mut [f
             let frozen = disc.relations[law.relation_base + r];
             laws[law.relation_base + r] = if frozen { -scratch[r] } else { scratch[r] };
         }
+    }
+}
+
+/// The pads' limit indicators: worn volume − the volume at `thickness_min` (NEVER without one).
+#[inline(never)]
+fn wear_limits(sys: &System, ws: &Workspace, z: &mut [f64]) {
+    for ((wear, z), volume) in sys.wear.iter().zip(z).zip(&ws.wear) {
+        *z = wear.limit.map_or(NEVER, |(limit, _)| volume - limit);
     }
 }
 
@@ -73,6 +89,9 @@ pub fn indicator_label(sys: &System, disc: &DiscreteState, i: usize) -> String {
             e.name(),
             e.indicator_label(&disc.switching[k], slot)
         );
+    }
+    if let Some(k) = wear_indicator(sys, i) {
+        return format!("{}: thickness_min reached", sys.wear[k].name);
     }
     let r = i - law_base(sys);
     for law in &sys.laws {

@@ -79,6 +79,10 @@ pub struct Workspace {
     pub energy: [f64; 4],
     /// Rates of the last two: dissipated power and source power.
     pub rates: (f64, f64),
+    /// The worn volumes (`System::wear`), from the state, and their rates: 0 while the
+    /// element is locked (its slip then only the event band's round-off).
+    pub wear: Vec<f64>,
+    wear_rates: Vec<f64>,
     rhs: Vec<f64>,
     pub rhs_evals: usize,
 }
@@ -109,6 +113,8 @@ impl Workspace {
             heat_cache: HeatCache::default(),
             energy: [0.0; 4],
             rates: (0.0, 0.0),
+            wear: vec![0.0; sys.wear.len()],
+            wear_rates: vec![0.0; sys.wear.len()],
             rhs: Vec::new(),
             rhs_evals: 0,
         }
@@ -147,6 +153,10 @@ impl Layout {
     }
     pub fn work(&self) -> usize {
         self.loss() + 1
+    }
+    /// The first worn volume.
+    pub fn wear(&self) -> usize {
+        self.work() + 1
     }
 }
 
@@ -486,6 +496,11 @@ fn heat_and_energy(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Works
         .map(|(m, w)| 0.5 * m * w * w)
         .sum();
     ws.energy = [kinetic, potential, x[lay.loss()], x[lay.work()]];
+    if !sys.wear.is_empty() {
+        ws.wear.copy_from_slice(&x[lay.wear()..]);
+        let (states, rates) = (&disc.switching, &mut ws.wear_rates);
+        crate::wear::rates(&sys.wear, states, &ws.elements, &ws.signals, rates);
+    }
     if sys.thermal.nodes > 0 {
         sys.thermal.temperatures(
             &x[lay.temps()..lay.loss()],
@@ -511,4 +526,7 @@ pub fn derivative(sys: &System, ws: &Workspace, dx: &mut [f64]) {
     }
     dx[lay.loss()] = ws.rates.0;
     dx[lay.work()] = ws.rates.1;
+    if !sys.wear.is_empty() {
+        dx[lay.wear()..].copy_from_slice(&ws.wear_rates);
+    }
 }

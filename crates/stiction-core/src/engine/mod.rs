@@ -10,6 +10,6 @@ pub mod kkt;
 pub mod massless;
 mod mode_solver;
 
-pub use crossings::{indicator_count, indicator_label, indicators, speed_rates};
+pub use crossings::{indicator_count, indicator_label, indicators, speed_rates, wear_indicator};
 pub use iteration::{iterate, EventPoint, ModeCache};
 pub use mode_solver::ModeSolver;

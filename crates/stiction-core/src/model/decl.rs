@@ -18,6 +18,9 @@ pub enum ParamKind {
     String,
     /// One of these names.
     Choice(Vec<String>),
+    /// A table of named values, e.g. a friction element's `wear = { model = "energy", … }`;
+    /// not given (its default, an empty table) means none.
+    Record,
 }
 
 impl ParamKind {
@@ -32,6 +35,7 @@ impl ParamKind {
             ParamKind::Vector => "vector".into(),
             ParamKind::String => "String".into(),
             ParamKind::Choice(_) => "choice".into(),
+            ParamKind::Record => "record".into(),
         }
     }
 

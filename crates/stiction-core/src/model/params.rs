@@ -302,6 +302,18 @@ impl<'a> Params<'a> {
         }
     }
 
+    /// A record of named values (`wear = { model = "energy", alpha = 1e-13 }`), None when not
+    /// given; its keys are the reader's to check.
+    pub fn record(&self, decl: &'static str) -> ModelResult<Option<&'a toml::Table>> {
+        let empty = toml::Value::Table(toml::Table::new());
+        let name = self.declare(decl, ParamKind::Record, Some(empty));
+        match self.get(name) {
+            None => Ok(None),
+            Some(toml::Value::Table(t)) => Ok(Some(t)),
+            Some(v) => Err(self.error(name, format!("expected a table {{ … }}, got {v}"))),
+        }
+    }
+
     /// The number of cells in the first row of a given matrix parameter (how wide a table the
     /// user wrote), None if it is not given or not a matrix.
     pub fn matrix_width(&self, name: &str) -> Option<usize> {

@@ -107,6 +107,7 @@ pub(super) fn value(
         Out::Signal(slot) => ws.signals[*slot],
         Out::FlangeTau(p) => flange_tau.get(*p).copied().unwrap_or(f64::NAN),
         Out::HeatT(node) => ws.temps[*node],
+        Out::Wear(k, s, offset) => offset + s * ws.wear[*k],
         Out::HeatDerT(node) => sys
             .thermal
             .capacities

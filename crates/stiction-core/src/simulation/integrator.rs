@@ -275,6 +275,11 @@ pub fn absolute_tolerance(sys: &System, tolerance: f64) -> Vec<f64> {
             tolerance * capacity.init.nominal,
         );
     }
+    // a worn volume is on its own scale (cubic millimetres and less)
+    let worn = sys.state_len() - sys.wear.len();
+    for (k, wear) in sys.wear.iter().enumerate() {
+        tighten(&mut atol, sys, worn + k, tolerance * wear.nominal);
+    }
     atol
 }
 

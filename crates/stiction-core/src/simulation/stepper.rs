@@ -20,7 +20,7 @@ use super::samples::StepSamples;
 use super::watch::Watch;
 use super::{Observer, Phase};
 use crate::engine::eval::{evaluate, DiscreteState};
-use crate::engine::{indicator_count, indicator_label, indicators, ModeCache};
+use crate::engine::{indicator_count, indicator_label, indicators, wear_indicator, ModeCache};
 use crate::error::SimError;
 use crate::result::{EventRecord, RowView, Stats, Trajectory};
 use crate::system::System;
@@ -357,6 +357,16 @@ impl Stepper {
         let found = self.scan_step(solver, self.t_prev, t_now, &mut candidates);
         self.candidates = candidates;
         let found = found?;
+        if let Some(k) = found.and_then(|(_, i)| wear_indicator(&self.sys, i)) {
+            let wear = &self.sys.wear[k];
+            let (volume, thickness_min) = wear.limit.expect("only a limit fires");
+            return Err(SimError::WearLimit {
+                time: found.expect("found").0,
+                element: wear.name.clone(),
+                thickness_min,
+                volume,
+            });
+        }
         if found.is_none() {
             if let Some(k) = self.guard.negative {
                 return Err(self.negative_characteristic(solver, self.t_prev, t_now, k));

@@ -332,23 +332,35 @@ impl Builder {
 
     /// A signal slot that holds the temperature of heat node `node` (a law's input).
     pub fn temperature_tap(&mut self, node: usize) -> usize {
-        self.temperature_tap_for(node, None)
+        self.temperature_tap_for(node, "its torque", None)
     }
 
-    /// `temperature_tap` for a parameter that reads it (a Brake's `mu_T`), which the
-    /// messages about its heat port then name.
-    pub fn temperature_tap_for(&mut self, node: usize, param: Option<&'static str>) -> usize {
+    /// `temperature_tap` for `reader` (named in messages: "its wear"), or for a parameter that
+    /// reads it (a Brake's `mu_T`), which the messages about its heat port then name.
+    pub fn temperature_tap_for(
+        &mut self,
+        node: usize,
+        reader: &'static str,
+        param: Option<&'static str>,
+    ) -> usize {
         let slot = self.sys.signals.slots;
         self.sys.signals.slots += 1;
         let owner = self.name().to_string();
         let tap = crate::thermal::TemperatureTap {
             owner,
+            reader,
             node,
             slot,
             param,
         };
         self.sys.thermal.taps.push(tap);
         slot
+    }
+
+    /// Adds a worn element's wear state; gives its index among the worn elements.
+    pub fn add_wear(&mut self, wear: crate::wear::Wear) -> usize {
+        self.sys.wear.push(wear);
+        self.sys.wear.len() - 1
     }
 
     pub fn add_heat_capacity(&mut self, node: usize, c: f64, init: InitValue) {

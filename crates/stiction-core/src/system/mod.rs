@@ -237,6 +237,8 @@ pub struct System {
     pub followers: Vec<(usize, usize)>,
     /// What a layer above derives from this system once and keeps with it (`Derived`).
     pub derived: Derived,
+    /// The worn friction elements: one state each, after the energy integrals.
+    pub wear: Vec<crate::wear::Wear>,
 }
 
 /// A value derived from a system on first use and kept with it: the result table's layout of
@@ -260,9 +262,10 @@ impl Derived {
 }
 
 impl System {
-    /// Number of continuous states: node angles and speeds, heat capacities, two energy integrals.
+    /// Number of continuous states: node angles and speeds, heat capacities, two energy
+    /// integrals, worn volumes.
     pub fn state_len(&self) -> usize {
-        2 * self.nodes + self.thermal.capacities.len() + 2
+        2 * self.nodes + self.thermal.capacities.len() + 2 + self.wear.len()
     }
 
     /// The signals at the start time with the inputs' start values (what start values taken

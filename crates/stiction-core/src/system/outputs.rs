@@ -31,6 +31,8 @@ pub enum Out {
     /// Cut torque of a mechanical port (global port index).
     FlangeTau(usize),
     HeatT(usize),
+    /// A worn volume (index among the worn elements) as `offset + scale·volume`.
+    Wear(usize, f64, f64),
     HeatDerT(usize),
     HeatDiff(usize, usize),
     HeatLinkFlow(usize, f64),

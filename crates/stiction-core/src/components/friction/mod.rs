@@ -4,6 +4,7 @@
 
 pub(crate) mod fade;
 pub mod lossy_gear;
+pub(crate) mod wear;
 
 use super::{heat_port, with_support, Component, Entry, Ports};
 use crate::components::decl::{PEAK, PHI_REL, USE_HEAT_PORT, USE_SUPPORT, W_REL, W_SMALL};
@@ -25,6 +26,8 @@ pub(crate) struct FrictionParams {
     pub use_heat_port: bool,
     /// Beyond MSL: friction over temperature and normal force (`fade`); None: MSL's.
     pub fade: Option<Fade>,
+    /// The `wear` record (a stiction extension), if given.
+    pub wear: Option<wear::WearConfig>,
 }
 
 /// The names a friction element reports under, by domain (MSL's Rotational and Translational
@@ -84,6 +87,7 @@ fn read_params(p: &Params) -> ModelResult<FrictionParams> {
         w_small: p.positive("w_small", p.real(W_SMALL, 1.0e10)?)?,
         use_heat_port,
         fade: fade::read_fade(p, use_heat_port, peak, false)?,
+        wear: wear::read_wear(p, false)?,
     })
 }
 
@@ -325,6 +329,9 @@ fn add_elem(
         fade,
     }));
     friction_outputs(b, k, slot, heat, one_way.is_some(), names);
+    if let Some(config) = &p.wear {
+        wear::attach(b, k, config, heat)?;
+    }
     Ok(k)
 }
 
@@ -333,7 +340,7 @@ fn add_elem(
 fn tapped(b: &mut Builder, f: &Fade, heat: Option<usize>) -> Fade {
     let mut f = f.clone();
     if let (Some(param), Some(node)) = (fade::thermal_param(&f), heat) {
-        f.temperature = Some(b.temperature_tap_for(node, Some(param)));
+        f.temperature = Some(b.temperature_tap_for(node, "its friction", Some(param)));
     }
     f
 }
@@ -364,6 +371,7 @@ fn bearing_friction(p: &Params) -> ModelResult<Box<dyn Component>> {
         w_small: p.positive("w_small", p.real(W_SMALL, 1.0e10)?)?,
         use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
         fade: None,
+        wear: None,
     };
     Ok(Box::new(Brake {
         p: params,

@@ -4,6 +4,7 @@
 //! lives here: only the parameter declarations of the translational classes.
 
 use crate::components::friction::fade::read_fade;
+use crate::components::friction::wear::read_wear;
 use crate::components::friction::{friction_table, Brake, FrictionParams, TRANSLATIONAL};
 use crate::components::{decl::USE_HEAT_PORT, Component, Entry};
 use crate::error::ModelResult;
@@ -48,6 +49,7 @@ fn brake(p: &Params) -> ModelResult<Box<dyn Component>> {
         w_small: v_small(p)?,
         use_heat_port,
         fade: read_fade(p, use_heat_port, peak, true)?,
+        wear: read_wear(p, true)?,
     };
     Ok(Box::new(Brake {
         p: params,
@@ -83,6 +85,7 @@ fn support_friction(p: &Params) -> ModelResult<Box<dyn Component>> {
         w_small: v_small(p)?,
         use_heat_port: p.boolean(USE_HEAT_PORT, false)?,
         fade: None,
+        wear: None,
     };
     Ok(Box::new(Brake {
         p: params,

@@ -160,6 +160,7 @@ impl Layout {
             }
             Out::LawLoss(k) => self.eval(Key::Eval(0, *k, 0), out),
             Out::HeatDerT(node) => self.eval(Key::Eval(1, *node, 0), out),
+            Out::Wear(k, s, o) => self.eval(Key::Eval(4, *k, s.to_bits() ^ o.to_bits()), out),
             Out::HeatLinkFlow(k, s) => self.link_flow(sys, *k, *s),
             Out::HeatCapacitorFlow(node, c) => self.eval(Key::Eval(3, *node, c.to_bits()), out),
             Out::Time => self.time,

@@ -41,8 +41,7 @@ def simulate(
     if top and model.variables:  # the derived variables read this run's top-level values
         expanded |= numbers_read(model.variables, evaluate_parameters({**model.parameters, **top}))
     overrides = expanded
-    core = model._compile(text)._core
-    raw = (core.variant(overrides) if overrides else core).simulate(record_all=all_variables)
+    raw = model._compile(text)._variant(overrides).simulate(record_all=all_variables)
     experiment = {k: float(v) for k, v in given.items() if v is not None and k != "Solver"}
     info = RunInfo(text, str(model.base_dir), experiment, Solver, model.types())
     result = Result.from_core(raw, name=model.name, info=info)

@@ -9,11 +9,13 @@ from a file run identically.
 
 from __future__ import annotations
 
+import contextlib
 import difflib
 import functools
+import gc
 import os
 import re
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -89,6 +91,20 @@ def numbers_read(variables: Mapping[str, str], values: Mapping[str, Any]) -> dic
         return {}
     names = {n for text in variables.values() for n in _NAME.findall(text)}
     return {k: float(v) for k, v in values.items() if k in names and isinstance(v, (int, float, bool))}
+
+
+@contextlib.contextmanager
+def gc_paused() -> Iterator[None]:
+    """The cyclic garbage collector paused (and resumed if it ran before): building a model
+    of thousands of components makes tens of thousands of containers, none of them garbage,
+    and the collections they set off were a tenth of loading a ladder of 1000 inertias."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()
 
 
 class Model:
@@ -367,6 +383,10 @@ class Model:
         """The engine text and, if ``values``, the parameter values, kept while the model's
         fingerprint is unchanged; the values only when asked for (``check`` needs none, and
         they import the Modelica converter's table of start variables)."""
+        with gc_paused():
+            return self._derived_unpaused(values)
+
+    def _derived_unpaused(self, values: bool) -> tuple[str, dict[str, float] | None]:
         key = self._text_key()
         cached = self._derived if key is not None and self._derived and self._derived[0] == key else None
         text = cached[1] if cached else self._write_engine_toml()
@@ -442,7 +462,13 @@ class Model:
         default_name: str = "model",
     ) -> Model:
         """Build a model from model-file text, checked as if built in Python."""
-        data = modelfile.parse(text, source)
+        with gc_paused():
+            return cls._from_data(modelfile.parse(text, source), base_dir, default_name)
+
+    @classmethod
+    def _from_data(
+        cls, data: modelfile.ModelData, base_dir: str | os.PathLike[str], default_name: str
+    ) -> Model:
         model = cls(data.name or default_name, base_dir=base_dir)
         model.experiment.update(data.experiment)
         for comp_name, comp_type, params in data.components:
@@ -555,13 +581,18 @@ class Model:
         return dict(self._text_and_values()[1])
 
     def _parameter_values(self) -> dict[str, float]:
-        from stiction.model.components import START_VARIABLES
-        from stiction.model.parameters import evaluate_parameters, resolve_params
+        return parameter_values(self.parameters, self.components)
 
-        top = evaluate_parameters(self.parameters)
-        values = {k: float(v) for k, v in top.items() if isinstance(v, (bool, int, float))}
-        for comp_name, comp in self.components.items():
-            for key, value in resolve_params(comp_name, comp.params, top).items():
-                if key not in START_VARIABLES and isinstance(value, (bool, int, float)):
-                    values[f"{comp_name}.{key}"] = float(value)
-        return values
+
+def parameter_values(parameters: Mapping[str, Any], components: Mapping[str, Component]) -> dict[str, float]:
+    """Scalar parameters as ``component.parameter -> value`` (see ``Model.parameter_values``)."""
+    from stiction.model.components import START_VARIABLES
+    from stiction.model.parameters import evaluate_parameters, resolve_params
+
+    top = evaluate_parameters(parameters)
+    values = {k: float(v) for k, v in top.items() if isinstance(v, (bool, int, float))}
+    for comp_name, comp in components.items():
+        for key, value in resolve_params(comp_name, comp.params, top).items():
+            if key not in START_VARIABLES and isinstance(value, (bool, int, float)):
+                values[f"{comp_name}.{key}"] = float(value)
+    return values

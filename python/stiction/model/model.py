@@ -172,8 +172,10 @@ class Model:
         self.components[name] = component
         return self
 
-    def _check_end(self, end: str) -> None:
-        if not isinstance(end, str) or end.count(".") < 1:
+    def _check_end(self, end: str) -> tuple[str, str]:
+        """Refuse an end that names no port of a component of this model; else its
+        component's type and its port."""
+        if not isinstance(end, str) or "." not in end:
             raise ModelError(f'connection end {end!r} must be "component.port"')
         comp_name, port = split_last(end)
         if comp_name not in self.components:
@@ -195,25 +197,26 @@ class Model:
                     f"unknown port{_did_you_mean(port, ports)}; "
                     f"ports are {', '.join(ports) or 'none'}"
                 )
+        return comp_type, port
 
     def connect(self, a: str, b: str) -> Model:
         """Connect two ports given as "component.port"; returns the model."""
-        self._check_end(a)
-        self._check_end(b)
+        ends = self._check_end(a), self._check_end(b)
         if a == b:
             raise ModelError(f"connection '{a}' - '{b}': a port cannot be connected to itself")
-        self._check_domains(a, b)
+        self._check_domains(a, b, ends)
         if self._connected(a, b):
             raise ModelError(f"connection '{a}' - '{b}': already connected")
         self.connections.append((a, b))
         self._pairs.add(frozenset((a, b)))
         return self
 
-    def _check_domains(self, a: str, b: str) -> None:
+    @staticmethod
+    def _check_domains(a: str, b: str, ends: tuple[tuple[str, str], tuple[str, str]]) -> None:
         """Refuse an angle joined to a position here, where the connect is written (the engine
-        refuses it too, at check; its words)."""
-        ka, kb = (_port_kind(self.components[c].type, p) for c, p in (split_last(a), split_last(b)))
-        if {ka, kb} == {"flange", "translational flange"}:
+        refuses it too, at check; its words); ``ends``: each end's component type and port."""
+        ka, kb = _port_kind(*ends[0]), _port_kind(*ends[1])
+        if ka != kb and {ka, kb} == {"flange", "translational flange"}:
             rot = lambda kind: "rotational " if kind == "flange" else ""
             raise ModelError(
                 f"connection {a} — {b}: cannot connect the {rot(ka)}{ka} '{a}' to the {rot(kb)}{kb} "

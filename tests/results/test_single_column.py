@@ -23,21 +23,19 @@ def _bits(a: np.ndarray) -> np.ndarray:
 
 
 def _assert_columns_equal_table(model: st.Model) -> int:
-    """Every variable alone, on results that never computed their table, against the table of
-    another run of the same model (runs are deterministic); returns how many were kinematic."""
+    """Every variable read from a result that computes the variables of the kinematics alone,
+    against the table of another run of the same model (runs are deterministic), bit for bit;
+    returns how many were computed alone (the table is computed only after them)."""
     table = model.simulate()
     full = table.data
-    alone_runs = model.simulate(), model.simulate()
-    kinematic = 0
-    for k, name in enumerate(table.names):
-        alone = alone_runs[0]._source.column_alone(name)
-        np.testing.assert_array_equal(_bits(alone), _bits(full[:, k]), err_msg=name)
-        if alone_runs[1]._source.is_direct(name):
-            # what `r[name]` computes without the table: the same bits
-            kinematic += 1
-            np.testing.assert_array_equal(_bits(alone_runs[1][name]), _bits(full[:, k]), err_msg=name)
-    assert alone_runs[1]._data is None, "no variable read alone computed the table"
-    return kinematic
+    r = model.simulate()
+    alone = [k for k, name in enumerate(r.names) if r._source.is_direct(name)]
+    for k in alone:
+        np.testing.assert_array_equal(_bits(r[r.names[k]]), _bits(full[:, k]), err_msg=r.names[k])
+    assert r._data is None, "no variable read alone computed the table"
+    for k, name in enumerate(r.names):  # the others: the table's, computed now
+        np.testing.assert_array_equal(_bits(r[name]), _bits(full[:, k]), err_msg=name)
+    return len(alone)
 
 
 @pytest.mark.parametrize("path", MODELS, ids=lambda p: p.stem)

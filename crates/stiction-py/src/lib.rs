@@ -175,22 +175,6 @@ impl RawResult {
         (self.result.is_alone(name)).ok_or_else(|| PyKeyError::new_err(name.to_string()))
     }
 
-    /// One variable over all rows computed alone, even one that needs each row's mode solve
-    /// (every row evaluated, only this variable kept; no table); KeyError for an unknown name.
-    fn column_alone<'py>(
-        &self,
-        py: Python<'py>,
-        name: &str,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        if self.table.get().is_some() {
-            return self.column(py, name);
-        }
-        let values = py
-            .detach(|| self.result.column_alone(name))
-            .ok_or_else(|| PyKeyError::new_err(name.to_string()))?;
-        Ok(PyArray1::from_vec(py, values))
-    }
-
     /// Per row, whether a locked element holds the speed variable `name` (its own relative
     /// speed, or a shaft it holds against ground): the rows where `first` and `time_of` read
     /// that speed as 0. All false for any other variable.

@@ -250,19 +250,20 @@ class Result:
     # --- access -----------------------------------------------------------------------
     def __getitem__(self, name: str) -> np.ndarray:
         try:
-            column = self._index[name]
             if self._data is not None:
-                return self._data[:, column]
+                return self._data[:, self._index[name]]
             if name in self._columns:
                 return self._columns[name]
+            # by name to the engine (KeyError if unknown): a result of 28 000 names lists
+            # them only when a column of the table is read
             if not self._source.is_direct(name):
                 # the engine computes every variable for the first algebraic one: keep its
                 # table, so that every later column is a view, not a copy each
                 try:
-                    return self.data[:, column]
+                    return self.data[:, self._index[name]]
                 except UsageError:
                     pass  # every variable at once does not fit in memory: this one alone
-            # an angle, speed, mode or flag: read from the states, no table needed
+            # an angle, speed, mode, flag or the kinetic energy: from the states, no table
             self._columns[name] = np.asarray(self._source.column(name), dtype=np.float64)
             return self._columns[name]
         except KeyError:

@@ -1,6 +1,6 @@
 //! Variables computed alone, without the row's mode solve: a result asked for one variable
-//! that needs only the kinematics of each row (angles and speeds, the signals, the kinetic
-//! energy) computes that variable and nothing else, instead of every variable of every row.
+//! that needs only the kinematics of each row (an angle or a speed between shafts, the kinetic
+//! energy, time) computes that variable and nothing else, not every variable of every row.
 //! The arithmetic is the row recorder's (`recorder.rs`), so the values are the table's bit
 //! for bit; anything that reads the solve (an acceleration, a torque, a loss) is not alone.
 
@@ -64,9 +64,19 @@ impl SimResult {
                 continue;
             };
             let mut ws = Workspace::new(sys);
+            // without prescribed motions or followers the angles and speeds are the states:
+            // no signals, no laws' coordinates (the 1000-ladder's energy 34 -> 5 ms)
+            let states_only = !sys.prescribes() && sys.followers.is_empty();
+            let n = sys.nodes;
             for r in first..end {
                 let disc = &self.discs[tr.disc[r] as usize];
-                kinematics(sys, disc, tr.t[r], tr.x(r), tr.horizon[r], &mut ws);
+                if states_only {
+                    ws.t = tr.t[r];
+                    ws.phi.copy_from_slice(&tr.x(r)[..n]);
+                    ws.w.copy_from_slice(&tr.x(r)[n..2 * n]);
+                } else {
+                    kinematics(sys, disc, tr.t[r], tr.x(r), tr.horizon[r], &mut ws);
+                }
                 values.push(s * kinematic_value(&general[i], sys, &ws, disc));
             }
         }

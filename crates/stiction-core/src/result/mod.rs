@@ -255,18 +255,6 @@ impl SimResult {
         Some(c == 0 || self.alone(c - 1))
     }
 
-    /// Variable `name` over all rows computed alone, even one that needs the mode solve of
-    /// each row (every row evaluated, only this variable kept): what a single algebraic
-    /// column costs without the table. The table's values when it is computed already.
-    pub fn column_alone(&self, name: &str) -> Option<Vec<f64>> {
-        let c = self.names.iter().position(|n| n == name)?;
-        if c == 0 || self.table.get().is_some() || self.alone(c - 1) {
-            return self.column(name);
-        }
-        let single = self.compute_columns(Some(c - 1));
-        Some(single.iter().skip(1).step_by(2).copied().collect())
-    }
-
     /// Variables that need no evaluation of the system: node angles and speeds, modes, flags.
     fn direct_column(&self, flat: Flat) -> Option<Vec<f64>> {
         let tr = &self.trajectory;

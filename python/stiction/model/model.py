@@ -584,18 +584,21 @@ class Model:
         return dict(self._text_and_values()[1])
 
     def _parameter_values(self) -> dict[str, float]:
-        return parameter_values(self.parameters, self.components)
+        return parameter_values(self.parameters, {n: c.params for n, c in self.components.items()})
 
 
-def parameter_values(parameters: Mapping[str, Any], components: Mapping[str, Component]) -> dict[str, float]:
-    """Scalar parameters as ``component.parameter -> value`` (see ``Model.parameter_values``)."""
+def parameter_values(
+    parameters: Mapping[str, Any], components: Mapping[str, Mapping[str, Any]]
+) -> dict[str, float]:
+    """Scalar parameters as ``component.parameter -> value`` (see ``Model.parameter_values``)
+    of the top-level ``parameters`` and each component's parameters, by component name."""
     from stiction.model.components import START_VARIABLES
     from stiction.model.parameters import evaluate_parameters, resolve_params
 
     top = evaluate_parameters(parameters)
     values = {k: float(v) for k, v in top.items() if isinstance(v, (bool, int, float))}
-    for comp_name, comp in components.items():
-        for key, value in resolve_params(comp_name, comp.params, top).items():
+    for comp_name, params in components.items():
+        for key, value in resolve_params(comp_name, params, top).items():
             if key not in START_VARIABLES and isinstance(value, (bool, int, float)):
                 values[f"{comp_name}.{key}"] = float(value)
     return values

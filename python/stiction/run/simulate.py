@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import functools
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
@@ -46,11 +47,11 @@ def simulate(
     experiment = {k: float(v) for k, v in given.items() if v is not None and k != "Solver"}
     info = RunInfo(text, str(model.base_dir), experiment, Solver, model.types())
     result = Result.from_core(raw, name=model.name, info=info)
-    # the values when first read: a model of thousands of components took 10 ms to list them
-    snapshot = dict(model.parameters), dict(model.components)
-    result.parameters = (
-        functools.partial(dict, known)
-        if known is not None
-        else functools.partial(parameter_values, *snapshot)
-    )
+    # the values when first read (a model of thousands of components took 10 ms to list them),
+    # of the model as it is now: a parameter changed in place after the run is not this run's
+    if known is not None:
+        result.parameters = functools.partial(dict, known)
+    else:
+        params = {n: dict(c.params) for n, c in model.components.items()}
+        result.parameters = functools.partial(parameter_values, copy.deepcopy(model.parameters), params)
     return result

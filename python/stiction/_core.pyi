@@ -77,8 +77,8 @@ class RawResult:
     def table(self) -> npt.NDArray[np.float64]:
         """All variables, shape (rows, len(names)); event instants appear twice."""
     def is_direct(self, name: str) -> bool:
-        """Whether a variable is read from the states without evaluating the system (an angle,
-        a speed, a mode, a flag); any other is a column of ``table()``."""
+        """Whether ``column`` computes a variable alone, without each row's mode solve (an
+        angle, a speed, a mode, a flag, the kinetic energy); any other is a column of ``table()``."""
     def held_rows(self, name: str) -> list[bool]:
         """Per row, whether a locked element holds the speed variable (its own relative speed,
         or a shaft it holds against ground): where ``first`` and ``time_of`` read it as 0."""

@@ -168,11 +168,11 @@ impl RawResult {
         Ok(PyArray1::from_vec(py, values))
     }
 
-    /// Whether variable `name` is read from the states without evaluating the system (an
-    /// angle, a speed, a mode, a flag); any other is a column of `table()`. KeyError for an
-    /// unknown name.
+    /// Whether `column(name)` computes variable `name` alone, without the mode solve of each
+    /// row (an angle, a speed, a mode, a flag, the kinetic energy); any other is a column of
+    /// `table()`. KeyError for an unknown name.
     fn is_direct(&self, name: &str) -> PyResult<bool> {
-        (self.result.is_direct(name)).ok_or_else(|| PyKeyError::new_err(name.to_string()))
+        (self.result.is_alone(name)).ok_or_else(|| PyKeyError::new_err(name.to_string()))
     }
 
     /// Per row, whether a locked element holds the speed variable `name` (its own relative

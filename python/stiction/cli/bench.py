@@ -67,6 +67,27 @@ STIFF_BENCH = ("StiffShaft", "StiffHeatLosses", "HeatLosses")
 @click.option(
     "--fit", "fit_bench", is_flag=True, help="Time a fit of 4 parameters of a braked flywheel instead."
 )
+@click.option(
+    "--floor",
+    is_flag=True,
+    help="Also time the floor (issue 34): experiment overrides, one variable read alone, the "
+    "ladder of 100 and 1000 from a file with Python's share.",
+)
+@click.option(
+    "--json",
+    "json_out",
+    type=click.Path(dir_okay=False, path_type=Path),
+    default=None,
+    help="Save every figure printed (the models' table, --floor) as JSON to this file.",
+)
+@click.option(
+    "--compare",
+    "compare_ref",
+    type=FILE,
+    default=None,
+    help="Print every figure against the same figure of a saved run (--json), marking the "
+    "ones worse beyond the noise.",
+)
 @friendly_errors
 def bench(
     model_files: tuple[Path, ...],
@@ -77,6 +98,9 @@ def bench(
     scale_sizes: str | None,
     stiff: bool,
     fit_bench: bool,
+    floor: bool,
+    json_out: Path | None,
+    compare_ref: Path | None,
 ) -> None:
     """Time whole runs of MODEL_FILES (default: MSL CoupledClutches, Friction, SimpleGearShift, HeatLosses)."""
     from stiction.cli.benchmarks import bench as run_bench
@@ -99,6 +123,7 @@ def bench(
     if sweep_variants is not None:
         print_sweeps(list(model_files) or [BENCH_MODELS / "CoupledClutches.toml"], sweep_variants, dask)
         return
+    figures: dict[str, float] = {}
     click.echo(
         f"{'model':<24} {'median ms':>10} {'min ms':>10} {'core med':>9} {'core min':>9} "
         f"{'+all vars ms':>13} {'after/states':>12} {'record=all ms':>13} {'all/states':>10} "
@@ -115,6 +140,49 @@ def bench(
             f"{row.recording_ms:>13.3f} {row.all_variables_ratio:>9.2f}× "
             f"{row.steps:>7} {row.rhs_evals:>10} {row.events:>7}"
         )
+        figures |= row_figures(row)
+    if floor:
+        figures |= _print_floor(repeat)
+    _save_and_compare(figures, json_out, compare_ref)
+
+
+def row_figures(row: Any) -> dict[str, float]:
+    """The times of a row of the models' table, as named figures."""
+    names = ("median_ms", "min_ms", "core_median_ms", "core_min_ms", "table_ms", "recording_ms")
+    return {f"{row.model}.{n}": float(getattr(row, n)) for n in names}
+
+
+def _print_floor(repeat: int) -> dict[str, float]:
+    from stiction.cli.bench_floor import floor_figures, floor_lines
+    from stiction.model.model import Model
+
+    click.echo("\nthe floor (issue 34), medians; ratios against a plain run measured alternately")
+    figures = floor_figures(Model.load(BENCH_MODELS / "CoupledClutches.toml"), repeat)
+    for line in floor_lines(figures):
+        click.echo(line)
+    return figures
+
+
+def _save_and_compare(figures: dict[str, float], json_out: Path | None, compare_ref: Path | None) -> None:
+    from stiction.cli.bench_floor import compare_figures, read_figures, write_figures
+
+    if compare_ref is not None:
+        try:
+            ref = read_figures(compare_ref)
+        except ValueError as e:
+            fail(str(e))
+        rows = compare_figures(figures, ref)
+        click.echo(f"\n{'figure':<44} {'now':>10} {'then':>10} {'ratio':>7}   (against {compare_ref})")
+        for row in rows:
+            click.echo(row.line())
+        worse = [r.name for r in rows if r.worse()]
+        click.echo(
+            f"{len(worse)} of {len(rows)} figures worse beyond the noise"
+            + (": " + ", ".join(worse) if worse else "")
+        )
+    if json_out is not None:
+        write_figures(json_out, figures)
+        click.echo(f"figures saved to {json_out}")
 
 
 def print_scale(sizes: str) -> None:

@@ -129,6 +129,9 @@ class Component:
                 raise ModelError(f"{type}: parameter names must be non-empty strings, got {key!r}")
             if key == "type":
                 raise ModelError(f"{type}: 'type' is reserved and cannot be a parameter name")
+            if type_of(value) in _NUMBERS:  # most values: kept as they are, no message made
+                self.params[key] = value
+                continue
             where = f"{type}: parameter '{key}'"
             value = normalize_value(value, where)
             self.params[key] = value if type_of(value) in _NUMBERS else in_si(type, key, value, where)

@@ -9,11 +9,13 @@ from a file run identically.
 
 from __future__ import annotations
 
+import contextlib
 import difflib
 import functools
+import gc
 import os
 import re
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -97,6 +99,20 @@ def numbers_read(variables: Mapping[str, str], values: Mapping[str, Any]) -> dic
     return {k: float(v) for k, v in values.items() if k in names and isinstance(v, (int, float, bool))}
 
 
+@contextlib.contextmanager
+def gc_paused() -> Iterator[None]:
+    """The cyclic garbage collector paused (and resumed if it ran before): building a model
+    of thousands of components makes tens of thousands of containers, none of them garbage,
+    and the collections they set off were a tenth of loading a ladder of 1000 inertias."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()
+
+
 class Model:
     """A drivetrain: named components, connections of their ports, an experiment."""
 
@@ -162,8 +178,10 @@ class Model:
         self.components[name] = component
         return self
 
-    def _check_end(self, end: str) -> None:
-        if not isinstance(end, str) or end.count(".") < 1:
+    def _check_end(self, end: str) -> tuple[str, str]:
+        """Refuse an end that names no port of a component of this model; else its
+        component's type and its port."""
+        if not isinstance(end, str) or "." not in end:
             raise ModelError(f'connection end {end!r} must be "component.port"')
         comp_name, port = split_last(end)
         if comp_name not in self.components:
@@ -187,25 +205,26 @@ class Model:
                     f"unknown port{_did_you_mean(port, ports)}; "
                     f"ports are {', '.join(ports) or 'none'}"
                 )
+        return comp_type, port
 
     def connect(self, a: str, b: str) -> Model:
         """Connect two ports given as "component.port"; returns the model."""
-        self._check_end(a)
-        self._check_end(b)
+        ends = self._check_end(a), self._check_end(b)
         if a == b:
             raise ModelError(f"connection '{a}' - '{b}': a port cannot be connected to itself")
-        self._check_domains(a, b)
+        self._check_domains(a, b, ends)
         if self._connected(a, b):
             raise ModelError(f"connection '{a}' - '{b}': already connected")
         self.connections.append((a, b))
         self._pairs.add(frozenset((a, b)))
         return self
 
-    def _check_domains(self, a: str, b: str) -> None:
+    @staticmethod
+    def _check_domains(a: str, b: str, ends: tuple[tuple[str, str], tuple[str, str]]) -> None:
         """Refuse an angle joined to a position here, where the connect is written (the engine
-        refuses it too, at check; its words)."""
-        ka, kb = (_port_kind(self.components[c].type, p) for c, p in (split_last(a), split_last(b)))
-        if {ka, kb} == {"flange", "translational flange"}:
+        refuses it too, at check; its words); ``ends``: each end's component type and port."""
+        ka, kb = _port_kind(*ends[0]), _port_kind(*ends[1])
+        if ka != kb and {ka, kb} == {"flange", "translational flange"}:
             rot = lambda kind: "rotational " if kind == "flange" else ""
             raise ModelError(
                 f"connection {a} — {b}: cannot connect the {rot(ka)}{ka} '{a}' to the {rot(kb)}{kb} "
@@ -375,6 +394,10 @@ class Model:
         """The engine text and, if ``values``, the parameter values, kept while the model's
         fingerprint is unchanged; the values only when asked for (``check`` needs none, and
         they import the Modelica converter's table of start variables)."""
+        with gc_paused():
+            return self._derived_unpaused(values)
+
+    def _derived_unpaused(self, values: bool) -> tuple[str, dict[str, float] | None]:
         key = self._text_key()
         cached = self._derived if key is not None and self._derived and self._derived[0] == key else None
         text = cached[1] if cached else self._write_engine_toml()
@@ -450,7 +473,13 @@ class Model:
         default_name: str = "model",
     ) -> Model:
         """Build a model from model-file text, checked as if built in Python."""
-        data = modelfile.parse(text, source)
+        with gc_paused():
+            return cls._from_data(modelfile.parse(text, source), base_dir, default_name)
+
+    @classmethod
+    def _from_data(
+        cls, data: modelfile.ModelData, base_dir: str | os.PathLike[str], default_name: str
+    ) -> Model:
         model = cls(data.name or default_name, base_dir=base_dir)
         model.experiment.update(data.experiment)
         for comp_name, comp_type, params in data.components:
@@ -566,13 +595,21 @@ class Model:
         return dict(self._text_and_values()[1])
 
     def _parameter_values(self) -> dict[str, float]:
-        from stiction.model.components import START_VARIABLES
-        from stiction.model.parameters import evaluate_parameters, resolve_params
+        return parameter_values(self.parameters, {n: c.params for n, c in self.components.items()})
 
-        top = evaluate_parameters(self.parameters)
-        values = {k: float(v) for k, v in top.items() if isinstance(v, (bool, int, float))}
-        for comp_name, comp in self.components.items():
-            for key, value in resolve_params(comp_name, comp.params, top).items():
-                if key not in START_VARIABLES and isinstance(value, (bool, int, float)):
-                    values[f"{comp_name}.{key}"] = float(value)
-        return values
+
+def parameter_values(
+    parameters: Mapping[str, Any], components: Mapping[str, Mapping[str, Any]]
+) -> dict[str, float]:
+    """Scalar parameters as ``component.parameter -> value`` (see ``Model.parameter_values``)
+    of the top-level ``parameters`` and each component's parameters, by component name."""
+    from stiction.model.components import START_VARIABLES
+    from stiction.model.parameters import evaluate_parameters, resolve_params
+
+    top = evaluate_parameters(parameters)
+    values = {k: float(v) for k, v in top.items() if isinstance(v, (bool, int, float))}
+    for comp_name, params in components.items():
+        for key, value in resolve_params(comp_name, params, top).items():
+            if key not in START_VARIABLES and isinstance(value, (bool, int, float)):
+                values[f"{comp_name}.{key}"] = float(value)
+    return values

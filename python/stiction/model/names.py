@@ -44,6 +44,8 @@ class PathIndex:
 
     @staticmethod
     def heads_of(name: str) -> list[str]:
+        if "." not in name:  # most names: no path, nothing to split
+            return []
         parts = name.split(".")
         return [".".join(parts[:k]) for k in range(1, len(parts))]
 

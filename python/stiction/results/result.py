@@ -12,7 +12,7 @@ import math
 import operator
 import os
 import re
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NamedTuple
 
@@ -79,12 +79,22 @@ def _with_source(event: Event, sources: list[str]) -> Event:
     return event._replace(cause=cause)
 
 
+class _RawEvents:
+    """The engine's events of a run, asked for when iterated (``Result.events``)."""
+
+    def __init__(self, raw: Any) -> None:
+        self._raw = raw
+
+    def __iter__(self) -> Iterator[Sequence[Any]]:
+        return iter(self._raw.events)
+
+
 class Result:
     """Trajectories on the output grid and both sides of each event, with statistics."""
 
     def __init__(
         self,
-        names: Sequence[str],
+        names: Sequence[str] | None,
         data: Any = None,
         events: Iterable[Sequence[Any]] = (),
         stats: Mapping[str, float | int] | None = None,
@@ -93,12 +103,13 @@ class Result:
         info: RunInfo | None = None,
     ) -> None:
         """``data`` is the full table, or None when a ``source`` (the engine's raw result,
-        with ``column(name)``, ``table()`` and ``rows``) computes variables on demand;
-        ``info`` reports the run's experiment and initialization."""
-        self.names: list[str] = list(map(str, names))
-        if not self.names or self.names[0] != "time":
-            raise ValueError("the first signal must be 'time'")
+        with ``names``, ``column(name)``, ``table()`` and ``rows``) computes variables on
+        demand; ``names`` None: the source's, listed when first read. ``info`` reports the
+        run's experiment and initialization."""
         self._source = source
+        self._names: list[str] | None = None
+        if names is not None or source is None:
+            self.names = names if names is not None else []
         self._data: np.ndarray | None = None
         self._columns: dict[str, np.ndarray] = {}
         if data is not None or source is None:
@@ -106,27 +117,57 @@ class Result:
             if table.ndim != 2 or table.shape[1] != len(self.names):
                 raise ValueError(f"data shape {table.shape} does not match {len(self.names)} names")
             self._data = table
-        self._events = [Event(float(t), str(c), int(a), int(b), str(why)) for t, c, a, b, why in events]
+        self._raw_events: Iterable[Sequence[Any]] | None = events  # made Events when first read
+        self._events: list[Event] = []
         self._events_named = False
         self.stats: dict[str, float | int] = dict(stats or {})
         self.name = name
         self._info = info
         self._index_of: dict[str, int] | None = None
-        # Parameter values (name -> value) of the run, written to data_1 of a .mat result.
-        self.parameters: dict[str, float] = {}
+        # Parameter values (name -> value) of the run, written to data_1 of a .mat result;
+        # or what computes them when first read (a run of thousands of components).
+        self._parameters: dict[str, float] | Callable[[], dict[str, float]] = {}
 
     @classmethod
     def from_core(cls, raw: Any, name: str = "", info: RunInfo | None = None) -> Result:
         """Wrap the engine's raw result; variables are computed when first read (the model's
         derived variables too: the engine has them as result variables); ``info`` answers
         ``experiment`` and ``initialization``."""
-        result = cls(raw.names, None, raw.events, raw.stats, name=name, source=raw, info=info)
+        # names and events listed when first read: a ladder of 1000 elements has 28 000 names
+        result = cls(None, None, _RawEvents(raw), raw.stats, name=name, source=raw, info=info)
         suspects = getattr(raw, "delivering", ())
         if suspects:  # the engine saw a loss power below the event band: audit the run
             from stiction.results.audit import warn_if_delivering
 
             warn_if_delivering(result, suspects)
         return result
+
+    @property
+    def names(self) -> list[str]:
+        """Every variable's name, ``time`` first (one column of ``data`` each)."""
+        if self._names is None:
+            self._names = list(map(str, self._source.names))
+        return self._names
+
+    @names.setter
+    def names(self, names: Sequence[str]) -> None:
+        listed = list(map(str, names))
+        if not listed or listed[0] != "time":
+            raise ValueError("the first signal must be 'time'")
+        self._names = listed
+        self._index_of = None
+
+    @property
+    def parameters(self) -> dict[str, float]:
+        """Parameter values (name → value) of the run, as data_1 of a .mat result holds them."""
+        if callable(self._parameters):
+            self._parameters = self._parameters()
+        return self._parameters
+
+    @parameters.setter
+    def parameters(self, values: dict[str, float] | Callable[[], dict[str, float]]) -> None:
+        """A mapping, or a function computing it when first read."""
+        self._parameters = values if callable(values) else dict(values)
 
     @property
     def _index(self) -> dict[str, int]:
@@ -161,6 +202,11 @@ class Result:
     def events(self) -> list[Event]:
         """Every mode change: time, component, old and new mode (``.old``/``.new`` by name),
         cause; a time event's cause names the components whose time event it was."""
+        if self._raw_events is not None:
+            self._events = [
+                Event(float(t), str(c), int(a), int(b), str(why)) for t, c, a, b, why in self._raw_events
+            ]
+            self._raw_events = None
         if not self._events_named and self._info is not None:
             timed = [e for e in self._events if e.cause.startswith("time event")]
             sources = self._info.time_event_sources([e.time for e in timed]) if timed else []
@@ -204,19 +250,20 @@ class Result:
     # --- access -----------------------------------------------------------------------
     def __getitem__(self, name: str) -> np.ndarray:
         try:
-            column = self._index[name]
             if self._data is not None:
-                return self._data[:, column]
+                return self._data[:, self._index[name]]
             if name in self._columns:
                 return self._columns[name]
+            # by name to the engine (KeyError if unknown): a result of 28 000 names lists
+            # them only when a column of the table is read
             if not self._source.is_direct(name):
                 # the engine computes every variable for the first algebraic one: keep its
                 # table, so that every later column is a view, not a copy each
                 try:
-                    return self.data[:, column]
+                    return self.data[:, self._index[name]]
                 except UsageError:
                     pass  # every variable at once does not fit in memory: this one alone
-            # an angle, speed, mode or flag: read from the states, no table needed
+            # an angle, speed, mode, flag or the kinetic energy: from the states, no table
             self._columns[name] = np.asarray(self._source.column(name), dtype=np.float64)
             return self._columns[name]
         except KeyError:

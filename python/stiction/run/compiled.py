@@ -49,6 +49,7 @@ class CompiledModel:
         self.base_dir = Path(base_dir)
         self.name = name
         self._core = _core.CompiledModel(text, str(self.base_dir))
+        self._variants: dict[tuple[Any, ...], Any] = {}
 
     @classmethod
     def of(cls, model: Model) -> CompiledModel:
@@ -74,12 +75,41 @@ class CompiledModel:
         as for ``Model.simulate``."""
         all_variables = records_all(record)
         overrides = merge_overrides(params, experiment)
-        core = self._core.variant(overrides) if overrides else self._core
-        return Result.from_core(core.simulate(record_all=all_variables), name=self.name)
+        return Result.from_core(self._variant(overrides).simulate(record_all=all_variables), name=self.name)
+
+    def _variant(self, overrides: Mapping[str, Any]) -> Any:
+        """The engine's variant with ``overrides`` (this model itself for none), kept for the
+        next run with the same overrides: building a variant is a fifth of a CoupledClutches
+        run, and a script calls ``simulate(StopTime=2)`` again and again. Kept only for plain
+        values (numbers, Booleans, strings); a few of them, the newest."""
+        if not overrides:
+            return self._core
+        key = _variant_key(overrides)
+        core = self._variants.get(key) if key is not None else None
+        if core is None:
+            core = self._core.variant(dict(overrides))
+            if key is not None:
+                if len(self._variants) >= VARIANTS_KEPT:
+                    self._variants.pop(next(iter(self._variants)), None)  # the oldest
+                self._variants[key] = core
+        return core
 
     def check_overrides(self, params: Mapping[str, Any]) -> None:
         """Raise ``ModelError`` if a name or value of ``params`` is not valid."""
         self._core.variant(dict(params))
+
+
+# How many variants a compiled model keeps for runs with the same overrides again.
+VARIANTS_KEPT = 8
+_PLAIN = (bool, int, float, str)
+
+
+def _variant_key(overrides: Mapping[str, Any]) -> tuple[Any, ...] | None:
+    """A key for ``overrides`` when every value is plain (its type part of it: ``1`` and
+    ``1.0`` and ``True`` are other overrides), else None: not kept."""
+    if not all(type(v) in _PLAIN for v in overrides.values()):
+        return None
+    return tuple(sorted((k, type(v).__name__, v) for k, v in overrides.items()))
 
 
 RECORD_CHOICES = ("states", "all")

@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import copy
+import functools
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
 from stiction.model.components import si_overrides
-from stiction.model.model import numbers_read
+from stiction.model.model import numbers_read, parameter_values
 from stiction.model.parameters import evaluate_parameters, expand_parameters
 from stiction.model.runinfo import RunInfo
 from stiction.results.result import Result
@@ -35,16 +37,21 @@ def simulate(
     given: dict[str, Any] = {"StartTime": StartTime, "StopTime": StopTime, "Interval": Interval}
     given |= {"Tolerance": Tolerance, "Solver": Solver}
     overrides = si_overrides(model.components, merge_overrides(params, given))  # "100 rpm"
-    text, values = model._text_and_values()
+    text, known = model._derived_of(values=False)
     top = {k: overrides[k] for k in model.parameters if k in overrides}
     expanded = expand_parameters(model.parameters, model.components, overrides)
     if top and model.variables:  # the derived variables read this run's top-level values
         expanded |= numbers_read(model.variables, evaluate_parameters({**model.parameters, **top}))
     overrides = expanded
-    core = model._compile(text)._core
-    raw = (core.variant(overrides) if overrides else core).simulate(record_all=all_variables)
+    raw = model._compile(text)._variant(overrides).simulate(record_all=all_variables)
     experiment = {k: float(v) for k, v in given.items() if v is not None and k != "Solver"}
     info = RunInfo(text, str(model.base_dir), experiment, Solver, model.types())
     result = Result.from_core(raw, name=model.name, info=info)
-    result.parameters = dict(values)
+    # the values when first read (a model of thousands of components took 10 ms to list them),
+    # of the model as it is now: a parameter changed in place after the run is not this run's
+    if known is not None:
+        result.parameters = functools.partial(dict, known)
+    else:
+        params = {n: dict(c.params) for n, c in model.components.items()}
+        result.parameters = functools.partial(parameter_values, copy.deepcopy(model.parameters), params)
     return result

@@ -54,8 +54,11 @@ pub fn canonical(spec: &ModelSpec) -> ModelSpec {
 
 /// Creates every component from its parameters (each validated), checking the names.
 pub fn create_components(spec: &ModelSpec) -> ModelResult<Vec<Arc<dyn Component>>> {
-    let mut comps: Vec<Arc<dyn Component>> = Vec::new();
-    let mut names: Vec<String> = Vec::new();
+    let mut comps: Vec<Arc<dyn Component>> = Vec::with_capacity(spec.components.len());
+    let mut names: Vec<&str> = Vec::with_capacity(spec.components.len());
+    // a set, not a search of the names so far: a ladder of 1000 elements (2 750 components)
+    // spent a third of its compile comparing names
+    let mut seen = std::collections::HashSet::with_capacity(spec.components.len());
     for c in &spec.components {
         // `system.…` names the system-wide results: no component's path starts there
         if RESERVED.contains(&c.name.split('.').next().unwrap_or_default()) {
@@ -64,16 +67,16 @@ pub fn create_components(spec: &ModelSpec) -> ModelResult<Vec<Arc<dyn Component>
                 message: "this name is reserved for system-wide results".into(),
             });
         }
-        if names.contains(&c.name) {
+        if !seen.insert(c.name.as_str()) {
             return Err(ModelError::Component {
                 component: c.name.clone(),
                 message: "defined twice".into(),
             });
         }
         comps.push(components::create(c, &spec.base_dir)?.into());
-        names.push(c.name.clone());
+        names.push(c.name.as_str());
     }
-    check_prefixes(names.iter().map(String::as_str))?;
+    check_prefixes(names.iter().copied())?;
     Ok(comps)
 }
 

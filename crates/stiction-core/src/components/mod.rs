@@ -184,8 +184,14 @@ impl Entry {
     }
 }
 
-/// Every component type, family by family.
-pub fn registry() -> Vec<Entry> {
+/// Every component type, family by family: listed once, then shared (a model of 2 750
+/// components listed them for each of its components when it was created).
+pub fn registry() -> &'static [Entry] {
+    static REGISTRY: std::sync::OnceLock<Vec<Entry>> = std::sync::OnceLock::new();
+    REGISTRY.get_or_init(list_registry)
+}
+
+fn list_registry() -> Vec<Entry> {
     let mut r: Vec<Entry> = Vec::new();
     r.extend(inertia::REGISTRY);
     r.extend(compliant::REGISTRY);

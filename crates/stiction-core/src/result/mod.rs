@@ -6,6 +6,7 @@
 //! the energy audit. `table/` is the parallel engine that computes every variable of every row
 //! (the row recorder's values, bit for bit); `io/` writes result files (CSV, .mat).
 
+mod alone;
 mod audit;
 pub mod io;
 pub mod metric;
@@ -214,6 +215,10 @@ impl SimResult {
             if let Some(values) = self.direct_column(flat) {
                 return Some(values);
             }
+            if self.alone(c - 1) {
+                // the kinematics of each row, not every variable of every row
+                return Some(self.kinematic_column(c - 1));
+            }
         }
         let Ok(table) = self.table() else {
             // too large for every variable at once: this one alone
@@ -240,6 +245,14 @@ impl SimResult {
         }
         let mut general = Vec::new();
         Some(compile(&self.system.outputs[c - 1].1, 1.0, &mut general).is_direct())
+    }
+
+    /// Whether `column(name)` computes variable `name` alone, without the mode solve of each
+    /// row: a direct one, or one of the kinematics (the kinetic energy, an angle or speed
+    /// between shafts); None for an unknown name.
+    pub fn is_alone(&self, name: &str) -> Option<bool> {
+        let c = self.names.iter().position(|n| n == name)?;
+        Some(c == 0 || self.alone(c - 1))
     }
 
     /// Variables that need no evaluation of the system: node angles and speeds, modes, flags.

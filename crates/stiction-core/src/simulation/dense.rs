@@ -134,24 +134,11 @@ impl StepPoly {
     /// once for the block instead of once a row. Not inlined: its loop, inlined into
     /// `Trajectory::push_block` with the grid times, took 14 % more instructions.
     #[inline(never)]
-    pub fn eval_rows(&self, times: &[f64], end: f64, out: &mut Vec<f64>) {
+    pub fn eval_rows(&self, times: &[f64], end: f64, out: &mut [f64]) {
         let coef = self.coefficients();
-        for &t in times {
-            self.extend_with(&coef, t.min(end), out);
+        for (&t, row) in times.iter().zip(out.chunks_exact_mut(self.n)) {
+            self.eval_with(&coef, t.min(end), row);
         }
-    }
-
-    /// `eval_with`, appended to `out` (through a zip of slices: one reservation and no
-    /// zero-fill before the values are written).
-    #[inline(always)]
-    fn extend_with(&self, [a, b, c, d, e]: &[&[f64]; DEGREE + 1], t: f64, out: &mut Vec<f64>) {
-        if t == self.t1 {
-            out.extend_from_slice(&self.y1);
-            return;
-        }
-        let th = (t - self.t0) / self.dt;
-        let terms = (a.iter().zip(*b).zip(*c)).zip(d.iter().zip(*e));
-        out.extend(terms.map(|(((a, b), c), (d, e))| a + th * (b + th * (c + th * (d + th * e)))));
     }
 
     /// The coefficients of θ⁰…θ⁴, each `n` values.

@@ -92,6 +92,35 @@ impl Banded {
         }
     }
 
+    /// The nonzeros of the factors, for solving (`sparse.rs`).
+    pub fn nonzeros(&self) -> SparseSolve {
+        let lu = self;
+        let (n, kl) = (lu.n, lu.kl);
+        let mut s = SparseSolve::default();
+        for k in 0..n {
+            let p = lu.pivot_row[k];
+            let start = s.lower.len();
+            let below = (k + 1..n).take(kl);
+            for (i, &m) in below.zip(&lu.lower[k * kl..(k + 1) * kl]) {
+                if m != 0.0 {
+                    s.lower.push((i as u32, m));
+                }
+            }
+            if p != k || s.lower.len() > start {
+                s.steps.push((k as u32, p as u32, s.lower.len() as u32));
+            }
+        }
+        for k in 0..n {
+            let row = &lu.band[lu.row(k)];
+            let right = (k + 1..n).zip(&row[kl + 1..]);
+            s.upper
+                .extend((right.filter(|(_, &u)| u != 0.0)).map(|(j, &u)| (j as u32, u)));
+            s.upper_end.push(s.upper.len() as u32);
+            s.pivots.push(row[kl]);
+        }
+        s
+    }
+
     pub fn smallest_pivot(&self) -> f64 {
         self.pivot_abs.iter().copied().fold(f64::INFINITY, f64::min)
     }
@@ -189,7 +218,7 @@ impl LinearSolver for BandLu {
         }
         Ok(Box::new(BandFactors {
             perm,
-            lu: SparseSolve::of(&lu),
+            lu: lu.nonzeros(),
             scratch: RefCell::new(Vec::with_capacity(n)),
         }))
     }

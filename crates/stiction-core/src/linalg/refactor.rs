@@ -174,7 +174,7 @@ impl Refactor {
         Ok(Box::new(SlotFactors {
             unknown_at,
             unknowns: slots.len(),
-            lu: SparseSolve::of(&lu),
+            lu: lu.nonzeros(),
             scratch: RefCell::new(Vec::with_capacity(n)),
         }))
     }

@@ -4,55 +4,26 @@
 //! them all, and each row's sum waited on the row solved just before through a product by zero:
 //! one long chain of divisions. Solving over the nonzeros only does the same arithmetic in the
 //! same order on every nonzero term, so the results are those of the band's solve (an exact
-//! zero may come out as −0 where the band's gave +0, nothing else).
-
-use super::band::Banded;
+//! zero may come out as −0 where the band's gave +0, nothing else). `Banded::nonzeros` builds
+//! it.
 
 /// The factors' steps and nonzero entries, in the band's elimination order.
 #[derive(Debug, Clone, Default)]
 pub(super) struct SparseSolve {
     /// Forward steps that do anything: (step k, the row swapped with k, end of its multipliers
     /// in `lower`).
-    steps: Vec<(u32, u32, u32)>,
+    pub(super) steps: Vec<(u32, u32, u32)>,
     /// (row i, multiplier) of each step, in order.
-    lower: Vec<(u32, f64)>,
+    pub(super) lower: Vec<(u32, f64)>,
     /// Where each row's entries of U (right of the diagonal) end in `upper`.
-    upper_end: Vec<u32>,
+    pub(super) upper_end: Vec<u32>,
     /// (column j, entry) of U, row after row, columns increasing.
-    upper: Vec<(u32, f64)>,
+    pub(super) upper: Vec<(u32, f64)>,
     /// U's diagonal.
-    pivots: Vec<f64>,
+    pub(super) pivots: Vec<f64>,
 }
 
 impl SparseSolve {
-    /// The nonzeros of the factored `lu`.
-    pub fn of(lu: &Banded) -> Self {
-        let (n, kl) = (lu.n, lu.kl);
-        let mut s = SparseSolve::default();
-        for k in 0..n {
-            let p = lu.pivot_row[k];
-            let start = s.lower.len();
-            let below = (k + 1..n).take(kl);
-            for (i, &m) in below.zip(&lu.lower[k * kl..(k + 1) * kl]) {
-                if m != 0.0 {
-                    s.lower.push((i as u32, m));
-                }
-            }
-            if p != k || s.lower.len() > start {
-                s.steps.push((k as u32, p as u32, s.lower.len() as u32));
-            }
-        }
-        for k in 0..n {
-            let row = &lu.band[lu.row(k)];
-            let right = (k + 1..n).zip(&row[kl + 1..]);
-            s.upper
-                .extend((right.filter(|(_, &u)| u != 0.0)).map(|(j, &u)| (j as u32, u)));
-            s.upper_end.push(s.upper.len() as u32);
-            s.pivots.push(row[kl]);
-        }
-        s
-    }
-
     /// Solves in the factored order, in place: `Banded`'s forward and back substitution.
     pub fn solve(&self, y: &mut [f64]) {
         let mut at = 0;

@@ -4,6 +4,7 @@
 
 use std::cell::RefCell;
 
+use super::sparse::SparseSolve;
 use super::{Factorization, LinearSolver, Singular, Triplets, PIVOT_TOLERANCE};
 
 /// RCM-ordered banded LU with partial pivoting (LAPACK `gbtrf`'s scheme).
@@ -91,48 +92,45 @@ impl Banded {
         }
     }
 
-    pub fn smallest_pivot(&self) -> f64 {
-        self.pivot_abs.iter().copied().fold(f64::INFINITY, f64::min)
-    }
-
-    /// Solves in the factored order, in place.
-    pub fn solve(&self, y: &mut [f64]) {
-        let (kl, width) = (self.kl, self.width);
-        // row by row through the stored factors (no index arithmetic per entry); the zips
-        // stop at the matrix's last row
-        if kl == 1 {
-            // the common bandwidth of a drivetrain's modes: one multiplier per step
-            let steps = self.lower.iter().zip(&self.pivot_row).enumerate();
-            for (k, (m, &p)) in steps.take(self.n.saturating_sub(1)) {
-                y.swap(k, p);
-                y[k + 1] -= m * y[k];
-            }
-        } else if kl > 1 {
-            let steps = self.lower.chunks_exact(kl).zip(&self.pivot_row);
-            for (k, (lower, &p)) in steps.enumerate() {
-                y.swap(k, p);
-                let (head, below) = y.split_at_mut(k + 1);
-                let yk = head[k];
-                for (yi, m) in below.iter_mut().zip(lower) {
-                    *yi -= m * yk;
+    /// The nonzeros of the factors, for solving (`sparse.rs`).
+    pub fn nonzeros(&self) -> SparseSolve {
+        let lu = self;
+        let (n, kl) = (lu.n, lu.kl);
+        let mut s = SparseSolve::default();
+        for k in 0..n {
+            let p = lu.pivot_row[k];
+            let start = s.lower.len();
+            let below = (k + 1..n).take(kl);
+            for (i, &m) in below.zip(&lu.lower[k * kl..(k + 1) * kl]) {
+                if m != 0.0 {
+                    s.lower.push((i as u32, m));
                 }
             }
+            if p != k || s.lower.len() > start {
+                s.steps.push((k as u32, p as u32, s.lower.len() as u32));
+            }
         }
-        let rows = self.band[..self.n * width].chunks_exact(width);
-        for (k, row) in rows.enumerate().rev() {
-            let (head, right) = y.split_at_mut(k + 1);
-            let s: f64 = (row[kl + 1..].iter().zip(right.iter()))
-                .map(|(u, v)| u * v)
-                .sum();
-            head[k] = (head[k] - s) / row[kl];
+        for k in 0..n {
+            let row = &lu.band[lu.row(k)];
+            let right = (k + 1..n).zip(&row[kl + 1..]);
+            s.upper
+                .extend((right.filter(|(_, &u)| u != 0.0)).map(|(j, &u)| (j as u32, u)));
+            s.upper_end.push(s.upper.len() as u32);
+            s.pivots.push(row[kl]);
         }
+        s
+    }
+
+    pub fn smallest_pivot(&self) -> f64 {
+        self.pivot_abs.iter().copied().fold(f64::INFINITY, f64::min)
     }
 }
 
 /// A matrix factored in the order `perm` (`perm[i]`: the original row/column at position i).
 struct BandFactors {
     perm: Vec<usize>,
-    lu: Banded,
+    /// The factors' nonzeros (`sparse.rs`).
+    lu: SparseSolve,
     /// The permuted right-hand side, kept so that a solve allocates nothing.
     scratch: RefCell<Vec<f64>>,
 }
@@ -220,7 +218,7 @@ impl LinearSolver for BandLu {
         }
         Ok(Box::new(BandFactors {
             perm,
-            lu,
+            lu: lu.nonzeros(),
             scratch: RefCell::new(Vec::with_capacity(n)),
         }))
     }
@@ -241,12 +239,5 @@ impl Factorization for BandFactors {
         scratch.extend(self.perm.iter().map(|&p| b[p]));
         self.lu.solve(scratch.as_mut_slice());
         (self.perm.iter().zip(scratch.iter())).for_each(|(&p, &v)| b[p] = v);
-    }
-}
-
-impl Banded {
-    /// Memory held, for the mode cache's budget.
-    pub fn bytes(&self) -> usize {
-        8 * (self.band.len() + self.lower.len() + self.pivot_row.len() + self.pivot_abs.len())
     }
 }

@@ -11,6 +11,7 @@ mod band;
 mod basis;
 mod dense;
 mod refactor;
+mod sparse;
 
 pub use band::BandLu;
 pub use basis::RowBasis;

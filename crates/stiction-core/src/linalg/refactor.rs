@@ -19,6 +19,7 @@ use std::cell::RefCell;
 use std::rc::Rc;
 
 use super::band::{bandwidths, largest, positions, rcm_order, Banded};
+use super::sparse::SparseSolve;
 use super::{Factorization, Singular, Triplets, PIVOT_TOLERANCE};
 
 /// Steps between saved windows: a resumed elimination repeats at most this many steps.
@@ -75,7 +76,8 @@ impl SlotLayout {
 struct SlotFactors {
     unknown_at: Vec<usize>,
     unknowns: usize,
-    lu: Rc<Banded>,
+    /// The factors' nonzeros (`sparse.rs`).
+    lu: SparseSolve,
     scratch: RefCell<Vec<f64>>,
 }
 
@@ -172,7 +174,7 @@ impl Refactor {
         Ok(Box::new(SlotFactors {
             unknown_at,
             unknowns: slots.len(),
-            lu,
+            lu: lu.nonzeros(),
             scratch: RefCell::new(Vec::with_capacity(n)),
         }))
     }

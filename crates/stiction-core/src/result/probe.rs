@@ -27,7 +27,7 @@ pub struct Probe {
     ws: Workspace,
     cache: ModeCache,
     /// The mode last evaluated, to skip the cache's lookup while the mode stays.
-    mode: Option<(DiscreteState, Rc<ModeMatrix>)>,
+    mode: Option<Rc<ModeMatrix>>,
 }
 
 impl Probe {
@@ -67,10 +67,10 @@ impl Probe {
             return Ok(&self.recorder.data[1..]);
         }
         let mm = match &self.mode {
-            Some((disc, mm)) if disc == row.disc => mm.clone(),
+            Some(mm) if same_mode(sys, mm, row.disc) => mm.clone(),
             _ => {
                 let mm = self.cache.get(sys, row.disc, row.t)?;
-                self.mode = Some((row.disc.clone(), mm.clone()));
+                self.mode = Some(mm.clone());
                 mm
             }
         };
@@ -78,4 +78,17 @@ impl Probe {
         self.recorder.record(sys, &self.ws, row.disc);
         Ok(&self.recorder.data[1..])
     }
+}
+
+/// Whether `disc`'s mode is the one `mm` was factored for: the elements' mode keys, compared
+/// as the mode cache keys them (locks, and slopes bit for bit). A sweep probes every row; the
+/// whole discrete state compared per row (relations and inputs included) was a tenth of a
+/// CoupledClutches variant.
+fn same_mode(sys: &System, mm: &ModeMatrix, disc: &DiscreteState) -> bool {
+    let states = sys.switching.iter().zip(&disc.switching);
+    mm.keys.len() == disc.switching.len()
+        && (states.zip(&mm.keys)).all(|((e, st), key)| {
+            let now = e.mode_key(st);
+            now.locked == key.locked && now.slope.to_bits() == key.slope.to_bits()
+        })
 }

@@ -2333,7 +2333,7 @@ class Abs(_Factory):
     Parameters
     ----------
     generateEvent : Boolean, default false
-        true: generate an event at u = 0 (stiction: the output is |u| either way, without an event)
+        true: generate an event at u = 0 (stiction: the output is abs(u) either way, without an event)
 
     Ports
     -----

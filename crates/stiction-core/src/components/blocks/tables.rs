@@ -136,7 +136,7 @@ pub fn abs(p: &Params) -> ModelResult<Box<dyn Component>> {
     // The output is |u| either way; an event at u = 0 would only restart the integrator at
     // the kink.
     p.boolean(
-        "generateEvent true: generate an event at u = 0 (stiction: the output is |u| either \
+        "generateEvent true: generate an event at u = 0 (stiction: the output is abs(u) either \
          way, without an event)",
         false,
     )?;

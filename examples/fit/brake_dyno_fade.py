@@ -1,12 +1,12 @@
 """A brake dyno trace with fade, and the mu map over speed and temperature fitted to it.
 
 docs/fit.md, worked example 2. The rig: a 40 kg.m2 dyno inertia that the dyno's motor spins up
-to 120 rad/s (2400 N.m for 2 s), then the brake stops it at 80 bar, five times in a row with
-no pause to cool, so the disc (2500 J/K, 20 W/K to the air) heats from 20 to about 520 degC,
-past the pads' fade onset. The brake's mu is a speed curve (``mu_pos``, 0, 60, 120 rad/s)
-times a fade factor over the disc temperature (``mu_T``, 20, 200, 350, 450 degC, the 20 degC
-row the reference, 1). ``fn_max`` is the clamp force per bar (255 N/bar), so the logged line
-pressure in bar drives ``brake.f_normalized`` as it is.
+to about 121 rad/s (2400 N.m for 2 s, and the ramps), then the brake stops it at 80 bar, five
+times in a row with no pause to cool, so the disc (2500 J/K, 20 W/K to the air) heats from 20 to
+about 525 degC, past the pads' fade onset. The brake's mu is a speed curve (``mu_pos``, 0, 60,
+120 rad/s) times a fade factor over the disc temperature (``mu_T``, 20, 200, 350, 450 degC, the
+20 degC row the reference, 1). ``fn_max`` is the clamp force per bar (255 N/bar), so the logged
+line pressure in bar drives ``brake.f_normalized`` as it is.
 
 The dyno logs the inertia's speed, the disc temperature (a thermocouple, in K), the line
 pressure and the motor torque every 20 ms; the speed and temperature here carry Gaussian noise

@@ -12,7 +12,7 @@ import pytest
 from paths import EXAMPLES
 
 import stiction as st
-from stiction.fitting.params import parse_params
+from stiction.fitting.params import parse_params, silent_reason
 
 DYNO = runpy.run_path(str(EXAMPLES / "fit" / "brake_dyno_fade.py"))
 MU_CELLS = ["brake.mu_pos[1,2]", "brake.mu_pos[2,2]", "brake.mu_pos[3,2]"]
@@ -94,6 +94,16 @@ def test_table_ranges_and_a_2d_tables_coefficients():
     ]
     labels = [p.label for p in parse_params(m, {"brake.peak_T[2:3, 2]": (0.5, 2.0)})]
     assert labels == ["brake.peak_T[2,2]", "brake.peak_T[3,2]"]
+    # where a point acts, for the reason a fit gives when the data never get there
+    (cell,) = parse_params(m, {"brake.mu_table[3, 3]": (0.0, 1.0)})
+    assert silent_reason(m, cell) == (
+        "brake.mu_table cell [3,3] (speed 50, T = 573.15 K) acts only while the slip speed is above 0 "
+        "and the temperature is between 293.15 K and 773.15 K in 'brake', and the data never get there"
+    )
+    (row,) = parse_params(m, {"brake.peak_T[1, 2]": (0.5, 2.0)})
+    assert silent_reason(m, row).startswith(
+        "brake.peak_T row 1 (293.15 K) acts only while the heat port's temperature is below 473.15 K"
+    )
     with pytest.raises(st.ModelError, match=r"brake.peak_T\[3:2, 2\]': row range 3:2 is empty"):
         parse_params(m, {"brake.peak_T[3:2, 2]": (0.5, 2.0)})
     with pytest.raises(st.ModelError, match="row 9 is outside the table's 1..4"):

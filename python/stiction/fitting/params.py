@@ -214,7 +214,7 @@ def silent_reason(model: Model, p: Param) -> str | None:
     if param in TABLES_2D and i > 0 and j > 0:
         speeds = [row[0] for row in cells[1:]]
         temps = cells[0][1:]
-        at = f"speed {speeds[i - 1]:g}, T = {temps[j - 1]:g} K"
+        at = f"{p.target} cell [{i + 1},{j + 1}] (speed {speeds[i - 1]:g}, T = {temps[j - 1]:g} K)"
         span = (
             f"{_where(speeds, i - 1, 'the slip speed', '')} and "
             f"{_where(temps, j - 1, 'the temperature', ' K')}"
@@ -222,8 +222,8 @@ def silent_reason(model: Model, p: Param) -> str | None:
     elif param in _ABSCISSA and j > 0:
         quantity, unit = _ABSCISSA[param]
         xs = [row[0] for row in cells]
-        at = f"{xs[i]:g}{unit}"
+        at = f"{p.target} row {i + 1} ({xs[i]:g}{unit})"
         span = _where(xs, i, quantity, unit)
     else:
         return None
-    return f"{p.target} row {i + 1} ({at}) acts only while {span} in '{comp}', and the data never get there"
+    return f"{at} acts only while {span} in '{comp}', and the data never get there"

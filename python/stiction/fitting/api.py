@@ -57,9 +57,9 @@ def fit(
     ``{"model.variable": "column"}`` to match (a list: columns of the same names; None: every
     other column). ``inputs``: ``{"brake.f_normalized": "pressure"}``, columns that drive model
     inputs (through a TimeTable). ``params``: ``{name: (low, high)}`` or ``(low, start, high)``;
-    scalars, tables (``"brake.mu_pos"``) or cells (``"brake.mu_pos[:, 2]"``, ``"brake.mu_T[2:end, 2]"``,
-    1-based, ranges inclusive), top-level
-    parameters, start values. ``weights``: per output, a number or one per sample (default: one
+    scalars, tables (``"brake.mu_pos"``) or cells (``"brake.mu_pos[:, 2]"``,
+    ``"brake.mu_T[2:end, 2]"``: 1-based, ranges inclusive), top-level parameters, start
+    values. ``weights``: per output, a number or one per sample (default: one
     over the output's largest magnitude). ``method``: "auto" (linear where it applies),
     "linear" or "output-error". ``workers``: threads for the model runs. ``loss``: least
     squares' loss ("linear", "soft_l1", "huber", "cauchy", "arctan"). ``starts``: starts in

@@ -21,15 +21,19 @@ from stiction import _deps
 from stiction.errors import ModelError
 from stiction.fitting.data import fit_model, read_data
 from stiction.fitting.linear import linear_plan, solve_linear
-from stiction.fitting.params import Param, apply, parse_params
-from stiction.fitting.problem import Problem
+from stiction.fitting.params import Param, apply, parse_params, silent_reason
+from stiction.fitting.problem import STEP, Problem
 from stiction.fitting.result import FitResult
-from stiction.fitting.stats import uncertainty
+from stiction.fitting.stats import ZERO_COLUMN, uncertainty
 from stiction.model.model import Model
 
 __all__ = ["fit"]
 
 METHODS = ("auto", "linear", "output-error")
+#: a forward difference's column is accurate to about its relative step, so a singular value
+#: of the scaled Jacobian below that (against the largest) cannot be told from zero: a
+#: combination of parameters the data do not tell apart (mu_pos against a mu_T with no fixed row)
+SINGULAR_DIFFERENCES = STEP
 
 
 def fit(
@@ -53,8 +57,9 @@ def fit(
     ``{"model.variable": "column"}`` to match (a list: columns of the same names; None: every
     other column). ``inputs``: ``{"brake.f_normalized": "pressure"}``, columns that drive model
     inputs (through a TimeTable). ``params``: ``{name: (low, high)}`` or ``(low, start, high)``;
-    scalars, tables (``"brake.mu_pos"``) or cells (``"brake.mu_pos[:, 2]"``, 1-based), top-level
-    parameters, start values. ``weights``: per output, a number or one per sample (default: one
+    scalars, tables (``"brake.mu_pos"``) or cells (``"brake.mu_pos[:, 2]"``,
+    ``"brake.mu_T[2:end, 2]"``: 1-based, ranges inclusive), top-level parameters, start
+    values. ``weights``: per output, a number or one per sample (default: one
     over the output's largest magnitude). ``method``: "auto" (linear where it applies),
     "linear" or "output-error". ``workers``: threads for the model runs. ``loss``: least
     squares' loss ("linear", "soft_l1", "huber", "cauchy", "arctan"). ``starts``: starts in
@@ -89,7 +94,6 @@ def fit(
 def _output_error(
     model: Model, plist: list[Param], problem: Problem, loss: str, starts: int, seed: int, progress: bool
 ) -> FitResult:
-    least_squares = _deps.scipy_optimize.least_squares
 
     low = np.array([p.low for p in plist])
     high = np.array([p.high for p in plist])
@@ -101,15 +105,7 @@ def _output_error(
     best = None
     try:
         for x0 in points:
-            sol = least_squares(
-                problem.residual,
-                x0,
-                jac=problem.jacobian,
-                bounds=(low, high),
-                method="trf",
-                loss=loss,
-                x_scale="jac",
-            )
+            sol = _solve(problem, x0, low, high, loss)
             if best is None or sol.cost < best.cost:
                 best = sol
             if bar is not None:
@@ -119,9 +115,10 @@ def _output_error(
             bar.close()
     assert best is not None
     r = problem.residual(best.x)
-    jac = best.jac if loss == "linear" else problem.jacobian(best.x)
-    stats = uncertainty([p.label for p in plist], best.x, jac, r)
-    fitted_rows = problem.predict(np.asarray([best.x]))[0]
+    jac = problem.jacobian(best.x)  # the last one computed, when the best start was the last
+    hints = {p.label: h for p in plist if (h := silent_reason(model, p))}
+    stats = uncertainty([p.label for p in plist], best.x, jac, r, hints, singular=SINGULAR_DIFFERENCES)
+    fitted_rows = r + problem.data
     measured, fitted, at = {}, {}, 0
     for name in problem.outputs:
         n = len(problem.measured.time)
@@ -142,6 +139,46 @@ def _output_error(
         fitted,
         str(best.message),
     )
+
+
+def _silent(jac: np.ndarray) -> np.ndarray:
+    """The columns (parameters) the outputs do not change with."""
+    norms = np.linalg.norm(jac, axis=0)
+    return norms <= ZERO_COLUMN * float(norms.max()) if norms.size else norms > 0
+
+
+def _solve(problem: Problem, x0: np.ndarray, low: np.ndarray, high: np.ndarray, loss: str) -> Any:
+    """One trust-region fit from ``x0``. Parameters the outputs do not change with at ``x0`` (a
+    table point the data never reach) are held first — a free direction that the trust region
+    would wander along for hundreds of runs — and freed again for a final fit if they act at
+    the reduced fit's solution (e.g. a brake that comes to stick there)."""
+    least_squares = _deps.scipy_optimize.least_squares
+
+    def run(active: np.ndarray, start: np.ndarray) -> Any:
+        def embed(z: np.ndarray) -> np.ndarray:
+            x = start.copy()
+            x[active] = z
+            return x
+
+        sol = least_squares(
+            lambda z: problem.residual(embed(z)),
+            start[active],
+            jac=lambda z: problem.jacobian(embed(z))[:, active],
+            bounds=(low[active], high[active]),
+            method="trf",
+            loss=loss,
+            x_scale="jac",
+        )
+        sol.x = embed(sol.x)
+        return sol
+
+    silent = _silent(problem.jacobian(x0))
+    if silent.any() and not silent.all():
+        sol = run(~silent, np.asarray(x0, dtype=float))
+        if _silent(problem.jacobian(sol.x))[silent].all():
+            return sol
+        x0 = sol.x
+    return run(np.ones(len(x0), dtype=bool), np.asarray(x0, dtype=float))
 
 
 def _result(

@@ -2,8 +2,11 @@
 
 ``{"brake.peak": (1, 2)}`` (low, high; the start is the model's value), ``(low, start, high)``,
 whole tables (``"brake.mu_pos"``: every cell of the value columns, the abscissas stay) or chosen
-cells (``"brake.mu_pos[:, 2]"``, ``"brake.mu_pos[3, 2]"``: 1-based row and column, as Modelica
-and the FMU variables write them), top-level parameters (``"T2"``) and start values (``"J.w"``).
+cells (``"brake.mu_pos[:, 2]"``, ``"brake.mu_pos[3, 2]"``, ``"brake.mu_T[2:4, 2]"``: 1-based
+row and column, ranges inclusive as in Modelica, ``2:end`` to the last), top-level parameters
+(``"T2"``) and start values (``"J.w"``). A 2-D table (``mu_table``, CombiTable2D's layout: row 1
+and column 1 are the abscissae) fitted whole, or with ``:``, varies its coefficients only
+(rows and columns from 2).
 """
 
 from __future__ import annotations
@@ -25,6 +28,15 @@ __all__ = ["Param", "apply", "parse_params"]
 
 _CELLS = re.compile(r"^(?P<name>[^\[\]]+)\[\s*(?P<row>[^,\]]+?)\s*,\s*(?P<col>[^,\]]+?)\s*\]$")
 _FITTABLE = ("Real", "start value", "Integer")
+#: tables in CombiTable2D's layout: row 1 and column 1 hold the abscissae, cell [1,1] is unused
+TABLES_2D = ("mu_table",)
+#: what the first column of a friction element's 1-D tables is, for the reasons a fit gives
+_ABSCISSA = {
+    "mu_pos": ("the slip speed", ""),
+    "mu_T": ("the heat port's temperature", " K"),
+    "peak_T": ("the heat port's temperature", " K"),
+    "mu_fn": ("the normal force", " N"),
+}
 
 
 @dataclass
@@ -88,18 +100,25 @@ def _current(model: Model, target: str) -> tuple[Any, str]:
     return value, info.kind
 
 
-def _indices(text: str, size: int, what: str, name: str) -> list[int]:
+def _indices(text: str, size: int, what: str, name: str, first: int = 1) -> list[int]:
+    """0-based indices of ``text``: ``:`` (from ``first``), ``i``, or an inclusive range
+    ``i:j`` / ``i:end`` / ``i:``; 1-based and checked against ``size``."""
     if text == ":":
-        return list(range(size))
+        return list(range(first - 1, size))
+    low, sep, high = text.partition(":")
     try:
-        i = int(text)
+        i = int(low)
+        j = i if not sep else size if high in ("", "end") else int(high)
     except ValueError:
         raise ModelError(
-            f"fit parameter '{name}': {what} index must be ':' or a number, got {text!r}"
+            f"fit parameter '{name}': {what} index must be ':', a number or a range i:j, got {text!r}"
         ) from None
-    if not 1 <= i <= size:
-        raise ModelError(f"fit parameter '{name}': {what} {i} is outside the table's 1..{size}")
-    return [i - 1]
+    for k in (i, j):
+        if not 1 <= k <= size:
+            raise ModelError(f"fit parameter '{name}': {what} {k} is outside the table's 1..{size}")
+    if j < i:
+        raise ModelError(f"fit parameter '{name}': {what} range {text} is empty")
+    return list(range(i - 1, j))
 
 
 def _table_params(name: str, target: str, table: Any, rows: str, cols: str, bounds: tuple) -> list[Param]:
@@ -110,8 +129,9 @@ def _table_params(name: str, target: str, table: Any, rows: str, cols: str, boun
             f"fit parameter '{name}': the table has expression cells; fit the parameters they read"
         ) from None
     n_rows, n_cols = len(cells), len(cells[0]) if cells else 0
-    row_ids = _indices(rows, n_rows, "row", name)
-    col_ids = _indices(cols, n_cols, "column", name) if cols != "values" else list(range(1, n_cols))
+    first = 2 if split_last(target)[1] in TABLES_2D else 1  # a 2-D table's ':' skips the abscissae
+    row_ids = _indices(rows, n_rows, "row", name, first)
+    col_ids = _indices(cols, n_cols, "column", name, first) if cols != "values" else list(range(1, n_cols))
     low, start, high = bounds
     out = []
     for i in row_ids:
@@ -165,3 +185,45 @@ def apply(model: Model, params: list[Param], values: Any) -> dict[str, Any]:
             overrides[p.target] = [[float(c) for c in row] for row in table]
         overrides[p.target][p.cell[0]][p.cell[1]] = float(v)
     return overrides
+
+
+def _where(values: list[float], k: int, quantity: str, unit: str) -> str:
+    """Where the table's point ``k`` (0-based, of ``values``) acts under linear interpolation
+    held beyond the ends: between its neighbours, or beyond the one it has."""
+    if len(values) == 1:
+        return f"{quantity} is anywhere"
+    if k == 0:
+        return f"{quantity} is below {values[1]:g}{unit}"
+    if k == len(values) - 1:
+        return f"{quantity} is above {values[-2]:g}{unit}"
+    return f"{quantity} is between {values[k - 1]:g}{unit} and {values[k + 1]:g}{unit}"
+
+
+def silent_reason(model: Model, p: Param) -> str | None:
+    """Why a friction table's cell can have no effect: the point acts only over a span of its
+    abscissa (speed, temperature, normal force) the data may never reach. None for others."""
+    if p.cell is None or p.target in model.parameters:
+        return None
+    comp, param = split_last(p.target)
+    table, _ = _current(model, p.target)
+    i, j = p.cell
+    try:
+        cells = [[float(c) for c in row] for row in table]
+    except (TypeError, ValueError):
+        return None
+    if param in TABLES_2D and i > 0 and j > 0:
+        speeds = [row[0] for row in cells[1:]]
+        temps = cells[0][1:]
+        at = f"{p.target} cell [{i + 1},{j + 1}] (speed {speeds[i - 1]:g}, T = {temps[j - 1]:g} K)"
+        span = (
+            f"{_where(speeds, i - 1, 'the slip speed', '')} and "
+            f"{_where(temps, j - 1, 'the temperature', ' K')}"
+        )
+    elif param in _ABSCISSA and j > 0:
+        quantity, unit = _ABSCISSA[param]
+        xs = [row[0] for row in cells]
+        at = f"{p.target} row {i + 1} ({xs[i]:g}{unit})"
+        span = _where(xs, i, quantity, unit)
+    else:
+        return None
+    return f"{at} acts only while {span} in '{comp}', and the data never get there"

@@ -53,6 +53,7 @@ class Problem:
         self.data = np.concatenate([measured.outputs[o] * self.scales[o] for o in self.outputs])
         self.runs = 0
         self._last: tuple[np.ndarray, np.ndarray] | None = None
+        self._last_jac: tuple[np.ndarray, np.ndarray] | None = None
 
     def _expand(self, overrides: dict[str, Any]) -> dict[str, Any]:
         m = self.model
@@ -92,13 +93,17 @@ class Problem:
 
     def jacobian(self, x: np.ndarray) -> np.ndarray:
         """Forward differences, all columns in one parallel batch (a step near the upper
-        bound goes down instead)."""
+        bound goes down instead); the last one is kept (asked again at the same point, free)."""
+        if self._last_jac is not None and np.array_equal(self._last_jac[0], x):
+            return self._last_jac[1]
         r0 = self.residual(x)
         steps = np.array([_step(p, v) for p, v in zip(self.params, x, strict=True)])
         points = np.repeat(np.asarray([x], dtype=float), len(x), axis=0)
         points[np.diag_indices(len(x))] += steps
         shifted = self.predict(points) - self.data
-        return ((shifted - r0) / steps[:, None]).T
+        jac = ((shifted - r0) / steps[:, None]).T
+        self._last_jac = (np.array(x, dtype=float), jac)
+        return jac
 
 
 def _step(p: Param, v: float) -> float:

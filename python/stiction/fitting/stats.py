@@ -3,6 +3,7 @@ the Jacobian at the solution, and which parameters the data cannot identify, wit
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -30,7 +31,7 @@ class Uncertainty:
     dof: int
 
 
-def _reasons(labels: list[str], jac: np.ndarray) -> dict[str, str]:
+def _reasons(labels: list[str], jac: np.ndarray, hints: Mapping[str, str], singular: float) -> dict[str, str]:
     norms = np.linalg.norm(jac, axis=0)
     top = float(norms.max()) if norms.size else 0.0
     reasons: dict[str, str] = {}
@@ -42,11 +43,13 @@ def _reasons(labels: list[str], jac: np.ndarray) -> dict[str, str]:
                 reasons[label] += (
                     f": '{comp}' never sticks and breaks away in the data, and peak acts only then"
                 )
+            elif label in hints:
+                reasons[label] += ": " + hints[label]
     keep = [i for i, label in enumerate(labels) if label not in reasons]
     if len(keep) > 1:
         scaled = jac[:, keep] / norms[keep]
         _, s, vt = np.linalg.svd(scaled, full_matrices=False)
-        for k in np.flatnonzero(s < SINGULAR * s[0]):
+        for k in np.flatnonzero(s < singular * s[0]):
             involved = [labels[keep[i]] for i in np.flatnonzero(np.abs(vt[k]) > 0.1)]
             for label in involved:
                 others = [o for o in involved if o != label]
@@ -54,12 +57,22 @@ def _reasons(labels: list[str], jac: np.ndarray) -> dict[str, str]:
     return reasons
 
 
-def uncertainty(labels: list[str], x: np.ndarray, jac: np.ndarray, residual: np.ndarray) -> Uncertainty:
+def uncertainty(
+    labels: list[str],
+    x: np.ndarray,
+    jac: np.ndarray,
+    residual: np.ndarray,
+    hints: Mapping[str, str] | None = None,
+    singular: float = SINGULAR,
+) -> Uncertainty:
     """Linearised statistics of a least-squares estimate: s² (JᵀJ)⁻¹ over the identifiable
-    parameters, Student-t 95 % intervals with m − n degrees of freedom."""
+    parameters, Student-t 95 % intervals with m − n degrees of freedom. ``hints``: why a
+    parameter may not act (a table point the data may not reach), told with zero sensitivity;
+    ``singular``: the relative singular value below which a combination is not identified
+    (larger for a finite-difference Jacobian than for an exact one)."""
     t_dist = _deps.scipy_stats.t
 
-    reasons = _reasons(labels, jac)
+    reasons = _reasons(labels, jac, hints or {}, singular)
     keep = [i for i, label in enumerate(labels) if label not in reasons]
     dof = max(len(residual) - len(keep), 1)
     sigma2 = float(residual @ residual) / dof

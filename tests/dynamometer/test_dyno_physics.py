@@ -12,7 +12,7 @@ import numpy as np
 import pandas as pd
 import pytest
 from click.testing import CliRunner
-from paths import EXAMPLES
+from paths import EXAMPLES, REPO
 
 import stiction as st
 from stiction.cli.app import main
@@ -156,7 +156,13 @@ def test_a_pad_worn_out_mid_schedule_ends_the_run_cleanly(tmp_path) -> None:
     assert len(pd.read_csv(out / "stops.csv")) == 4
 
 
-def test_the_example_disc_brake_fades_and_recovers_and_wears() -> None:
+@pytest.fixture(scope="module")
+def example_report() -> st.DynoReport:
+    """The J2522-like schedule on the example disc brake (about 0.3 s)."""
+    return dyno(EXAMPLES / "dyno" / "disc_brake.toml", EXAMPLES / "dyno" / "j2522_like.toml", progress=False)
+
+
+def test_the_example_disc_brake_fades_and_recovers_and_wears(example_report: st.DynoReport) -> None:
     """examples/dyno/disc_brake.toml on the J2522-like schedule: each fade section heats the
     disc past 400 °C and its mean mu falls to below 60 % of the characteristic value (mu_T
     halves above 350–400 °C); the recovery at IBT 100 °C is back within 1 % at once (the model
@@ -193,3 +199,25 @@ def test_the_example_disc_brake_runs_the_same_from_its_modelica_export(tmp_path)
     mo_run = dyno(tmp_path / "disc_brake.mo", short, progress=False).stops
     assert len(toml_run) == 30
     pd.testing.assert_frame_equal(toml_run, mo_run, check_exact=True)
+
+
+def test_the_table_in_the_docs_is_the_examples_run(example_report: st.DynoReport) -> None:
+    """docs/dyno.md's excerpt of the fade and recovery: every row as the run gives it, to the
+    digits the page shows."""
+    lines = (REPO / "docs" / "dyno.md").read_text(encoding="utf-8").splitlines()
+    start = lines.index(
+        next(line for line in lines if line.startswith("| index | section | stop | pressure"))
+    )
+    rows = [line.strip("|").split("|") for line in lines[start + 2 :] if line.startswith("|")]
+    rows = rows[: next((k for k, r in enumerate(rows) if not r[0].strip().isdigit()), len(rows))]
+    assert len(rows) == 10
+    stops = example_report.stops.set_index("index")
+    for cells in rows:
+        index, section, stop, *numbers = (c.strip() for c in cells)
+        row = stops.loc[int(index)]
+        assert (row["section"], row["stop"]) == (section, int(stop))
+        run = [row["pressure"], row["T_initial"], row["T_peak"], row["mu_mean"], row["mu_min"], row["mu_max"]]
+        run += [row["time"], row["wear"] * 1e9]
+        for shown, value in zip(numbers, run):
+            decimals = len(shown.split(".")[1]) if "." in shown else 0
+            assert float(shown) == pytest.approx(round(value, decimals), abs=1e-12), (index, shown, value)

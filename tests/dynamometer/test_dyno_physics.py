@@ -154,6 +154,7 @@ def test_a_pad_worn_out_mid_schedule_ends_the_run_cleanly(tmp_path) -> None:
     assert result.exit_code == 0, result.output
     assert "stopped early: 4 stops; the pad wore out in stop 5 (section 'wear', stop 3)" in result.output
     assert len(pd.read_csv(out / "stops.csv")) == 4
+    assert (out / "worn_out.txt").read_text(encoding="utf-8") == report.summary() + "\n"
 
 
 @pytest.fixture(scope="module")

@@ -72,8 +72,9 @@ class DynoReport:
         return self.stops[self.stops["section"] == name]
 
     def write(self, folder: str | os.PathLike[str], plots: bool = True) -> list[Path]:
-        """Write ``stops.parquet``, ``stops.csv``, ``samples.parquet`` and (unless
-        ``plots=False``) the plots into ``folder``; returns the files written."""
+        """Write ``stops.parquet``, ``stops.csv``, ``samples.parquet``, (unless
+        ``plots=False``) the plots and, when the pad wore out, ``worn_out.txt`` (the
+        ``summary``) into ``folder``; returns the files written."""
         out = Path(folder)
         out.mkdir(parents=True, exist_ok=True)
         files = [out / "stops.parquet", out / "stops.csv", out / "samples.parquet"]
@@ -84,6 +85,9 @@ class DynoReport:
             from stiction.dynamometer.plots import plot_report
 
             files.append(plot_report(self, out / "dyno.png"))
+        if self.worn_out:
+            files.append(out / "worn_out.txt")
+            files[-1].write_text(self.summary() + "\n", encoding="utf-8")
         return files
 
     @staticmethod

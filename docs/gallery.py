@@ -2,7 +2,9 @@
 
 Each model file in examples/ and examples/msl/ is simulated with its own experiment and its
 main signals plotted; examples/vehicle_launch.py (the tutorial's model) and
-examples/vehicle_stop.py (a brake test's report) are run as scripts.
+examples/vehicle_stop.py (a brake test's report) are run as scripts; the virtual dynamometer
+runs the J2522-like schedule on the example disc brake for docs/dyno.md's figure (about 0.2 s
+and 0.4 s for its plot).
 Everything goes to docs/_generated (not committed).
 """
 
@@ -59,6 +61,13 @@ def _vehicle_stop(out: Path) -> list[str]:
     return [title, "", *report, "", "![vehicle_stop report](vehicle_stop_report.png)", ""]
 
 
+def _dyno(out: Path) -> None:
+    """examples/dyno: the J2522-like schedule on the disc brake, its report's figure."""
+    dyno = ROOT / "examples" / "dyno"
+    report = st.dyno(dyno / "disc_brake.toml", dyno / "j2522_like.toml", progress=False)
+    report.plot(out / "dyno_j2522_like.png")
+
+
 def write_gallery(docs: Path) -> None:
     """Run every example into ``docs/_generated``: gallery.md, the plots, the tutorial output."""
     out = docs / "_generated"
@@ -69,3 +78,4 @@ def write_gallery(docs: Path) -> None:
     lines += _vehicle_stop(out)
     (out / "gallery.md").write_text("\n".join(lines))
     _tutorial(out)
+    _dyno(out)

@@ -17,8 +17,11 @@ from types import ModuleType
 from typing import Any
 
 __all__ = [
+    "backend_agg",
     "distributed",
     "figure",
+    "lines",
+    "matplotlib",
     "pandas",
     "parquet",
     "pint",
@@ -63,6 +66,9 @@ parquet: Any = _LazyModule("pyarrow.parquet", "parquet")
 pyplot: Any = _LazyModule("matplotlib.pyplot", "plot")
 ticker: Any = _LazyModule("matplotlib.ticker", "plot")
 figure: Any = _LazyModule("matplotlib.figure", "plot")
+lines: Any = _LazyModule("matplotlib.lines", "plot")
+matplotlib: Any = _LazyModule("matplotlib", "plot")
+backend_agg: Any = _LazyModule("matplotlib.backends.backend_agg", "plot")
 distributed: Any = _LazyModule("distributed", "dask")
 tqdm_auto: Any = _LazyModule("tqdm.auto", "sweep")
 scipy_optimize: Any = _LazyModule("scipy.optimize", "fit")

@@ -114,21 +114,26 @@ def test_a_drag_holds_the_speed_and_heats_by_the_closed_form() -> None:
 
 def test_a_target_deceleration_and_the_wear_column() -> None:
     """With mu_nominal the brake's mu, the feed-forward clamp force meets the deceleration
-    exactly, stop after stop (each set from the last stop's mean mu); a wear variable (here an
-    energy-proportional one, alpha·E) is reported per stop."""
-    alpha, decel = 2e-12, 25.0  # m³/J; rad/s²
+    exactly, stop after stop (each set from the last stop's mean mu); the brake's own energy
+    wear law (docs/wear.md) wears alpha·E per stop, the column is its wearVolume's growth and
+    the thickness left falls by the worn volume over the pad's area."""
+    alpha, decel, area, thickness = 2e-12, 25.0, 4e-3, 0.011  # m³/J; rad/s²; m²; m
     model = brake_model(cooling=False)
-    model.variable("pad_wear", f"system.dissipatedEnergy*{alpha}")
-    rig = RIG + f'mu_nominal = {MU}\nwear = "pad_wear"\n'
+    model.components["brake"].params["wear"] = st.wear.Energy(alpha=alpha, A=area, thickness=thickness)
+    rig = RIG + f"mu_nominal = {MU}\n"
     text = (
         rig
         + f'\n[[section]]\nname = "decel"\nrepeat = 2\nv_initial = 100.0\nv_final = 20.0\ndecel = {decel}\ninterval = 1.0\n'
     )
     stops = dyno(model, loads_schedule(text), progress=False).stops
+    worn = 0.0
     for row in stops.itertuples():
         assert row.time == pytest.approx(80.0 / decel, rel=1e-10)
         assert row.fn == pytest.approx(J * decel / (MU * CGEO), rel=1e-8)
+        assert row.energy == pytest.approx(J * (100.0**2 - 20.0**2) / 2, rel=1e-12)
         assert row.wear == pytest.approx(alpha * row.energy, rel=1e-8)
+        worn += row.wear
+        assert row.thickness == pytest.approx(thickness - worn / area, rel=1e-10)
 
 
 def test_the_report_figure_shows_each_section_and_is_written(tmp_path) -> None:

@@ -49,6 +49,8 @@ def dyno(
     -------
     DynoReport
         One row per stop (``stops``), the samples behind them, the wall-clock time it took.
+        A pad worn down to its ``thickness_min`` ends the run cleanly: the report holds the
+        stops done and ``worn_out`` names the stop that wore the pad out.
 
     Raises
     ------
@@ -60,5 +62,5 @@ def dyno(
         model = Model.from_modelica(path) if path.endswith(".mo") else Model.load(path)
     if not isinstance(schedule, Schedule):
         schedule = load_schedule(schedule)
-    stops, samples, timing = run_schedule(rig_model(model, schedule), schedule, progress)
-    return DynoReport(stops=stops, samples=samples, timing=timing, name=model.name)
+    stops, samples, timing, worn_out = run_schedule(rig_model(model, schedule), schedule, progress)
+    return DynoReport(stops=stops, samples=samples, timing=timing, name=model.name, worn_out=worn_out)

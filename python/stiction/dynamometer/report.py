@@ -15,8 +15,9 @@ Columns of ``DynoReport.stops`` (one row per stop, in schedule order):
   between 10 % and 80 % of the speed drop (every 5 %);
 - ``time`` [s]: the stop's duration; ``energy`` [J]: ``J·(w0² − w1²)/2``;
 - ``cooling_time`` [s]: the cooling before the stop; ``t_start``: the stop's simulation time;
-- ``wear`` [m³]: the growth of the wear variable over the stop (``[dyno] wear``, else
-  ``<brake>.wearVolume`` when the brake keeps one).
+- ``wear`` [m³]: the growth of the brake's worn volume ``<brake>.wearVolume`` over the stop,
+  when the brake has a ``wear`` record (docs/wear.md); ``thickness`` [m]: the pad thickness
+  left at the stop's end, when the record gives the pad (``A``, ``thickness``).
 """
 
 from __future__ import annotations
@@ -35,12 +36,33 @@ __all__ = ["DynoReport"]
 class DynoReport:
     """The result of ``st.dyno``: ``stops`` (a pandas DataFrame, one row per stop),
     ``samples`` (mu and temperature at 10 %, 15 %, … 80 % of each stop's speed drop) and
-    ``timing``: wall-clock seconds spent in ``stops``, ``cooling`` and ``setup``."""
+    ``timing``: wall-clock seconds spent in ``stops``, ``cooling`` and ``setup``.
+
+    ``worn_out`` is ``None``, or, when the pad wore down to its ``thickness_min`` and ended the
+    run, the stop it happened in: ``index``, ``section``, ``stop`` (as in the table, which holds
+    the stops done before it) and the engine's ``message`` (element, instant, worn volume)."""
 
     stops: Any
     samples: Any
     timing: dict[str, float] = field(default_factory=dict)
     name: str = "dyno"
+    worn_out: dict[str, Any] | None = None
+
+    @property
+    def completed(self) -> bool:
+        """Whether every stop of the schedule ran (no pad wore out)."""
+        return self.worn_out is None
+
+    def summary(self) -> str:
+        """One line: the stops done, and the stop that wore the pad out if one did."""
+        text = f"{len(self)} stops"
+        if self.worn_out:
+            w = self.worn_out
+            text += (
+                f"; the pad wore out in stop {w['index']} (section '{w['section']}', stop {w['stop']}): "
+                f"{w['message']}"
+            )
+        return text
 
     def __len__(self) -> int:
         return len(self.stops)
@@ -50,8 +72,9 @@ class DynoReport:
         return self.stops[self.stops["section"] == name]
 
     def write(self, folder: str | os.PathLike[str], plots: bool = True) -> list[Path]:
-        """Write ``stops.parquet``, ``stops.csv``, ``samples.parquet`` and (unless
-        ``plots=False``) the plots into ``folder``; returns the files written."""
+        """Write ``stops.parquet``, ``stops.csv``, ``samples.parquet``, (unless
+        ``plots=False``) the plots and, when the pad wore out, ``worn_out.txt`` (the
+        ``summary``) into ``folder``; returns the files written."""
         out = Path(folder)
         out.mkdir(parents=True, exist_ok=True)
         files = [out / "stops.parquet", out / "stops.csv", out / "samples.parquet"]
@@ -62,6 +85,9 @@ class DynoReport:
             from stiction.dynamometer.plots import plot_report
 
             files.append(plot_report(self, out / "dyno.png"))
+        if self.worn_out:
+            files.append(out / "worn_out.txt")
+            files[-1].write_text(self.summary() + "\n", encoding="utf-8")
         return files
 
     @staticmethod
@@ -84,4 +110,7 @@ class DynoReport:
         return plot_report(self, path) if path is not None else report_figure(self)
 
     def __repr__(self) -> str:
-        return f"<DynoReport {self.name!r}: {len(self)} stops, {self.stops['section'].nunique()} sections>"
+        worn = f", pad worn out in stop {self.worn_out['index']}" if self.worn_out else ""
+        return (
+            f"<DynoReport {self.name!r}: {len(self)} stops, {self.stops['section'].nunique()} sections{worn}>"
+        )

@@ -34,7 +34,6 @@ class Rigged:
     fn_max: float
     cgeo: float
     temperature: str
-    wear: str | None  # "<brake>.wearVolume" when the brake keeps one (found at run time)
     ambients: list[str]  # FixedTemperature components: the ends of cooling paths
     motor: bool = False  # a Speed source and a coupling clutch hold the speed in drags
 
@@ -89,7 +88,6 @@ def rig_model(model: Model, schedule: Schedule) -> Rigged:
         fn_max=float(fn_max),
         cgeo=float(values.get(f"{rig.brake}.cgeo", 1.0)),
         temperature=rig.temperature or f"{rig.brake}.heatPort.T",
-        wear=None,
         ambients=ambients,
         motor=motor,
     )

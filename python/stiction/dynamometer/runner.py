@@ -23,6 +23,7 @@ from typing import Any
 from stiction import _deps
 from stiction.dynamometer.rig import DYNO_COUPLING, DYNO_SPEED, ZERO_C, Rigged
 from stiction.dynamometer.schedule import Schedule, ScheduleError, Section
+from stiction.errors import WearLimitError
 from stiction.run.simulation import Simulation
 
 __all__ = ["LEVELS", "run_schedule"]
@@ -56,12 +57,10 @@ class _Run:
                         else ""
                     )
                 )
-        wear = f"{self.rig.brake}.wearVolume"
-        self.wear = self.rig.wear or (wear if wear in names else None)
-        if self.wear not in names and self.wear is not None:
-            raise ScheduleError(
-                f"{schedule.source}: [dyno] (line {self.rig.line}): the run has no wear variable '{self.wear}'"
-            )
+        # the brake's own wear state (docs/wear.md), when it keeps one: the report's wear column
+        wear, thickness = f"{self.rig.brake}.wearVolume", f"{self.rig.brake}.thickness"
+        self.wear = wear if wear in names else None
+        self.thickness = thickness if thickness in names else None
         self.T, self.w, self.phi = rigged.temperature, f"{rigged.inertia}.w", f"{rigged.inertia}.phi"
         self.ambient = [self.sim.get(f"{a}.port.T") for a in rigged.ambients]
         self.clock = {"stops": 0.0, "cooling": 0.0}
@@ -210,31 +209,43 @@ class _Run:
         }
         if self.wear:
             row["wear"] = sim.get(self.wear) - wear0
+        if self.thickness:
+            row["thickness"] = sim.get(self.thickness)
         return row
 
 
 def run_schedule(
     rigged: Rigged, schedule: Schedule, progress: bool = True
-) -> tuple[Any, Any, dict[str, float]]:
-    """Run every stop of ``schedule`` on ``rigged``: the per-stop table, the samples and the
-    wall-clock split (``stops``, ``cooling``, ``setup``) in s."""
+) -> tuple[Any, Any, dict[str, float], dict[str, Any] | None]:
+    """Run every stop of ``schedule`` on ``rigged``: the per-stop table, the samples, the
+    wall-clock split (``stops``, ``cooling``, ``setup``) in s, and ``None`` — or, when the pad
+    wore down to its ``thickness_min`` in a stop, which stop that was (the run ends there, the
+    table holds the stops done before it)."""
     started = time.perf_counter()
     run = _Run(rigged, schedule)
     run.check_cooling()
     setup = time.perf_counter() - started
     bar = _deps.tqdm_auto.tqdm(total=schedule.stops, desc="dyno", unit="stop", disable=not progress)
     rows: list[dict[str, Any]] = []
+    worn_out: dict[str, Any] | None = None
     try:
         for s in schedule.sections:
             for k in range(s.repeat):
-                rows.append(run.stop(s, k, len(rows) + 1))
+                try:
+                    rows.append(run.stop(s, k, len(rows) + 1))
+                except WearLimitError as exc:
+                    worn_out = {"index": len(rows) + 1, "section": s.name, "stop": k + 1, "message": str(exc)}
+                    break
                 bar.update(1)
+            if worn_out:
+                break
     finally:
         bar.close()
     pd = _deps.pandas
-    table = pd.DataFrame(rows)
+    table = pd.DataFrame(rows, columns=None if rows else ["index", "section", "kind"])
     table["section"] = table["section"].astype("string")
     table["kind"] = table["kind"].astype("string")
-    samples = pd.DataFrame(run.samples)
+    # the samples of the stop the pad wore out in are kept: they show how far it got
+    samples = pd.DataFrame(run.samples, columns=None if run.samples else ["index", "section"])
     samples["section"] = samples["section"].astype("string")
-    return table, samples, {"setup": setup, **run.clock}
+    return table, samples, {"setup": setup, **run.clock}, worn_out

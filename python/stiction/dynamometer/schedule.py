@@ -31,7 +31,6 @@ RIG_KEYS = {
     "r_dyn": "dynamic rolling radius [m]",
     "speed_unit": '"km/h" (vehicle speed, needs r_dyn) or "rad/s"',
     "temperature": "the brake temperature variable (default: <brake>.heatPort.T)",
-    "wear": "the wear variable [m³] (default: <brake>.wearVolume when the brake keeps one)",
     "fn_per_bar": "clamp force per bar of line pressure [N/bar]",
     "mu_nominal": "the friction coefficient a target deceleration is first set with",
     "max_cooling": "the longest cooling before a stop [s]",
@@ -66,7 +65,6 @@ class Rig:
     r_dyn: float | None = None
     speed_unit: str = "rad/s"
     temperature: str | None = None
-    wear: str | None = None
     fn_per_bar: float | None = None
     mu_nominal: float = 0.4
     max_cooling: float = 3600.0
@@ -192,7 +190,7 @@ def _rig(table: Any, lines: dict[str, int], source: str) -> Rig:
     unit = table.get("speed_unit", "km/h" if r_dyn else "rad/s")
     if unit not in ("km/h", "rad/s") or (unit == "km/h" and r_dyn is None):
         raise ScheduleError(f'{at("speed_unit")}: speed_unit = {unit!r}: "rad/s", or "km/h" with r_dyn')
-    for key in ("inertia", "flange", "temperature", "wear"):
+    for key in ("inertia", "flange", "temperature"):
         if key in table and not isinstance(table[key], str):
             raise ScheduleError(f"{at(key)}: {key} must be a name, got {table[key]!r}")
     return Rig(
@@ -202,7 +200,6 @@ def _rig(table: Any, lines: dict[str, int], source: str) -> Rig:
         J=J,
         speed_unit=unit,
         temperature=table.get("temperature"),
-        wear=table.get("wear"),
         line=lines.get("", 0),
         **values,
     )

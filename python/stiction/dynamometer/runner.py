@@ -7,9 +7,9 @@ supplied); cooling at that speed, brake released, until the brake temperature fa
 (``advance_until``: the exact instant) or for the fixed interval; then the pressure applied at
 one event and held, the run advanced to the exact instants the speed passes 10 %, 15 %, … 80 %
 of the speed drop (samples) and reaches the final speed (a stop to standstill ends at the
-brake's stick event). A target deceleration is met per stop, feed-forward: the clamp force
-``J·alpha/(mu·cgeo)`` with the previous stop's mean mu (``mu_nominal`` for the first), not by a
-controller within the stop. A drag: the inertia at the speed, coupled (a Clutch, locked) to
+brake's stick event). A target deceleration is held by a sampled controller (control.py),
+starting from the clamp force ``J·alpha/(mu·cgeo)`` with the previous stop's mean mu
+(``mu_nominal`` for the first). A drag: the inertia at the speed, coupled (a Clutch, locked) to
 the dyno's motor (a Speed source following a Constant exactly) that holds it while the
 pressure is held for the duration; the samples are at 10 %, 15 %, … 80 % of the duration.
 """
@@ -21,6 +21,7 @@ import time
 from typing import Any
 
 from stiction import _deps
+from stiction.dynamometer.control import CONTROL_COLUMNS, controlled_stop, controller_limit
 from stiction.dynamometer.rig import DYNO_COUPLING, DYNO_SPEED, ZERO_C, Rigged
 from stiction.dynamometer.schedule import Schedule, ScheduleError, Section
 from stiction.errors import WearLimitError
@@ -102,11 +103,12 @@ class _Run:
 
     def clamp(self, s: Section, k: int) -> float:
         """The clamp force of stop ``k`` [N]: from the pressure, or for a target deceleration
-        from the previous stop's mean mu (feed-forward)."""
+        the controller's start, from the previous stop's mean mu (feed-forward), clipped to its
+        limit."""
         if s.pressure is not None:
             return s.pressure[k] * float(self.rig.fn_per_bar or 0.0)
         alpha = self.rig.to_rad_s2(float(s.decel or 0.0))
-        return self.r.J * alpha / (self.mu_last * self.r.cgeo)
+        return min(self.r.J * alpha / (self.mu_last * self.r.cgeo), controller_limit(self.r, self.rig))
 
     def mu_now(self) -> float:
         """The friction coefficient as a dyno measures it: torque / (cgeo · clamp force)."""
@@ -157,6 +159,8 @@ class _Run:
         rig, sim = self.rig, self.sim
         w0, w1 = rig.to_rad_s(s.v_initial), rig.to_rad_s(s.v_final)
         fn, cooling, T0, wear0 = self.press(s, k, w0)
+        if s.decel is not None and s.kind == "stops":
+            return self.controlled(s, k, index, (w0, w1), (fn, cooling, T0, wear0))
         started, t0 = time.perf_counter(), sim.time
         mus, peak, window = [], T0, {}
         lost0 = sim.get("system.dissipatedEnergy")
@@ -169,13 +173,13 @@ class _Run:
             mus.append(mu)
             peak = max(peak, T)
             if q in (LEVELS[0], LEVELS[-1]):
-                window[q] = (sim.get(self.w), sim.get(self.phi), sim.get("system.dissipatedEnergy"))
+                window[q] = (sim.get(self.w), sim.get(self.phi), sim.get("system.dissipatedEnergy"), sim.time)
         if s.kind == "drags":
             sim.advance_to(t0 + (s.duration or 0.0))
         else:
             self.reach(s, w1, t0 + rig.max_stop)
         T1 = sim.get(self.T)
-        (wa, pa, ea), (wb, pb, eb) = window[LEVELS[0]], window[LEVELS[-1]]
+        (wa, pa, ea, ta), (wb, pb, eb, tb) = window[LEVELS[0]], window[LEVELS[-1]]
         # the torque's work over the window: from the inertia in a stop, the dissipation in a drag
         work = eb - ea if s.kind == "drags" else self.r.J * (wa * wa - wb * wb) / 2
         mu_mean = work / (self.r.cgeo * fn * (pb - pa))
@@ -187,6 +191,48 @@ class _Run:
         )
         sim.set_input(self.r.pressure_input, 0.0)
         self.clock["stops"] += time.perf_counter() - started
+        row = self.row(s, k, index, fn, (T0, peak, T1, wear0), (mu_mean, mus), (energy, cooling, t0))
+        # the control columns (kept only in a schedule with target decelerations)
+        row["decel_mean"] = rig.from_rad_s2((wa - wb) / (tb - ta)) if s.kind == "stops" else math.nan
+        row["pressure_max"], row["missed"] = row["pressure"], False
+        return row
+
+    def controlled(
+        self, s: Section, k: int, index: int, speeds: tuple[float, float], start: tuple[float, ...]
+    ) -> dict[str, Any]:
+        """A stop with a target deceleration, under the sampled controller (control.py)."""
+        (w0, w1), (fn, cooling, T0, wear0) = speeds, start
+        started, t0 = time.perf_counter(), self.sim.time
+        c = controlled_stop(self, s, index, w0, w1, fn)
+        T1 = self.sim.get(self.T)
+        self.mu_last = c.mu_mean
+        self.sim.set_input(self.r.pressure_input, 0.0)
+        self.clock["stops"] += time.perf_counter() - started
+        energy = self.r.J * (w0 * w0 - w1 * w1) / 2
+        peak = max([T0, *c.temperatures])
+        row = self.row(
+            s, k, index, c.fn_mean, (T0, peak, T1, wear0), (c.mu_mean, c.mus), (energy, cooling, t0)
+        )
+        per_bar = self.rig.fn_per_bar
+        row["decel"] = s.decel
+        row["pressure_max"] = c.fn_peak / per_bar if per_bar else math.nan
+        row["decel_mean"] = self.rig.from_rad_s2(c.decel_mean)
+        row["missed"] = c.missed
+        return row
+
+    def row(
+        self,
+        s: Section,
+        k: int,
+        index: int,
+        fn: float,
+        temps: tuple[float, float, float, float],
+        mu: tuple[float, list[float]],
+        times: tuple[float, float, float],
+    ) -> dict[str, Any]:
+        """A stop's row of the report."""
+        rig, sim = self.rig, self.sim
+        (T0, peak, T1, wear0), (mu_mean, mus), (energy, cooling, t0) = temps, mu, times
         row = {
             "index": index,
             "section": s.name,
@@ -243,6 +289,11 @@ def run_schedule(
         bar.close()
     pd = _deps.pandas
     table = pd.DataFrame(rows, columns=None if rows else ["index", "section", "kind"])
+    if any(s.decel is not None and s.kind == "stops" for s in schedule.sections):
+        table["decel"] = table["decel"].astype(float) if "decel" in table else math.nan
+        table["missed"] = table["missed"].astype(bool)
+    else:  # a pressure-only schedule's table is as it was before the controller
+        table = table.drop(columns=[c for c in CONTROL_COLUMNS if c in table])
     table["section"] = table["section"].astype("string")
     table["kind"] = table["kind"].astype("string")
     # the samples of the stop the pad wore out in are kept: they show how far it got

@@ -32,7 +32,9 @@ RIG_KEYS = {
     "speed_unit": '"km/h" (vehicle speed, needs r_dyn) or "rad/s"',
     "temperature": "the brake temperature variable (default: <brake>.heatPort.T)",
     "fn_per_bar": "clamp force per bar of line pressure [N/bar]",
-    "mu_nominal": "the friction coefficient a target deceleration is first set with",
+    "mu_nominal": "the friction coefficient a target deceleration's first stop starts with",
+    "control_rate": "the deceleration controller's sample rate [Hz] (100)",
+    "p_max": "the highest line pressure the controller applies [bar] (default: the brake's fn_max)",
     "max_cooling": "the longest cooling before a stop [s]",
     "max_stop": "the longest stop [s]",
 }
@@ -67,6 +69,8 @@ class Rig:
     temperature: str | None = None
     fn_per_bar: float | None = None
     mu_nominal: float = 0.4
+    control_rate: float = 100.0
+    p_max: float | None = None
     max_cooling: float = 3600.0
     max_stop: float = 120.0
     line: int = 0
@@ -78,6 +82,10 @@ class Rig:
     def to_rad_s2(self, a: float) -> float:
         """A schedule deceleration in rad/s² of the inertia."""
         return a / self.r_dyn if self.speed_unit == "km/h" and self.r_dyn else a
+
+    def from_rad_s2(self, alpha: float) -> float:
+        """An inertia's deceleration [rad/s²] in the schedule's unit."""
+        return alpha * self.r_dyn if self.speed_unit == "km/h" and self.r_dyn else alpha
 
 
 @dataclass(frozen=True)
@@ -170,8 +178,22 @@ def _rig(table: Any, lines: dict[str, int], source: str) -> Rig:
         k: _number(table[k], at(k), k, positive=True)
         for k in RIG_KEYS
         if k in table
-        and k in ("J", "mass", "axle_share", "r_dyn", "fn_per_bar", "mu_nominal", "max_cooling", "max_stop")
+        and k
+        in (
+            "J",
+            "mass",
+            "axle_share",
+            "r_dyn",
+            "fn_per_bar",
+            "mu_nominal",
+            "control_rate",
+            "p_max",
+            "max_cooling",
+            "max_stop",
+        )
     }
+    if "p_max" in values and "fn_per_bar" not in values:
+        raise ScheduleError(f"{at('p_max')}: p_max [bar] needs fn_per_bar (the clamp force per bar)")
     J = values.pop("J", None)
     mass, share = values.pop("mass", None), values.pop("axle_share", None)
     r_dyn = values.get("r_dyn")

@@ -217,8 +217,9 @@ def test_the_table_in_the_docs_is_the_examples_run(example_report: st.DynoReport
         index, section, stop, *numbers = (c.strip() for c in cells)
         row = stops.loc[int(index)]
         assert (row["section"], row["stop"]) == (section, int(stop))
-        run = [row["pressure"], row["T_initial"], row["T_peak"], row["mu_mean"], row["mu_min"], row["mu_max"]]
-        run += [row["time"], row["wear"] * 1e9]
+        run = [row["pressure"], row["pressure_max"], row["T_initial"], row["T_peak"], row["mu_mean"]]
+        run += [row["mu_min"], row["mu_max"], row["time"], row["decel_mean"], row["wear"] * 1e9]
+        assert len(numbers) == len(run)
         for shown, value in zip(numbers, run):
             decimals = len(shown.split(".")[1]) if "." in shown else 0
             assert float(shown) == pytest.approx(round(value, decimals), abs=1e-12), (index, shown, value)

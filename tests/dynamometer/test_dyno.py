@@ -113,8 +113,9 @@ def test_a_drag_holds_the_speed_and_heats_by_the_closed_form() -> None:
 
 
 def test_a_target_deceleration_and_the_wear_column() -> None:
-    """With mu_nominal the brake's mu, the feed-forward clamp force meets the deceleration
-    exactly, stop after stop (each set from the last stop's mean mu); the brake's own energy
+    """With mu_nominal the brake's mu, the controller's first clamp force meets the
+    deceleration exactly and it measures that mu in every sample, so the clamp force stays
+    J·alpha/(mu·cgeo), stop after stop; the brake's own energy
     wear law (docs/wear.md) wears alpha·E per stop, the column is its wearVolume's growth and
     the thickness left falls by the worn volume over the pad's area."""
     alpha, decel, area, thickness = 2e-12, 25.0, 4e-3, 0.011  # m³/J; rad/s²; m²; m

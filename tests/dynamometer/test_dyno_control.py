@@ -77,14 +77,16 @@ def test_an_unreachable_target_saturates_at_p_max_and_is_flagged() -> None:
     its mean pressure p_max, its time the adiabatic closed form
     J/(cgeo·fn·√(AB))·[atan(w·√(B/A))] from w1 to w0, flagged missed; the next stop, with a
     reachable target, is not. A pressure stop in the same schedule reports its pressure as
-    the peak and is not flagged."""
+    the peak and is not flagged; the report's summary names the stop."""
     p_max = 0.5 * J * DECEL / MU0 / FN_PER_BAR  # half what the cold pad needs
     sections = (
         f'\n[[section]]\nname = "hard"\nv_initial = {W0}\nv_final = {W1}\ndecel = {DECEL}\ninterval = 0.0\n'
         f'\n[[section]]\nname = "press"\nv_initial = {W0}\nv_final = {W1}\npressure = 1.0\ninterval = 0.0\n'
         f'\n[[section]]\nname = "soft"\nv_initial = {W0}\nv_final = {W1}\ndecel = 1.0\ninterval = 0.0\n'
     )
-    stops = dyno(faded_brake(), schedule(f"p_max = {p_max}\n", sections), progress=False).stops
+    report = dyno(faded_brake(), schedule(f"p_max = {p_max}\n", sections), progress=False)
+    stops = report.stops
+    assert report.summary() == "3 stops; 1 missed their target deceleration (at p_max): index 1"
     hard, press, soft = (stops.iloc[k] for k in range(3))
     assert hard.missed and not press.missed and not soft.missed
     assert hard.pressure_max == pytest.approx(p_max, rel=1e-14)

@@ -36,5 +36,5 @@ def dyno_cmd(model_file: Path, schedule_file: Path, output: Path, no_plots: bool
         f"{len(report)} stops: {timing['stops']:.2f} s in stops, {timing['cooling']:.2f} s cooling; "
         f"wrote {', '.join(str(f) for f in files)}"
     )
-    if report.worn_out:  # a result, not a failure: the stops done are written
-        click.echo(f"stopped early: {report.summary()}", err=True)
+    if report.worn_out or len(report.missed):  # a result, not a failure: the stops done are written
+        click.echo(f"{'stopped early' if report.worn_out else 'note'}: {report.summary()}", err=True)

@@ -15,6 +15,10 @@ Columns of ``DynoReport.stops`` (one row per stop, in schedule order):
   between 10 % and 80 % of the speed drop (every 5 %);
 - ``time`` [s]: the stop's duration; ``energy`` [J]: ``J·(w0² − w1²)/2``;
 - ``cooling_time`` [s]: the cooling before the stop; ``t_start``: the stop's simulation time;
+- with target decelerations in the schedule (none of these otherwise): ``decel`` (the target,
+  NaN for a pressure stop), ``decel_mean`` (over 10–80 % of the speed drop), ``pressure_max``
+  [bar] (the highest applied) and ``missed`` (the controller at ``p_max`` in that window);
+  ``pressure`` and ``fn`` are then the time means over the stop (control.py);
 - ``wear`` [m³]: the growth of the brake's worn volume ``<brake>.wearVolume`` over the stop,
   when the brake has a ``wear`` record (docs/wear.md); ``thickness`` [m]: the pad thickness
   left at the stop's end, when the record gives the pad (``A``, ``thickness``).
@@ -53,9 +57,21 @@ class DynoReport:
         """Whether every stop of the schedule ran (no pad wore out)."""
         return self.worn_out is None
 
+    @property
+    def missed(self) -> Any:
+        """The rows of the stops whose target deceleration the controller could not reach
+        (the pressure at ``p_max``); none in a schedule without ``decel``."""
+        return self.stops[self.stops["missed"]] if "missed" in self.stops else self.stops.iloc[:0]
+
     def summary(self) -> str:
-        """One line: the stops done, and the stop that wore the pad out if one did."""
+        """One line: the stops done, how many missed their target deceleration, and the stop
+        that wore the pad out if one did."""
         text = f"{len(self)} stops"
+        if len(missed := self.missed):
+            text += (
+                f"; {len(missed)} missed their target deceleration (at p_max): index {missed['index'].min()}"
+            )
+            text += f"–{missed['index'].max()}" if len(missed) > 1 else ""
         if self.worn_out:
             w = self.worn_out
             text += (

@@ -19,10 +19,9 @@ from __future__ import annotations
 import itertools
 from pathlib import Path
 
-import fmpy
 import numpy as np
-from fmpy.fmi2 import FMU2Slave
 from fmpy.validation import validate_fmu
+from fmu_slave import Slave
 
 import stiction as st
 
@@ -75,38 +74,9 @@ def spring_fmu(path: Path) -> Path:
     return m.to_fmu(path, outputs=["cut.tau"])
 
 
-class Slave:
-    """One FMU instance driven through FMPy's FMI 2.0 co-simulation API."""
-
-    def __init__(self, fmu: Path, name: str) -> None:
-        md = fmpy.read_model_description(fmu)
-        self.vr = {v.name: v.valueReference for v in md.modelVariables}
-        self.fmu = FMU2Slave(
-            guid=md.guid,
-            unzipDirectory=fmpy.extract(fmu),
-            modelIdentifier=md.coSimulation.modelIdentifier,
-            instanceName=name,
-        )
-        self.fmu.instantiate()
-        self.fmu.setupExperiment(startTime=0.0, stopTime=STOP)
-        self.fmu.enterInitializationMode()
-        self.fmu.exitInitializationMode()
-
-    def set(self, **values: float) -> None:
-        names = [n.replace("__", ".") for n in values]
-        self.fmu.setReal([self.vr[n] for n in names], list(values.values()))
-
-    def get(self, *names: str) -> list[float]:
-        return self.fmu.getReal([self.vr[n] for n in names])
-
-    def close(self) -> None:
-        self.fmu.terminate()
-        self.fmu.freeInstance()
-
-
 def co_simulate(inertia: Path, springs: Path, h: float) -> tuple[np.ndarray, np.ndarray]:
     """The master: J.w at every communication point."""
-    a, b = Slave(inertia, "inertia"), Slave(springs, "spring")
+    a, b = Slave(inertia, "inertia", STOP), Slave(springs, "spring", STOP)
     n = round(STOP / h)
     times, speeds = np.zeros(n + 1), np.zeros(n + 1)
     try:
@@ -116,9 +86,9 @@ def co_simulate(inertia: Path, springs: Path, h: float) -> tuple[np.ndarray, np.
             times[k], speeds[k] = t, jw
             if k == n:
                 break
-            b.set(cut__phi=phi, cut__w=w)
+            b.set({"cut.phi": phi, "cut.w": w})
             (tau,) = b.get("cut.tau")
-            a.set(cut__tau=tau)
+            a.set({"cut.tau": tau})
             a.fmu.doStep(currentCommunicationPoint=t, communicationStepSize=h)
             b.fmu.doStep(currentCommunicationPoint=t, communicationStepSize=h)
     finally:

@@ -15,10 +15,9 @@ from __future__ import annotations
 import itertools
 from pathlib import Path
 
-import fmpy
 import numpy as np
-from fmpy.fmi2 import FMU2Slave
 from fmpy.validation import validate_fmu
+from fmu_slave import Slave
 
 import stiction as st
 
@@ -68,37 +67,9 @@ def spring_fmu(path: Path) -> Path:
     return m.to_fmu(path, outputs=["cut.f"])
 
 
-class Slave:
-    """One FMU instance through FMPy's FMI 2.0 co-simulation API."""
-
-    def __init__(self, fmu: Path, name: str) -> None:
-        md = fmpy.read_model_description(fmu)
-        self.vr = {v.name: v.valueReference for v in md.modelVariables}
-        self.fmu = FMU2Slave(
-            guid=md.guid,
-            unzipDirectory=fmpy.extract(fmu),
-            modelIdentifier=md.coSimulation.modelIdentifier,
-            instanceName=name,
-        )
-        self.fmu.instantiate()
-        self.fmu.setupExperiment(startTime=0.0, stopTime=STOP)
-        self.fmu.enterInitializationMode()
-        self.fmu.exitInitializationMode()
-
-    def set(self, values: dict[str, float]) -> None:
-        self.fmu.setReal([self.vr[n] for n in values], list(values.values()))
-
-    def get(self, *names: str) -> list[float]:
-        return self.fmu.getReal([self.vr[n] for n in names])
-
-    def close(self) -> None:
-        self.fmu.terminate()
-        self.fmu.freeInstance()
-
-
 def co_simulate(masses: Path, springs: Path, h: float) -> tuple[np.ndarray, np.ndarray]:
     """The master: mass.v at every communication point."""
-    a, b = Slave(masses, "mass"), Slave(springs, "spring")
+    a, b = Slave(masses, "mass", STOP), Slave(springs, "spring", STOP)
     n = round(STOP / h)
     times, speeds = np.zeros(n + 1), np.zeros(n + 1)
     try:

@@ -90,6 +90,34 @@ def _meaning(value: Any, expressions: bool = False) -> Any:
     return value
 
 
+def _same(a: Any, b: Any) -> bool:
+    """Equal and of the same types throughout (``1`` and ``1.0`` are written differently,
+    and the engine may read them differently); plain numbers, text and lists only."""
+    kind = type(a)
+    if kind is not type(b):
+        return False
+    if kind in (bool, int, float, str):
+        return a == b
+    if kind is dict:
+        return a.keys() == b.keys() and all(_plain_value(a[k]) and _same(a[k], b[k]) for k in a)
+    if kind is list:
+        return len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b, strict=True))
+    return False
+
+
+def _plain_value(value: Any) -> bool:
+    """A parameter the engine text holds as written: no expression (``{ expr = … }``, a start
+    value's table) and no table cell that is text (an expression there too)."""
+    kind = type(value)
+    if kind in (bool, int, float, str):
+        return True
+    return kind is list and all(type(v) in (int, float) or _plain_row(v) for v in value)
+
+
+def _plain_row(row: Any) -> bool:
+    return type(row) is list and all(type(v) in (int, float) for v in row)
+
+
 def numbers_read(variables: Mapping[str, str], values: Mapping[str, Any]) -> dict[str, float]:
     """The top-level parameters the derived variables read by name, with their ``values``:
     the engine text's ``[parameters]``, which a run or a sweep that varies one sets."""
@@ -474,7 +502,27 @@ class Model:
     ) -> Model:
         """Build a model from model-file text, checked as if built in Python."""
         with gc_paused():
-            return cls._from_data(modelfile.parse(text, source), base_dir, default_name)
+            data = modelfile.parse(text, source)
+            model = cls._from_data(data, base_dir, default_name)
+            model._adopt_text(text, data)
+            return model
+
+    def _adopt_text(self, text: str, data: modelfile.ModelData) -> None:
+        """Keep the file's own ``text`` as the engine text when it says what writing the model
+        would (no top-level parameters or declarations, every parameter as the component
+        holds it, type for type): a model loaded and run unchanged is not written back (a
+        ladder of 1000 inertias spent 40 ms on it). A change to the model changes its
+        fingerprint, and the text is written anew."""
+        if data.parameters or data.declarations:
+            return
+        comps = self.components
+        if any(not _same(params, comps[name].params) for name, _, params in data.components):
+            return
+        if data.name is None:  # the engine text names the model
+            text = f"name = {modelfile.dumps_scalar(self.name)}\n{text}"
+        key = self._text_key()
+        if key is not None:
+            self._derived = (key, text, None)
 
     @classmethod
     def _from_data(

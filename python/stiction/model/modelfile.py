@@ -20,7 +20,7 @@ import tomli_w
 
 from stiction.errors import ModelError
 
-__all__ = ["EXPERIMENT_KEYS", "FORMAT_VERSION", "ModelData", "dumps", "parse"]
+__all__ = ["EXPERIMENT_KEYS", "FORMAT_VERSION", "ModelData", "dumps", "dumps_scalar", "parse"]
 
 # The experiment settings, the core's list (crates/stiction-core: `EXPERIMENT`), copied here by
 # scripts/generate.py; `make lint` fails when the two differ.
@@ -251,6 +251,11 @@ def _scalar(value: Any) -> str:
     if kind is str and _PLAIN_STRING.fullmatch(value):
         return f'"{value}"'
     return tomli_w.dumps({"v": value})[len("v = ") : -1]
+
+
+def dumps_scalar(value: Any) -> str:
+    """One scalar (a number, Boolean or text) as TOML writes it."""
+    return _scalar(value)
 
 
 def _value(value: Any, multiline: bool = False) -> str:

@@ -23,9 +23,11 @@ def test_an_unchanged_file_runs_as_its_own_text_and_as_the_written_model(tmp_pat
     path.write_text(chain_toml(4), encoding="utf-8")
     loaded = Model.load(path)
     assert loaded.engine_toml() == path.read_text(encoding="utf-8")
+    assert loaded._parsed is not None  # the engine's reading of the load's parse …
     written = Model.loads(_written(loaded))  # the same model through the written text
     assert written.engine_toml() == _written(loaded)
     a, b = loaded.simulate(), written.simulate()
+    assert loaded._parsed is None  # … taken by the compile
     for name in ("J4.w", "J1.phi", "J2.w"):
         np.testing.assert_array_equal(a[name], b[name])
 
@@ -77,3 +79,14 @@ def test_top_level_parameters_are_evaluated_as_before(tmp_path: Path) -> None:
     model = Model.load(path)
     assert model.engine_toml() == _written(model)
     assert "expr" not in model.engine_toml()
+
+
+def test_an_engine_refusal_comes_at_the_run_as_before(tmp_path: Path) -> None:
+    from stiction.errors import ModelError
+
+    text = chain_toml(2).replace("Tolerance = 1e-6", "Tolerance = -1.0")
+    path = tmp_path / "bad.toml"
+    path.write_text(text, encoding="utf-8")
+    model = Model.load(path)  # the engine refuses it: no reading kept, its text compile says why
+    with pytest.raises(ModelError, match="Tolerance"):
+        model.simulate()

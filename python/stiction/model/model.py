@@ -127,6 +127,17 @@ def numbers_read(variables: Mapping[str, str], values: Mapping[str, Any]) -> dic
     return {k: float(v) for k, v in values.items() if k in names and isinstance(v, (int, float, bool))}
 
 
+def _parse_model(text: str, base_dir: str | os.PathLike[str], name: str) -> tuple[dict[str, Any] | None, Any]:
+    """The TOML document of model-file ``text`` and, from the same parse, the engine's reading
+    of it for a compile (None, None without the compiled engine or for text it does not read:
+    ``modelfile.parse`` then parses and reports)."""
+    try:
+        from stiction import _core
+    except ImportError:
+        return None, None
+    return _core.parse_model(text, str(base_dir), name)
+
+
 @contextlib.contextmanager
 def gc_paused() -> Iterator[None]:
     """The cyclic garbage collector paused (and resumed if it ran before): building a model
@@ -159,6 +170,8 @@ class Model:
         self.base_dir = Path(base_dir)
         # The compiled form of the model text it was made from (see `compile`).
         self._compiled: tuple[tuple[str, str], CompiledModel] | None = None
+        # A loaded file's text, base folder and the engine's reading of it (see `_adopt_text`).
+        self._parsed: tuple[str, str, Any] | None = None
         # The engine text and the parameter values of the model as it was (see `_text_key`).
         self._derived: tuple[str, str, dict[str, float] | None] | None = None
         # Derived variables: result columns computed from the run, name -> Modelica expression
@@ -502,12 +515,13 @@ class Model:
     ) -> Model:
         """Build a model from model-file text, checked as if built in Python."""
         with gc_paused():
-            data = modelfile.parse(text, source)
+            doc, parsed = _parse_model(text, str(Path(base_dir)), default_name)
+            data = modelfile.parse(text, source, doc)
             model = cls._from_data(data, base_dir, default_name)
-            model._adopt_text(text, data)
+            model._adopt_text(text, data, parsed)
             return model
 
-    def _adopt_text(self, text: str, data: modelfile.ModelData) -> None:
+    def _adopt_text(self, text: str, data: modelfile.ModelData, parsed: Any = None) -> None:
         """Keep the file's own ``text`` as the engine text when it says what writing the model
         would (no top-level parameters or declarations, every parameter as the component
         holds it, type for type): a model loaded and run unchanged is not written back (a
@@ -523,6 +537,8 @@ class Model:
         key = self._text_key()
         if key is not None:
             self._derived = (key, text, None)
+            if parsed is not None:  # the engine's reading of the same parse, for one compile
+                self._parsed = (text, str(self.base_dir), parsed)
 
     @classmethod
     def _from_data(
@@ -601,7 +617,9 @@ class Model:
 
         key = (text, str(self.base_dir))
         if self._compiled is None or self._compiled[0] != key:
-            self._compiled = (key, CompiledModel(key[0], self.base_dir, self.name))
+            parsed, self._parsed = self._parsed, None
+            engine = parsed[2] if parsed is not None and parsed[:2] == key else None
+            self._compiled = (key, CompiledModel(key[0], self.base_dir, self.name, parsed=engine))
         return self._compiled[1]
 
     def simulate(

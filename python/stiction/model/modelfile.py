@@ -131,9 +131,11 @@ def _load_toml(text: str, source: str) -> dict[str, Any]:
         raise ModelError(f"{source}: invalid TOML: {exc}") from None
 
 
-def parse(text: str, source: str = "model") -> ModelData:
-    """Parse model-file text; ``source`` (usually the path) prefixes error messages."""
-    doc = _load_toml(text, source)
+def parse(text: str, source: str = "model", doc: dict[str, Any] | None = None) -> ModelData:
+    """Parse model-file text; ``source`` (usually the path) prefixes error messages; ``doc``:
+    the text's TOML document, when the caller parsed it already."""
+    if doc is None:
+        doc = _load_toml(text, source)
 
     for key in doc:
         if key not in _TOP_KEYS:

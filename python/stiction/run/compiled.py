@@ -41,14 +41,19 @@ def merge_overrides(params: Mapping[str, Any] | None, experiment: Mapping[str, A
 class CompiledModel:
     """A model compiled for repeated runs (see the module docstring)."""
 
-    def __init__(self, text: str, base_dir: str | os.PathLike[str] = ".", name: str = "model") -> None:
-        """Compile model-file ``text``; relative file names are resolved against ``base_dir``."""
+    def __init__(
+        self, text: str, base_dir: str | os.PathLike[str] = ".", name: str = "model", *, parsed: Any = None
+    ) -> None:
+        """Compile model-file ``text``; relative file names are resolved against ``base_dir``.
+        ``parsed``: the engine's reading of that same text and folder (``_core.parse_model``),
+        which spares parsing it again."""
         from stiction import _core
 
         self.text = text
         self.base_dir = Path(base_dir)
         self.name = name
-        self._core = _core.CompiledModel(text, str(self.base_dir))
+        core = _core.CompiledModel.from_parsed(parsed) if parsed is not None else None
+        self._core = core if core is not None else _core.CompiledModel(text, str(self.base_dir))
         self._variants: dict[tuple[Any, ...], Any] = {}
 
     @classmethod

@@ -90,3 +90,21 @@ def test_an_engine_refusal_comes_at_the_run_as_before(tmp_path: Path) -> None:
     model = Model.load(path)  # the engine refuses it: no reading kept, its text compile says why
     with pytest.raises(ModelError, match="Tolerance"):
         model.simulate()
+
+
+def test_the_compile_begun_at_load_raises_at_the_run_as_the_text_compile(tmp_path: Path) -> None:
+    from stiction.errors import ModelError
+    from stiction.run.compiled import CompiledModel
+
+    lines = chain_toml(2).splitlines()
+    text = "\n".join(line for line in lines if "clutch1.f_normalized" not in line) + "\n"
+    path = tmp_path / "open.toml"
+    path.write_text(text, encoding="utf-8")
+    model = Model.load(path)  # Python's checks pass; the engine refuses the open input
+    assert model._parsed is not None
+    with pytest.raises(ModelError) as from_text:
+        CompiledModel(text, tmp_path)
+    with pytest.raises(ModelError) as at_run:
+        model.simulate()
+    assert str(at_run.value) == str(from_text.value)
+    assert "clutch1" in str(at_run.value)

@@ -170,7 +170,7 @@ class Model:
         self.base_dir = Path(base_dir)
         # The compiled form of the model text it was made from (see `compile`).
         self._compiled: tuple[tuple[str, str], CompiledModel] | None = None
-        # A loaded file's text, base folder and the engine's reading of it (see `_adopt_text`).
+        # A loaded file's text, base folder and the engine's compile of it (see `_adopt_text`).
         self._parsed: tuple[str, str, Any] | None = None
         # The engine text and the parameter values of the model as it was (see `_text_key`).
         self._derived: tuple[str, str, dict[str, float] | None] | None = None
@@ -516,6 +516,13 @@ class Model:
         """Build a model from model-file text, checked as if built in Python."""
         with gc_paused():
             doc, parsed = _parse_model(text, str(Path(base_dir)), default_name)
+            if parsed is not None and "parameters" not in doc and "declarations" not in doc:
+                # compiled while the objects are made; kept if the text is the engine text
+                from stiction.run.compiled import Precompiled
+
+                parsed = Precompiled(parsed)
+            else:
+                parsed = None
             data = modelfile.parse(text, source, doc)
             model = cls._from_data(data, base_dir, default_name)
             model._adopt_text(text, data, parsed)
@@ -537,7 +544,7 @@ class Model:
         key = self._text_key()
         if key is not None:
             self._derived = (key, text, None)
-            if parsed is not None:  # the engine's reading of the same parse, for one compile
+            if parsed is not None:  # the engine's compile of the same parse (`Precompiled`)
                 self._parsed = (text, str(self.base_dir), parsed)
 
     @classmethod

@@ -60,6 +60,13 @@ def _port_kind(type_name: str, port: str) -> str | None:
     return next((p.kind for p in info.ports if p.name == port), None) if info else None
 
 
+@functools.cache
+def _names_of(type_name: str, what: str) -> frozenset[str]:
+    """A known type's parameter or port names (``what``) as a set (the catalogue lists them)."""
+    known = component_types() or {}
+    return frozenset(known.get(type_name, {}).get(what, []))
+
+
 @functools.lru_cache(maxsize=4096)
 def _expression_key(text: str) -> str:
     """An expression as its syntax tree writes it back (``2 * T`` and ``2*T`` alike); text
@@ -90,16 +97,29 @@ def _meaning(value: Any, expressions: bool = False) -> Any:
     return value
 
 
+def _same_params(raw: dict[str, Any], held: dict[str, Any]) -> bool:
+    """A component's parameters as the file has them (``raw``) are those it holds, type for
+    type, each one the engine text holds as written (``_same``; the common case, numbers
+    and Booleans, without a call per value)."""
+    if raw != held:
+        return False
+    for key, value in raw.items():
+        kind = type(value)
+        if kind is not type(held[key]):
+            return False
+        if kind not in (bool, int, float, str) and not (_plain_value(value) and _same(value, held[key])):
+            return False
+    return True
+
+
 def _same(a: Any, b: Any) -> bool:
     """Equal and of the same types throughout (``1`` and ``1.0`` are written differently,
-    and the engine may read them differently); plain numbers, text and lists only."""
+    and the engine may read them differently); numbers, text and lists of them only."""
     kind = type(a)
     if kind is not type(b):
         return False
     if kind in (bool, int, float, str):
         return a == b
-    if kind is dict:
-        return a.keys() == b.keys() and all(_plain_value(a[k]) and _same(a[k], b[k]) for k in a)
     if kind is list:
         return len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b, strict=True))
     return False
@@ -206,9 +226,10 @@ class Model:
                     f"component '{name}' ({component.type}): unknown component type"
                     f"{_did_you_mean(component.type, list(known))}"
                 )
-            allowed = known[component.type].get("parameters", [])
+            allowed_set = _names_of(component.type, "parameters")
             for param in component.params:
-                if param not in allowed:
+                if param not in allowed_set:
+                    allowed = known[component.type].get("parameters", [])
                     raise ModelError(
                         f"component '{name}' ({component.type}): parameter '{param}': "
                         f"unknown parameter{_did_you_mean(param, allowed)}"
@@ -238,8 +259,10 @@ class Model:
             ports = known[comp_type].get("ports", [])
             if comp_type == "TimeTable":  # its outputs follow its columns
                 ports = time_table_ports(self.components[comp_name].params)
-            if comp_type == "CombiTable1Ds":  # so do these
+            elif comp_type == "CombiTable1Ds":  # so do these
                 ports = table_1ds_ports(self.components[comp_name].params)
+            elif port in _names_of(comp_type, "ports"):  # a set: thousands of ends in a big model
+                return comp_type, port
             if port not in ports:
                 raise ModelError(
                     f"component '{comp_name}' ({comp_type}): port '{port}': "
@@ -537,7 +560,7 @@ class Model:
         if data.parameters or data.declarations:
             return
         comps = self.components
-        if any(not _same(params, comps[name].params) for name, _, params in data.components):
+        if any(not _same_params(params, comps[name].params) for name, _, params in data.components):
             return
         if data.name is None:  # the engine text names the model
             text = f"name = {modelfile.dumps_scalar(self.name)}\n{text}"

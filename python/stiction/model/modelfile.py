@@ -73,6 +73,10 @@ def _suggest(word: str, choices: Iterable[str]) -> str:
 
 
 def _connections(value: Any, where: str) -> list[tuple[str, str]]:
+    if type(value) is list and all(
+        type(p) is list and len(p) == 2 and type(p[0]) is str and type(p[1]) is str for p in value
+    ):  # every pair well formed (thousands in a big model): no message to make
+        return [(a, b) for a, b in value]
     if not isinstance(value, list):
         raise ModelError(f'{where}: \'connect\' must be an array of ["a.port", "b.port"] pairs')
     pairs = []

@@ -171,6 +171,8 @@ impl Stepper {
     /// (`observed_alone`): the states evaluated as one block inside the step's quartic, as
     /// `push_plain_rows` does (the same arithmetic: the rows are those of a recorded run bit
     /// for bit), then shown row by row; `x` left at the last row, as loading each would.
+    // Out of line: a recorded run's `emit_grid` stays as small as it was.
+    #[inline(never)]
     fn observe_rows(&mut self, rows: std::ops::Range<usize>, t_step_end: f64) {
         let n = self.x.len();
         let (mut ts, mut xs) = std::mem::take(&mut self.observed);

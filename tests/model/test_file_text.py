@@ -108,3 +108,14 @@ def test_the_compile_begun_at_load_raises_at_the_run_as_the_text_compile(tmp_pat
         model.simulate()
     assert str(at_run.value) == str(from_text.value)
     assert "clutch1" in str(at_run.value)
+
+
+def test_a_file_with_a_date_is_read_by_tomllib_and_refused_by_name(tmp_path: Path) -> None:
+    # the engine's reading takes any value; the Python objects of a date come from tomllib
+    from stiction.errors import ModelError
+
+    text = chain_toml(1).replace('"Inertia", J = 1.0,', '"Inertia", J = 1.0, when = 2026-12-06,', 1)
+    path = tmp_path / "dated.toml"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(ModelError, match="parameter 'when'"):
+        Model.load(path)

@@ -539,7 +539,7 @@ class Model:
         """Build a model from model-file text, checked as if built in Python."""
         with gc_paused():
             doc, parsed = _parse_model(text, str(Path(base_dir)), default_name)
-            if parsed is not None and "parameters" not in doc and "declarations" not in doc:
+            if parsed is not None and doc is not None and not {"parameters", "declarations"} & doc.keys():
                 # compiled while the objects are made; kept if the text is the engine text
                 from stiction.run.compiled import Precompiled
 

@@ -252,6 +252,8 @@ impl Observer for Shared {
 struct Grid {
     experiment: Experiment,
     next: usize,
+    /// `grid_len() + 1`, once: a division and a `ceil` that each row's test made again.
+    points: usize,
 }
 
 impl Grid {
@@ -259,11 +261,12 @@ impl Grid {
         Grid {
             experiment: experiment.clone(),
             next: 0,
+            points: experiment.grid_len() + 1,
         }
     }
 
     fn points(&self) -> usize {
-        self.experiment.grid_len() + 1
+        self.points
     }
 
     fn point(&mut self, t: f64) -> Option<usize> {

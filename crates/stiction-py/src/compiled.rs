@@ -147,6 +147,19 @@ impl PyCompiled {
         Ok(Self(compiled))
     }
 
+    /// The model of a file `parse_model` read (None when a compile took it already).
+    #[staticmethod]
+    fn from_parsed(
+        py: Python<'_>,
+        parsed: &crate::toml_doc::ParsedModel,
+    ) -> PyResult<Option<Self>> {
+        let Some(spec) = parsed.take() else {
+            return Ok(None);
+        };
+        let compiled = py.detach(|| CompiledModel::new(spec)).map_err(model_err)?;
+        Ok(Some(Self(compiled)))
+    }
+
     /// Every name a variant may set: `component.parameter`, then the experiment settings.
     fn parameter_names(&self) -> Vec<String> {
         self.0.parameter_names()

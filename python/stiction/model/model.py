@@ -60,6 +60,13 @@ def _port_kind(type_name: str, port: str) -> str | None:
     return next((p.kind for p in info.ports if p.name == port), None) if info else None
 
 
+@functools.cache
+def _names_of(type_name: str, what: str) -> frozenset[str]:
+    """A known type's parameter or port names (``what``) as a set (the catalogue lists them)."""
+    known = component_types() or {}
+    return frozenset(known.get(type_name, {}).get(what, []))
+
+
 @functools.lru_cache(maxsize=4096)
 def _expression_key(text: str) -> str:
     """An expression as its syntax tree writes it back (``2 * T`` and ``2*T`` alike); text
@@ -90,6 +97,47 @@ def _meaning(value: Any, expressions: bool = False) -> Any:
     return value
 
 
+def _same_params(raw: dict[str, Any], held: dict[str, Any]) -> bool:
+    """A component's parameters as the file has them (``raw``) are those it holds, type for
+    type, each one the engine text holds as written (``_same``; the common case, numbers
+    and Booleans, without a call per value)."""
+    if raw != held:
+        return False
+    for key, value in raw.items():
+        kind = type(value)
+        if kind is not type(held[key]):
+            return False
+        if kind not in (bool, int, float, str) and not (_plain_value(value) and _same(value, held[key])):
+            return False
+    return True
+
+
+def _same(a: Any, b: Any) -> bool:
+    """Equal and of the same types throughout (``1`` and ``1.0`` are written differently,
+    and the engine may read them differently); numbers, text and lists of them only."""
+    kind = type(a)
+    if kind is not type(b):
+        return False
+    if kind in (bool, int, float, str):
+        return a == b
+    if kind is list:
+        return len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b, strict=True))
+    return False
+
+
+def _plain_value(value: Any) -> bool:
+    """A parameter the engine text holds as written: no expression (``{ expr = … }``, a start
+    value's table) and no table cell that is text (an expression there too)."""
+    kind = type(value)
+    if kind in (bool, int, float, str):
+        return True
+    return kind is list and all(type(v) in (int, float) or _plain_row(v) for v in value)
+
+
+def _plain_row(row: Any) -> bool:
+    return type(row) is list and all(type(v) in (int, float) for v in row)
+
+
 def numbers_read(variables: Mapping[str, str], values: Mapping[str, Any]) -> dict[str, float]:
     """The top-level parameters the derived variables read by name, with their ``values``:
     the engine text's ``[parameters]``, which a run or a sweep that varies one sets."""
@@ -97,6 +145,17 @@ def numbers_read(variables: Mapping[str, str], values: Mapping[str, Any]) -> dic
         return {}
     names = {n for text in variables.values() for n in _NAME.findall(text)}
     return {k: float(v) for k, v in values.items() if k in names and isinstance(v, (int, float, bool))}
+
+
+def _parse_model(text: str, base_dir: str | os.PathLike[str], name: str) -> tuple[dict[str, Any] | None, Any]:
+    """The TOML document of model-file ``text`` and, from the same parse, the engine's reading
+    of it for a compile (None, None without the compiled engine or for text it does not read:
+    ``modelfile.parse`` then parses and reports)."""
+    try:
+        from stiction import _core
+    except ImportError:
+        return None, None
+    return _core.parse_model(text, str(base_dir), name)
 
 
 @contextlib.contextmanager
@@ -131,6 +190,8 @@ class Model:
         self.base_dir = Path(base_dir)
         # The compiled form of the model text it was made from (see `compile`).
         self._compiled: tuple[tuple[str, str], CompiledModel] | None = None
+        # A loaded file's text, base folder and the engine's compile of it (see `_adopt_text`).
+        self._parsed: tuple[str, str, Any] | None = None
         # The engine text and the parameter values of the model as it was (see `_text_key`).
         self._derived: tuple[str, str, dict[str, float] | None] | None = None
         # Derived variables: result columns computed from the run, name -> Modelica expression
@@ -165,9 +226,10 @@ class Model:
                     f"component '{name}' ({component.type}): unknown component type"
                     f"{_did_you_mean(component.type, list(known))}"
                 )
-            allowed = known[component.type].get("parameters", [])
+            allowed_set = _names_of(component.type, "parameters")
             for param in component.params:
-                if param not in allowed:
+                if param not in allowed_set:
+                    allowed = known[component.type].get("parameters", [])
                     raise ModelError(
                         f"component '{name}' ({component.type}): parameter '{param}': "
                         f"unknown parameter{_did_you_mean(param, allowed)}"
@@ -197,8 +259,10 @@ class Model:
             ports = known[comp_type].get("ports", [])
             if comp_type == "TimeTable":  # its outputs follow its columns
                 ports = time_table_ports(self.components[comp_name].params)
-            if comp_type == "CombiTable1Ds":  # so do these
+            elif comp_type == "CombiTable1Ds":  # so do these
                 ports = table_1ds_ports(self.components[comp_name].params)
+            elif port in _names_of(comp_type, "ports"):  # a set: thousands of ends in a big model
+                return comp_type, port
             if port not in ports:
                 raise ModelError(
                     f"component '{comp_name}' ({comp_type}): port '{port}': "
@@ -474,7 +538,37 @@ class Model:
     ) -> Model:
         """Build a model from model-file text, checked as if built in Python."""
         with gc_paused():
-            return cls._from_data(modelfile.parse(text, source), base_dir, default_name)
+            doc, parsed = _parse_model(text, str(Path(base_dir)), default_name)
+            if parsed is not None and doc is not None and not {"parameters", "declarations"} & doc.keys():
+                # compiled while the objects are made; kept if the text is the engine text
+                from stiction.run.compiled import Precompiled
+
+                parsed = Precompiled(parsed)
+            else:
+                parsed = None
+            data = modelfile.parse(text, source, doc)
+            model = cls._from_data(data, base_dir, default_name)
+            model._adopt_text(text, data, parsed)
+            return model
+
+    def _adopt_text(self, text: str, data: modelfile.ModelData, parsed: Any = None) -> None:
+        """Keep the file's own ``text`` as the engine text when it says what writing the model
+        would (no top-level parameters or declarations, every parameter as the component
+        holds it, type for type): a model loaded and run unchanged is not written back (a
+        ladder of 1000 inertias spent 40 ms on it). A change to the model changes its
+        fingerprint, and the text is written anew."""
+        if data.parameters or data.declarations:
+            return
+        comps = self.components
+        if any(not _same_params(params, comps[name].params) for name, _, params in data.components):
+            return
+        if data.name is None:  # the engine text names the model
+            text = f"name = {modelfile.dumps_scalar(self.name)}\n{text}"
+        key = self._text_key()
+        if key is not None:
+            self._derived = (key, text, None)
+            if parsed is not None:  # the engine's compile of the same parse (`Precompiled`)
+                self._parsed = (text, str(self.base_dir), parsed)
 
     @classmethod
     def _from_data(
@@ -553,7 +647,9 @@ class Model:
 
         key = (text, str(self.base_dir))
         if self._compiled is None or self._compiled[0] != key:
-            self._compiled = (key, CompiledModel(key[0], self.base_dir, self.name))
+            parsed, self._parsed = self._parsed, None
+            engine = parsed[2] if parsed is not None and parsed[:2] == key else None
+            self._compiled = (key, CompiledModel(key[0], self.base_dir, self.name, parsed=engine))
         return self._compiled[1]
 
     def simulate(

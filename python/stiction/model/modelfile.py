@@ -20,7 +20,7 @@ import tomli_w
 
 from stiction.errors import ModelError
 
-__all__ = ["EXPERIMENT_KEYS", "FORMAT_VERSION", "ModelData", "dumps", "parse"]
+__all__ = ["EXPERIMENT_KEYS", "FORMAT_VERSION", "ModelData", "dumps", "dumps_scalar", "parse"]
 
 # The experiment settings, the core's list (crates/stiction-core: `EXPERIMENT`), copied here by
 # scripts/generate.py; `make lint` fails when the two differ.
@@ -73,6 +73,10 @@ def _suggest(word: str, choices: Iterable[str]) -> str:
 
 
 def _connections(value: Any, where: str) -> list[tuple[str, str]]:
+    if type(value) is list and all(
+        type(p) is list and len(p) == 2 and type(p[0]) is str and type(p[1]) is str for p in value
+    ):  # every pair well formed (thousands in a big model): no message to make
+        return [(a, b) for a, b in value]
     if not isinstance(value, list):
         raise ModelError(f'{where}: \'connect\' must be an array of ["a.port", "b.port"] pairs')
     pairs = []
@@ -131,9 +135,11 @@ def _load_toml(text: str, source: str) -> dict[str, Any]:
         raise ModelError(f"{source}: invalid TOML: {exc}") from None
 
 
-def parse(text: str, source: str = "model") -> ModelData:
-    """Parse model-file text; ``source`` (usually the path) prefixes error messages."""
-    doc = _load_toml(text, source)
+def parse(text: str, source: str = "model", doc: dict[str, Any] | None = None) -> ModelData:
+    """Parse model-file text; ``source`` (usually the path) prefixes error messages; ``doc``:
+    the text's TOML document, when the caller parsed it already."""
+    if doc is None:
+        doc = _load_toml(text, source)
 
     for key in doc:
         if key not in _TOP_KEYS:
@@ -251,6 +257,11 @@ def _scalar(value: Any) -> str:
     if kind is str and _PLAIN_STRING.fullmatch(value):
         return f'"{value}"'
     return tomli_w.dumps({"v": value})[len("v = ") : -1]
+
+
+def dumps_scalar(value: Any) -> str:
+    """One scalar (a number, Boolean or text) as TOML writes it."""
+    return _scalar(value)
 
 
 def _value(value: Any, multiline: bool = False) -> str:

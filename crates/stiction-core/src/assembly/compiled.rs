@@ -46,7 +46,7 @@ pub enum Recompiled {
 impl CompiledModel {
     pub fn new(spec: ModelSpec) -> ModelResult<Self> {
         spec.experiment.validate()?;
-        let spec = super::canonical(&spec);
+        let spec = super::canonical_owned(spec);
         let components = create_components(&spec)?;
         let topology = Topology::resolve(&spec, &components)?;
         let system = build(&spec, &topology, &components)?;

@@ -38,8 +38,14 @@ pub fn assemble(spec: &ModelSpec) -> ModelResult<System> {
 /// the linear system all follow from it. `written` keeps where each component was written, so
 /// the result's variables stay in the order of the model.
 pub fn canonical(spec: &ModelSpec) -> ModelSpec {
-    let mut out = spec.clone();
-    out.written = spec.components.iter().map(|c| c.name.clone()).collect();
+    canonical_owned(spec.clone())
+}
+
+/// `canonical` of a spec the caller gives up (a compile: no copy of every component's
+/// parameters).
+pub fn canonical_owned(spec: ModelSpec) -> ModelSpec {
+    let mut out = spec;
+    out.written = out.components.iter().map(|c| c.name.clone()).collect();
     out.components.sort_by(|a, b| a.name.cmp(&b.name));
     for (a, b) in &mut out.connections {
         if (&b.component, &b.port) < (&a.component, &a.port) {

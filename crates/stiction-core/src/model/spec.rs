@@ -230,9 +230,12 @@ pub struct ModelSpec {
 
 impl ModelSpec {
     pub fn from_toml(text: &str, base_dir: impl Into<PathBuf>) -> ModelResult<Self> {
-        let doc: toml::Table = text.parse().map_err(|e: toml::de::Error| {
-            ModelError::File(format!("model file is not valid TOML: {e}"))
-        })?;
+        Self::from_table(&parse_document(text)?, base_dir)
+    }
+
+    /// The model of an already parsed model file (`parse_document`): a caller that reads the
+    /// document itself too (the Python package's loader) parses the text once.
+    pub fn from_table(doc: &toml::Table, base_dir: impl Into<PathBuf>) -> ModelResult<Self> {
         let mut spec = ModelSpec {
             name: "model".into(),
             experiment: Experiment::default(),
@@ -246,7 +249,7 @@ impl ModelSpec {
         };
         let mut connect: Option<&toml::Value> = None;
         let mut inputs: Option<&toml::Value> = None;
-        for (key, value) in &doc {
+        for (key, value) in doc {
             match key.as_str() {
                 "name" => {
                     spec.name = value
@@ -293,6 +296,13 @@ impl ModelSpec {
         spec.experiment.validate()?;
         Ok(spec)
     }
+}
+
+/// A model file's TOML document (an error if the text is not TOML).
+pub fn parse_document(text: &str) -> ModelResult<toml::Table> {
+    text.parse().map_err(|e: toml::de::Error| {
+        ModelError::File(format!("model file is not valid TOML: {e}"))
+    })
 }
 
 fn check_format(value: &toml::Value) -> ModelResult<()> {

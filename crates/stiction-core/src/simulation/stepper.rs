@@ -83,6 +83,8 @@ pub(super) struct Stepper {
     pub(super) disc_recorded: bool,
     pub(super) log: Vec<EventRecord>,
     pub(super) observer: Option<Box<dyn Observer>>,
+    /// The grid times and states of a step's rows shown to the observer alone (`observe_rows`).
+    pub(super) observed: (Vec<f64>, Vec<f64>),
     pub(super) z_prev: Vec<f64>,
     pub(super) z: Vec<f64>,
     pub(super) z_scan: Vec<f64>, // indicators at the previous sample while scanning a step
@@ -173,6 +175,7 @@ impl Stepper {
             disc_recorded: false,
             log: Vec::new(),
             observer: None,
+            observed: (Vec::new(), Vec::new()),
             z_prev: vec![0.0; nz],
             z: vec![0.0; nz],
             z_scan: vec![0.0; nz],

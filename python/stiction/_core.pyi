@@ -9,6 +9,7 @@ __all__ = [
     "CancelHandle",
     "CompiledModel",
     "ModelError",
+    "ParsedModel",
     "RawResult",
     "Simulation",
     "SimulationError",
@@ -19,6 +20,7 @@ __all__ = [
     "check_signal",
     "experiment",
     "initialization",
+    "parse_model",
     "parse_toml",
     "simulate",
     "time_event_sources",
@@ -114,6 +116,13 @@ def initialization(model_toml: str, base_dir: str = ".") -> list[tuple[str, floa
 def parse_toml(text: str) -> dict[str, Any] | None:
     """The TOML document as ``tomllib.loads`` gives it; None if invalid or holding a date (the
     caller asks ``tomllib`` then, for the message or the datetime)."""
+
+@final
+class ParsedModel:
+    """A model file's engine description from ``parse_model``; one compile takes it."""
+
+def parse_model(text: str, base_dir: str, name: str) -> tuple[dict[str, Any] | None, ParsedModel | None]:
+    """``parse_toml`` and, from the same parse, the engine's description (None if refused)."""
 
 def check(model_toml: str, base_dir: str = ".", motion: bool = True) -> None:
     """Validate a model without running it (with ``motion``: also that every shaft's motion is
@@ -221,6 +230,9 @@ class CompiledModel:
     """A model compiled once; variants with other values are one build each."""
 
     def __new__(cls, model_toml: str, base_dir: str = ".") -> CompiledModel: ...
+    @staticmethod
+    def from_parsed(parsed: ParsedModel) -> CompiledModel | None:
+        """The model ``parse_model`` read (None when a compile took it already)."""
     def parameter_names(self) -> list[str]:
         """Every name a variant may set: ``component.parameter``, then the experiment settings."""
     def grid(self) -> list[float]:

@@ -98,3 +98,73 @@ fn toml_to_py<'py>(py: Python<'py>, value: &toml::Value) -> PyResult<Option<Boun
         toml::Value::Table(table) => return table_to_py(py, table),
     }))
 }
+
+/// The counts of components and connections of a model file whose whole content the engine
+/// reads as the Python model would hold it, and that nothing of the Python checks at load
+/// refuses where the engine would not: only `format` (1), `name`, `connect`, `experiment` and
+/// `components`; every parameter a number or a Boolean (held as written, no unit to convert);
+/// no port joined to itself and no pair joined twice. None for any other file: the Python
+/// model is built at load, as always, and says what is wrong.
+pub fn plain_counts(doc: &toml::Table) -> Option<(usize, usize)> {
+    let mut counts = (0, 0);
+    for (key, value) in doc {
+        match key.as_str() {
+            "format" => (value.as_integer() == Some(1)).then_some(())?,
+            "name" => value
+                .as_str()
+                .is_some_and(|s| !s.is_empty())
+                .then_some(())?,
+            "experiment" => plain_experiment(value)?,
+            "components" => counts.0 = plain_components(value)?,
+            "connect" => counts.1 = plain_connections(value)?,
+            _ => return None,
+        }
+    }
+    Some(counts)
+}
+
+fn plain_experiment(value: &toml::Value) -> Option<()> {
+    let table = value.as_table()?;
+    let ok = table.iter().all(|(key, v)| match v {
+        toml::Value::String(_) => key == "Solver",
+        toml::Value::Integer(_) | toml::Value::Float(_) => key != "Solver",
+        _ => false,
+    });
+    ok.then_some(())
+}
+
+fn plain_components(value: &toml::Value) -> Option<usize> {
+    let table = value.as_table()?;
+    let plain = |entry: &toml::Value| {
+        entry.as_table().is_some_and(|params| {
+            params.get("type").is_some_and(toml::Value::is_str)
+                && params.iter().all(|(key, v)| {
+                    key == "type"
+                        || (!key.is_empty()
+                            && matches!(
+                                v,
+                                toml::Value::Integer(_)
+                                    | toml::Value::Float(_)
+                                    | toml::Value::Boolean(_)
+                            ))
+                })
+        })
+    };
+    table.values().all(plain).then_some(table.len())
+}
+
+fn plain_connections(value: &toml::Value) -> Option<usize> {
+    let pairs = value.as_array()?;
+    let mut seen = std::collections::HashSet::with_capacity(pairs.len());
+    for pair in pairs {
+        let [a, b] = pair.as_array()?.as_slice() else {
+            return None;
+        };
+        let (a, b) = (a.as_str()?, b.as_str()?);
+        // Python refuses a port joined to itself and a pair joined twice, either way round
+        if a == b || !seen.insert(if a < b { (a, b) } else { (b, a) }) {
+            return None;
+        }
+    }
+    Some(pairs.len())
+}

@@ -28,6 +28,7 @@ from stiction.model.components import (
     table_1ds_ports,
     time_table_ports,
 )
+from stiction.model.loaded import LAZY_FIELDS, LoadedFile, load_plain
 from stiction.model.names import COMPONENT_NAME, IDENTIFIER, PathIndex, split_last
 from stiction.model.parameters import is_expr
 from stiction.model.runinfo import RunInfo
@@ -174,6 +175,10 @@ def gc_paused() -> Iterator[None]:
 
 class Model:
     """A drivetrain: named components, connections of their ports, an experiment."""
+
+    # A model file loaded as it stands and compiled, its objects not made yet (see
+    # stiction/model/loaded.py); None for every other model, and once they are made.
+    _lazy: LoadedFile | None = None
 
     def __init__(self, name: str, base_dir: str | os.PathLike[str] = ".") -> None:
         if not isinstance(name, str) or not name:
@@ -385,6 +390,35 @@ class Model:
     def __getitem__(self, name: str) -> Component:
         return self.components[name]
 
+    def __getattr__(self, name: str) -> Any:
+        # only attributes that are missing come here: a loaded file's objects, made now
+        if name in LAZY_FIELDS and self.__dict__.get("_lazy") is not None:
+            self._materialize()
+            return self.__dict__[name]
+        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+
+    def _materialize(self) -> None:
+        """Make a lazily loaded file's components, connections and the rest, as loading it in
+        Python would have; an attribute set meanwhile stays as set. While the model still says
+        what the file does, the file stays its engine text (no writing it anew to run it)."""
+        lazy = self.__dict__.pop("_lazy", None)
+        if lazy is None:
+            return
+        with gc_paused():
+            built = type(self)._from_data(lazy.data(), self.base_dir, lazy.default_name)
+        own = self.__dict__
+        untouched = not (LAZY_FIELDS & own.keys()) and self.name == lazy.name
+        for field in LAZY_FIELDS:
+            own.setdefault(field, built.__dict__[field])
+        key = self._text_key() if untouched else None
+        if key is not None:
+            self._derived = (key, lazy.engine_text, None)
+
+    def __getstate__(self) -> dict[str, Any]:
+        # a pickle holds the objects (made now if need be), not the engine's compile of the file
+        self._materialize()
+        return {**self.__dict__, "_parsed": None}
+
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, Model):
             return NotImplemented
@@ -402,6 +436,9 @@ class Model:
     __hash__ = None  # type: ignore[assignment]  # mutable
 
     def __repr__(self) -> str:
+        if self._lazy is not None:
+            components, connections = self._lazy.counts
+            return f"<Model {self.name!r}: {components} components, {connections} connections>"
         return (
             f"<Model {self.name!r}: {len(self.components)} components, {len(self.connections)} connections>"
         )
@@ -462,6 +499,9 @@ class Model:
             return self._derived_unpaused(values)
 
     def _derived_unpaused(self, values: bool) -> tuple[str, dict[str, float] | None]:
+        lazy = self._lazy
+        if lazy is not None and self.name == lazy.name:  # a loaded file, untouched: its text
+            return lazy.engine_text, (lazy.parameter_values() if values else None)
         key = self._text_key()
         cached = self._derived if key is not None and self._derived and self._derived[0] == key else None
         text = cached[1] if cached else self._write_engine_toml()
@@ -537,6 +577,9 @@ class Model:
         default_name: str = "model",
     ) -> Model:
         """Build a model from model-file text, checked as if built in Python."""
+        lazy = load_plain(cls, text, base_dir, source, default_name)
+        if lazy is not None:  # compiled, and so checked; its objects are made when first read
+            return lazy
         with gc_paused():
             doc, parsed = _parse_model(text, str(Path(base_dir)), default_name)
             if parsed is not None and doc is not None and not {"parameters", "declarations"} & doc.keys():

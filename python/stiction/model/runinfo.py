@@ -6,6 +6,7 @@ computed). Both come from the engine, computed when first asked for.
 from __future__ import annotations
 
 import functools
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -80,17 +81,22 @@ class RunInfo:
         base_dir: str,
         overrides: dict[str, float],
         solver: str | None = None,
-        types: dict[str, str] | None = None,
+        types: dict[str, str] | Callable[[], dict[str, str]] | None = None,
     ) -> None:
         self._args = (model_toml, base_dir)
         self._overrides = overrides
         self._solver = solver
-        self._types = dict(types or {})
+        # component name → type; or what gives them, when first needed (a loaded file's)
+        self._types: dict[str, str] | Callable[[], dict[str, str]] = (
+            types if callable(types) else dict(types or {})
+        )
 
     def unit(self, variable: str) -> str:
         """The unit of a result variable, from the component catalogue."""
         from stiction.model.catalogue import unit_of
 
+        if callable(self._types):
+            self._types = dict(self._types())
         return unit_of(variable, self._types)
 
     @functools.cached_property

@@ -36,7 +36,16 @@ def simulate(
     all_variables = records_all(record)
     given: dict[str, Any] = {"StartTime": StartTime, "StopTime": StopTime, "Interval": Interval}
     given |= {"Tolerance": Tolerance, "Solver": Solver}
-    overrides = si_overrides(model.components, merge_overrides(params, given))  # "100 rpm"
+    merged = merge_overrides(params, given)
+    lazy = model._lazy
+    if lazy is not None and not merged and model.name == lazy.name:
+        # a loaded file run as it stands: its objects are not made (see stiction/model/loaded.py)
+        raw = model._compile(lazy.engine_text)._variant({}).simulate(record_all=all_variables)
+        info = RunInfo(lazy.engine_text, str(model.base_dir), {}, Solver, lazy.types)
+        result = Result.from_core(raw, name=model.name, info=info)
+        result.parameters = lazy.parameter_values
+        return result
+    overrides = si_overrides(model.components, merged)  # "100 rpm"
     text, known = model._derived_of(values=False)
     top = {k: overrides[k] for k in model.parameters if k in overrides}
     expanded = expand_parameters(model.parameters, model.components, overrides)

@@ -233,6 +233,10 @@ class CompiledModel:
     @staticmethod
     def from_parsed(parsed: ParsedModel) -> CompiledModel | None:
         """The model ``parse_model`` read (None when a compile took it already)."""
+    @staticmethod
+    def load_plain(text: str, base_dir: str, name: str) -> tuple[str | None, int, int, CompiledModel] | None:
+        """A plain model file compiled as it stands: its own name, its counts of components
+        and connections, the compile; None for any other file or one the engine refuses."""
     def parameter_names(self) -> list[str]:
         """Every name a variant may set: ``component.parameter``, then the experiment settings."""
     def grid(self) -> list[float]:

@@ -397,6 +397,14 @@ class Model:
             return self.__dict__[name]
         raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
+    def _as_loaded(self) -> LoadedFile | None:
+        """The file this model was loaded from lazily, while the model still says what the
+        file does (nothing made yet, nothing set in its place, the same name); else None."""
+        lazy = self._lazy
+        if lazy is None or self.name != lazy.name or not LAZY_FIELDS.isdisjoint(self.__dict__):
+            return None
+        return lazy
+
     def _materialize(self) -> None:
         """Make a lazily loaded file's components, connections and the rest, as loading it in
         Python would have; an attribute set meanwhile stays as set. While the model still says
@@ -407,7 +415,7 @@ class Model:
         with gc_paused():
             built = type(self)._from_data(lazy.data(), self.base_dir, lazy.default_name)
         own = self.__dict__
-        untouched = not (LAZY_FIELDS & own.keys()) and self.name == lazy.name
+        untouched = LAZY_FIELDS.isdisjoint(own) and self.name == lazy.name
         for field in LAZY_FIELDS:
             own.setdefault(field, built.__dict__[field])
         key = self._text_key() if untouched else None
@@ -499,8 +507,8 @@ class Model:
             return self._derived_unpaused(values)
 
     def _derived_unpaused(self, values: bool) -> tuple[str, dict[str, float] | None]:
-        lazy = self._lazy
-        if lazy is not None and self.name == lazy.name:  # a loaded file, untouched: its text
+        lazy = self._as_loaded()
+        if lazy is not None:  # a loaded file, untouched: its text
             return lazy.engine_text, (lazy.parameter_values() if values else None)
         key = self._text_key()
         cached = self._derived if key is not None and self._derived and self._derived[0] == key else None

@@ -37,8 +37,8 @@ def simulate(
     given: dict[str, Any] = {"StartTime": StartTime, "StopTime": StopTime, "Interval": Interval}
     given |= {"Tolerance": Tolerance, "Solver": Solver}
     merged = merge_overrides(params, given)
-    lazy = model._lazy
-    if lazy is not None and not merged and model.name == lazy.name:
+    lazy = model._as_loaded() if not merged else None
+    if lazy is not None:
         # a loaded file run as it stands: its objects are not made (see stiction/model/loaded.py)
         raw = model._compile(lazy.engine_text)._variant({}).simulate(record_all=all_variables)
         info = RunInfo(lazy.engine_text, str(model.base_dir), {}, Solver, lazy.types)

@@ -8,6 +8,10 @@ mod state;
 mod table_memory;
 mod toml_doc;
 
+// mimalloc: see Cargo.toml (the compile of a model allocates and frees in the tens of thousands)
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 use std::collections::HashMap;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::OnceLock;

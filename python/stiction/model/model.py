@@ -390,12 +390,14 @@ class Model:
     def __getitem__(self, name: str) -> Component:
         return self.components[name]
 
-    def __getattr__(self, name: str) -> Any:
-        # only attributes that are missing come here: a loaded file's objects, made now
-        if name in LAZY_FIELDS and self.__dict__.get("_lazy") is not None:
-            self._materialize()
-            return self.__dict__[name]
-        raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+    if not TYPE_CHECKING:  # hidden from type checkers, which would take any name through it
+
+        def __getattr__(self, name: str) -> Any:
+            # only attributes that are missing come here: a loaded file's objects, made now
+            if name in LAZY_FIELDS and self.__dict__.get("_lazy") is not None:
+                self._materialize()
+                return self.__dict__[name]
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
 
     def _as_loaded(self) -> LoadedFile | None:
         """The file this model was loaded from lazily, while the model still says what the

@@ -74,7 +74,8 @@ pub struct Params<'a> {
     spec: &'a ComponentSpec,
     /// Folder that relative file names are resolved against.
     pub base_dir: &'a Path,
-    used: RefCell<BTreeSet<String>>,
+    // the names declared (`&'static`: the declarations are constants, no copy per component)
+    used: RefCell<BTreeSet<&'static str>>,
     /// Catalogue mode records each declaration; required values default to 1 and nothing is
     /// range-checked. `Some(on)`: Booleans not given default to `on` (to show conditional ports).
     catalogue: Option<bool>,
@@ -129,8 +130,15 @@ impl<'a> Params<'a> {
                 range: None,
             });
         }
-        self.used.borrow_mut().insert(name.to_string());
+        self.used.borrow_mut().insert(name);
         name
+    }
+
+    /// Marks a declared parameter known without reading it (outside catalogue mode): for a
+    /// family of parameters a component skips when none of them is given.
+    pub fn mark_used(&self, decl: &'static str) {
+        debug_assert!(!self.schema(), "the catalogue reads every declaration");
+        self.used.borrow_mut().insert(parse_decl(decl).0);
     }
 
     /// Records the valid range of a parameter (catalogue mode) for a check done by hand.
@@ -330,26 +338,33 @@ impl<'a> Params<'a> {
         columns: usize,
         default: &[&[f64]],
     ) -> ModelResult<Vec<Vec<f64>>> {
-        let value = toml::Value::Array(
-            default
-                .iter()
-                .map(|r| toml::Value::Array(r.iter().map(|&x| x.into()).collect()))
-                .collect(),
-        );
-        let name = self.declare(decl, ParamKind::Table(columns), Some(value));
+        // the default as a TOML value only for the catalogue, the one reader of it (every
+        // clutch of a model made it, and dropped it)
+        let value = self.schema().then(|| {
+            toml::Value::Array(
+                default
+                    .iter()
+                    .map(|r| toml::Value::Array(r.iter().map(|&x| x.into()).collect()))
+                    .collect(),
+            )
+        });
+        let name = self.declare(decl, ParamKind::Table(columns), value);
         let Some(v) = self.get(name) else {
             return Ok(default.iter().map(|r| r.to_vec()).collect());
         };
-        let example = matrix_example(columns);
+        let example = || matrix_example(columns); // for a message only
         let shape_err = || {
             self.error(
                 name,
-                format!("expected a matrix of rows with {columns} columns, like {example}"),
+                format!(
+                    "expected a matrix of rows with {columns} columns, like {}",
+                    example()
+                ),
             )
         };
         let rows = v.as_array().ok_or_else(shape_err)?;
         if rows.iter().any(|r| !r.is_array()) {
-            return Err(self.error(name, flat_message(v, rows, columns, &example)));
+            return Err(self.error(name, flat_message(v, rows, columns, &example())));
         }
         let mut out = Vec::with_capacity(rows.len());
         for row in rows {
@@ -359,8 +374,9 @@ impl<'a> Params<'a> {
                     name,
                     format!(
                         "every row must have {columns} columns, found {row} with {}; \
-                         expected the form {example}",
-                        cells.len()
+                         expected the form {}",
+                        cells.len(),
+                        example()
                     ),
                 ));
             }
@@ -473,8 +489,8 @@ impl<'a> Params<'a> {
     pub fn finish(&self, known_extra: &[&str]) -> ModelResult<()> {
         let used = self.used.borrow();
         for key in self.spec.params.keys() {
-            if !used.contains(key) && !known_extra.contains(&key.as_str()) {
-                let mut known: Vec<&str> = used.iter().map(String::as_str).collect();
+            if !used.contains(key.as_str()) && !known_extra.contains(&key.as_str()) {
+                let mut known: Vec<&str> = used.iter().copied().collect();
                 known.extend_from_slice(known_extra);
                 return Err(self.error(
                     key,

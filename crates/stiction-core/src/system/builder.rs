@@ -471,7 +471,18 @@ impl Builder {
 
     /// Reports a variable under `component.name`.
     pub fn output(&mut self, name: &str, out: Out) {
-        let full = format!("{}.{name}", self.name());
+        self.output_of(&[name], out);
+    }
+
+    /// `output` of a name in parts (`["flange_a", ".phi"]`): thousands of outputs in a big
+    /// model, each name joined once, without `format!`'s machinery.
+    fn output_of(&mut self, parts: &[&str], out: Out) {
+        let comp = self.name();
+        let mut full =
+            String::with_capacity(comp.len() + 1 + parts.iter().map(|p| p.len()).sum::<usize>());
+        full.push_str(comp);
+        full.push('.');
+        parts.iter().for_each(|p| full.push_str(p));
         self.sys.outputs.push((full, out));
     }
 
@@ -481,11 +492,10 @@ impl Builder {
     pub fn flange(&mut self, port: &str, node: NodeRef, tau: Option<Out>) -> ModelResult<()> {
         let i = self.port_index(port)?;
         let d = self.domain[i];
-        let position = format!("{port}.{}", d.position());
         let mut at = Rel::of(&[(node, 1.0)]);
         at.offset += self.offset[i];
-        self.output(&position, Out::Angle(at));
-        self.output(&format!("{port}.{}", d.force()), Out::FlangeTau(i));
+        self.output_of(&[port, ".", d.position()], Out::Angle(at));
+        self.output_of(&[port, ".", d.force()], Out::FlangeTau(i));
         if let Some(tau) = tau {
             self.flanges.known(i, tau);
         }

@@ -77,10 +77,22 @@ pub(crate) fn read_fade(
     peak: f64,
     translational: bool,
 ) -> ModelResult<Option<Fade>> {
+    let mu_table_decl = if translational { MU_TABLE_V } else { MU_TABLE };
+    if !p.in_catalogue()
+        && !["mu_T", "peak_T", "mu_fn", "mu_table"]
+            .iter()
+            .any(|n| p.has(n))
+    {
+        // no fade (most clutches): its parameters known, their default tables not made
+        for decl in [MU_T, PEAK_T, MU_FN, mu_table_decl] {
+            p.mark_used(decl);
+        }
+        return Ok(None);
+    }
     let mu_t = factor_table(p, MU_T, 293.15)?;
     let peak_t = factor_table(p, PEAK_T, 293.15)?;
     let mu_fn = factor_table(p, MU_FN, 0.0)?;
-    let table = mu_table(p, if translational { MU_TABLE_V } else { MU_TABLE })?;
+    let table = mu_table(p, mu_table_decl)?;
     if p.in_catalogue()
         || !["mu_T", "peak_T", "mu_fn", "mu_table"]
             .iter()

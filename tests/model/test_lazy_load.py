@@ -145,6 +145,14 @@ _PAIR = 'a = { type = "Inertia", J = 1.0 }\nb = { type = "Inertia", J = 1.0 }\n'
         ),
         ("", 'a = { type = "Inertiax", J = 1.0 }\n', r"unknown component type \(did you mean 'Inertia'\?\)"),
         ('["a.flange_c", "b.flange_a"]', _PAIR, r"port 'flange_c': unknown port"),
+        (
+            '["a.flange_b", "m.flange_a"]',
+            'a = { type = "Inertia", J = 1.0 }\nm = { type = "Translational.Mass", m = 1.0 }\n',
+            "cannot connect the rotational flange 'a.flange_b' to the translational",
+        ),
+        ("", '"J-1" = { type = "Inertia", J = 1.0 }\n', "component name 'J-1' is not a valid identifier"),
+        ("", 'a = { type = "Inertia", "" = 1.0 }\n', "parameter names must be non-empty strings"),
+        ("", 'a = { type = "Inertia", J = nan }\n', "parameter 'J': must be >= 0, got nan"),
     ],
 )
 def test_bad_plain_files_are_refused_at_load_in_python_words(

@@ -102,10 +102,24 @@ def test_a_renamed_model_runs_under_its_new_name(tmp_path: Path) -> None:
     assert model.simulate().name == "Renamed"
 
 
-def test_overrides_and_pickles_of_a_loaded_model(tmp_path: Path) -> None:
-    path = _file(tmp_path, ladder_toml(8))
-    short = Model.load(path).simulate(StopTime=0.3)
+def test_overrides_of_a_loaded_model(tmp_path: Path) -> None:
+    text = ladder_toml(8)
+    loaded = Model.load(_file(tmp_path, text))
+    numbers = {"clutch1.fn_max": 5.0, "J2.w": 3}
+    short = loaded.simulate(StopTime=0.3, params=numbers)
+    assert loaded._lazy is not None  # numbers need nothing made
     assert short["time"][-1] == pytest.approx(0.3)
+    _same_runs(short, _built(text).simulate(StopTime=0.3, params=numbers))
+    assert short.parameters == _built(text).parameter_values()  # the model's, as before
+    quantity = loaded.simulate(StopTime=0.3, params={**numbers, "J2.w": "3 rad/s"})
+    assert loaded._lazy is None  # a unit to convert: the objects made
+    _same_runs(quantity, short)
+    with pytest.raises(ModelError, match=r"component 'clutch1' \(Clutch\): parameter 'fn_mx': unknown"):
+        Model.load(_file(tmp_path, text)).simulate(params={"clutch1.fn_mx": 5.0})
+
+
+def test_pickles_of_a_loaded_model(tmp_path: Path) -> None:
+    path = _file(tmp_path, ladder_toml(8))
     copy = pickle.loads(pickle.dumps(Model.load(path)))
     assert copy._lazy is None and copy == Model.load(path)
     _same_runs(copy.simulate(), Model.load(path).simulate())

@@ -446,8 +446,9 @@ class Model:
     __hash__ = None  # type: ignore[assignment]  # mutable
 
     def __repr__(self) -> str:
-        if self._lazy is not None:
-            components, connections = self._lazy.counts
+        lazy = self._as_loaded()
+        if lazy is not None:
+            components, connections = lazy.counts
             return f"<Model {self.name!r}: {components} components, {connections} connections>"
         return (
             f"<Model {self.name!r}: {len(self.components)} components, {len(self.connections)} connections>"

@@ -411,11 +411,12 @@ class Model:
         """Make a lazily loaded file's components, connections and the rest, as loading it in
         Python would have; an attribute set meanwhile stays as set. While the model still says
         what the file does, the file stays its engine text (no writing it anew to run it)."""
-        lazy = self.__dict__.pop("_lazy", None)
+        lazy = self.__dict__.get("_lazy")
         if lazy is None:
             return
-        with gc_paused():
+        with gc_paused():  # an error here (none expected: the engine took the file) leaves it lazy
             built = type(self)._from_data(lazy.data(), self.base_dir, lazy.default_name)
+        del self._lazy
         own = self.__dict__
         untouched = LAZY_FIELDS.isdisjoint(own) and self.name == lazy.name
         for field in LAZY_FIELDS:

@@ -258,6 +258,17 @@ pub trait SwitchingElement: Send + Sync {
     /// After the solve.
     fn solved(&self, st: &SwitchState, s: &Solved, v: &mut ElementValues);
 
+    /// Whether continuous variable `var` is known before the linear solve in state `st`: its
+    /// value after `forces` and `solved` is the same whatever the solve gave (`Solved`), so a
+    /// result computes it without the row's mode solve. False (unknown) by default.
+    fn before_solve(&self, _st: &SwitchState, _var: SwitchVar) -> bool {
+        false
+    }
+    /// The signal slots `forces` reads; None (by default): unknown, any of them.
+    fn signal_slots(&self) -> Option<Vec<usize>> {
+        None
+    }
+
     // ---- its Boolean rules
     /// Whether it transmits nothing at these signals (`free`).
     fn is_free(&self, _signals: &[f64]) -> bool {

@@ -3,7 +3,7 @@
 //! to it (the OneWayClutch's own one-directional rules included).
 
 use super::element::{
-    angle_and_speed, slip_rate_sign, ElementValues, Kinematics, Solved, SwitchState,
+    angle_and_speed, slip_rate_sign, ElementValues, Kinematics, Solved, SwitchState, SwitchVar,
     SwitchingElement, NEVER,
 };
 use super::fade::Fade;
@@ -300,6 +300,23 @@ impl SwitchingElement for FrictionElem {
         let power = v.tau * v.w;
         v.loss = if stuck_one_way { 0.0 } else { power };
         v.withheld = power - v.loss;
+    }
+
+    /// Everything `forces` computes; the torque and the loss too unless locked (its torque is
+    /// then the lock row's multiplier). `a` and `sa` read the solve.
+    fn before_solve(&self, st: &SwitchState, var: SwitchVar) -> bool {
+        use SwitchVar as V;
+        match var {
+            V::Phi | V::W | V::Fn | V::Mu | V::Tau0 | V::Tau0Max => true,
+            V::Tau | V::LossPower => !st.locked,
+            _ => false,
+        }
+    }
+
+    /// The normal force's input and the fade's temperature.
+    fn signal_slots(&self) -> Option<Vec<usize>> {
+        let temperature = self.fade.as_ref().and_then(|f| f.temperature);
+        Some(self.input.into_iter().chain(temperature).collect())
     }
 
     fn is_free(&self, signals: &[f64]) -> bool {

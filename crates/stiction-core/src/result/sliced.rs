@@ -1,0 +1,297 @@
+//! A variable computed alone from the part of each row it reads (issue 34): a friction
+//! element's torque, loss, normal force or `mu`, a law's torque, a signal, or a formula over
+//! them. In a row whose discrete state leaves the variable outside the linear solve (a clutch
+//! sliding or free: its torque is its own law) only the states, the blocks feeding the
+//! element's inputs and that element's `forces` are computed; only the rows that need the
+//! solve (the clutch locked: its torque is the lock row's multiplier) are evaluated as the
+//! table evaluates them. The arithmetic is the table's, so the values are its own bit for bit.
+
+use super::output_expr::{compile, value, Flat};
+use super::SimResult;
+use crate::engine::eval::{evaluate, kinematics, DiscreteState, Workspace};
+use crate::engine::kkt::ModeMatrix;
+use crate::engine::ModeCache;
+use crate::signals::Stage;
+use crate::switching::element::{is_discrete, Kinematics, Solved};
+use crate::system::outputs::EnergyVar;
+use crate::system::{Out, System};
+use std::rc::Rc;
+
+/// Rows that need the solve, at most this fraction of all rows: a column that needs it in most
+/// rows costs about the table's row each, and the table computes every variable at once.
+const SOLVED_SHARE: f64 = 0.25;
+
+/// What an output reads before the solve (in the rows that do not need it).
+#[derive(Default)]
+struct Reads {
+    laws: Vec<usize>,
+    elements: Vec<usize>,
+    /// Signal slots, or None: every signal and the whole of `kinematics`.
+    slots: Option<Vec<usize>>,
+}
+
+/// Collects what `out` reads; false for what only the table computes (a flange's cut torque,
+/// heat, the energies other than the kinetic, wear).
+fn reads(out: &Out, sys: &System, r: &mut Reads) -> bool {
+    let all_signals = |r: &mut Reads| r.slots = None;
+    match out {
+        Out::Angle(_) | Out::Speed(_) | Out::Accel(_) | Out::ConstraintTau(..) => true,
+        Out::Time | Out::Const(_) | Out::Energy(EnergyVar::Kinetic) => true,
+        Out::LawTau(k, _) | Out::LawLoss(k) => {
+            r.laws.push(*k);
+            all_signals(r); // what a law reads is not declared
+            true
+        }
+        Out::Switch(k, _) => {
+            r.elements.push(*k);
+            match (sys.switching[*k].signal_slots(), &mut r.slots) {
+                (Some(own), Some(slots)) => slots.extend(own),
+                _ => all_signals(r),
+            }
+            true
+        }
+        Out::Signal(slot) => {
+            if let Some(slots) = &mut r.slots {
+                slots.push(*slot);
+            }
+            true
+        }
+        Out::Scaled(inner, _) => reads(inner, sys, r),
+        Out::Formula(f) => f.leaves.iter().all(|leaf| reads(leaf, sys, r)),
+        _ => false,
+    }
+}
+
+/// Whether the rows of discrete state `disc` need the solve for `out` (`reads` took it).
+fn needs_solve(out: &Out, sys: &System, disc: &DiscreteState) -> bool {
+    // a shaft without inertia moves with the solve (`massless_speeds`), and with it whatever
+    // reads its speed: laws, elements, sensors
+    let massive = |terms: &[(usize, f64)]| terms.iter().all(|&(n, _)| sys.mass[n] > 0.0);
+    let no_massless = sys.mass.iter().all(|&m| m > 0.0);
+    match out {
+        Out::Angle(rel) | Out::Speed(rel) => !massive(&rel.terms),
+        Out::Accel(_) | Out::ConstraintTau(..) => true,
+        Out::LawTau(k, _) | Out::LawLoss(k) => !no_massless || !massive(&sys.laws[*k].rel.terms),
+        Out::Switch(k, var) => {
+            let (e, st) = (&sys.switching[*k], &disc.switching[*k]);
+            !is_discrete(*var) && !(no_massless && e.before_solve(st, *var))
+        }
+        Out::Signal(slot) => match stage(sys, *slot) {
+            Stage::Time => false,
+            Stage::State => !no_massless,
+            Stage::Solved => true,
+        },
+        Out::Scaled(inner, _) => needs_solve(inner, sys, disc),
+        Out::Formula(f) => f.leaves.iter().any(|leaf| needs_solve(leaf, sys, disc)),
+        _ => false,
+    }
+}
+
+/// When signal `slot` is known within an evaluation.
+fn stage(sys: &System, slot: usize) -> Stage {
+    let g = &sys.signals;
+    let writes = |part: &crate::signals::StagePart| {
+        part.sensors.iter().any(|s| s.slot == slot) || part.blocks.iter().any(|b| b.output == slot)
+    };
+    if writes(&g.solved) {
+        Stage::Solved
+    } else if writes(&g.state) {
+        Stage::State
+    } else {
+        Stage::Time
+    }
+}
+
+/// The blocks of `Stage::Time` that `slots` need, in evaluation order, and whether they read
+/// a temperature tap; None when some slot comes from elsewhere (a sensor, a derivative, a tap
+/// that a block reads: `kinematics` then, in its order).
+fn slice(sys: &System, slots: &[usize]) -> Option<(Vec<usize>, bool)> {
+    let g = &sys.signals;
+    let writer = |slot: usize| g.blocks.iter().position(|b| b.output == slot);
+    let input = |slot: usize| sys.inputs.iter().any(|i| i.slot == slot);
+    let tap = |slot: usize| sys.thermal.taps.iter().any(|t| t.slot == slot);
+    let (mut blocks, mut taps) = (vec![false; g.blocks.len()], false);
+    let mut todo: Vec<(usize, bool)> = slots.iter().map(|&s| (s, false)).collect();
+    while let Some((slot, of_block)) = todo.pop() {
+        match writer(slot) {
+            Some(i) if !blocks[i] => {
+                blocks[i] = true;
+                todo.extend(g.blocks[i].inputs.iter().map(|&s| (s, true)));
+            }
+            Some(_) => {}
+            None if input(slot) => {}
+            None if tap(slot) && !of_block => taps = true,
+            None => return None,
+        }
+    }
+    let order = (0..blocks.len()).filter(|&i| blocks[i]).collect();
+    Some((order, taps))
+}
+
+/// `value`, the kinetic energy summed from the speeds as `heat_and_energy` sums it (rows
+/// that skipped it).
+fn row_value(out: &Out, sys: &System, ws: &Workspace, disc: &DiscreteState) -> f64 {
+    match out {
+        Out::Energy(EnergyVar::Kinetic) => (sys.mass.iter().zip(&ws.w))
+            .map(|(m, w)| 0.5 * m * w * w)
+            .sum(),
+        Out::Scaled(inner, s) => s * row_value(inner, sys, ws, disc),
+        Out::Formula(f) => f.eval(|i| row_value(&f.leaves[i], sys, ws, disc)),
+        other => value(other, sys, ws, disc, &[]),
+    }
+}
+
+/// Output `c` of one system's rows, compiled as the recorder compiles it, and what it reads.
+struct Plan<'a> {
+    sys: &'a System,
+    flat: Flat,
+    general: Vec<Out>,
+    reads: Reads,
+    /// Per discrete state met: whether its rows need the solve.
+    solve: Vec<bool>,
+}
+
+impl<'a> Plan<'a> {
+    fn new(sys: &'a System, c: usize, discs: &[DiscreteState]) -> Option<Self> {
+        let out = &sys.outputs[c].1;
+        let mut r = Reads {
+            slots: Some(Vec::new()),
+            ..Reads::default()
+        };
+        if !reads(out, sys, &mut r) {
+            return None;
+        }
+        let mut general = Vec::new();
+        let flat = compile(out, 1.0, &mut general);
+        let solve = discs.iter().map(|d| needs_solve(out, sys, d)).collect();
+        Some(Self {
+            sys,
+            flat,
+            general,
+            reads: r,
+            solve,
+        })
+    }
+
+    /// The value of a row from its evaluated workspace, as the recorder writes it.
+    fn value(&self, ws: &Workspace, disc: &DiscreteState) -> f64 {
+        let sys = self.sys;
+        match self.flat {
+            Flat::Phi(node, s, offset) => s * ws.phi[node] + offset,
+            Flat::W(node, s) => s * ws.w[node],
+            Flat::A(node, s) => s * ws.a[node],
+            Flat::Switch(k, var, s) => {
+                s * sys.switching[k].variable(&disc.switching[k], &ws.elements[k], var)
+            }
+            Flat::Signal(slot, s) => s * ws.signals[slot],
+            Flat::LawTau(k, s) => s * ws.law_tau[k],
+            Flat::Flange(..) => f64::NAN, // not alone (`reads`)
+            Flat::General(i, s) => s * row_value(&self.general[i], sys, ws, disc),
+        }
+    }
+}
+
+impl SimResult {
+    /// Whether output `c` is computed alone from part of each row: every row's system can,
+    /// and at most `SOLVED_SHARE` of the rows need their mode solve.
+    pub(super) fn sliced(&self, c: usize) -> bool {
+        let tr = &self.trajectory;
+        let mut solved = 0usize;
+        for (first, end, sys) in self.segments() {
+            let Some(plan) = Plan::new(sys, c, &self.discs) else {
+                return false;
+            };
+            solved += (tr.disc[first..end].iter())
+                .filter(|&&d| plan.solve[d as usize])
+                .count();
+        }
+        solved as f64 <= SOLVED_SHARE * tr.rows() as f64
+    }
+
+    /// Output `c` over every row (for `sliced` ones): the rows that need the solve evaluated
+    /// as the table evaluates them, the others from their states, the signals they read and
+    /// the laws and elements they read computed before the solve.
+    pub(super) fn sliced_column(&self, c: usize) -> Vec<f64> {
+        let mut values = Vec::with_capacity(self.rows());
+        for (first, end, sys) in self.segments() {
+            match Plan::new(sys, c, &self.discs) {
+                Some(plan) => self.sliced_rows(&plan, first..end, &mut values),
+                None => values.resize(end, f64::NAN), // not sliced: no value, not a panic
+            }
+        }
+        values
+    }
+
+    fn sliced_rows(&self, plan: &Plan, rows: std::ops::Range<usize>, values: &mut Vec<f64>) {
+        let (tr, sys) = (&self.trajectory, plan.sys);
+        let n = sys.nodes;
+        // the rows before the solve have their own workspace: `kinematics` keeps the signals
+        // of the last instant it evaluated, and the slices write only some of them
+        let (mut before, mut solved) = (Workspace::new(sys), Workspace::new(sys));
+        let (mut cache, mut modes) = (ModeCache::default(), Vec::<Option<Rc<ModeMatrix>>>::new());
+        let states_only = !sys.prescribes() && sys.followers.is_empty();
+        let sliced = (plan.reads.slots.as_deref())
+            .filter(|_| states_only)
+            .and_then(|slots| slice(sys, slots));
+        let zeros = vec![0.0; n];
+        let mut f = vec![0.0; n]; // the elements' forces, never read
+        for r in rows {
+            let (id, t, x, h) = (tr.disc[r] as usize, tr.t[r], tr.x(r), tr.horizon[r]);
+            let disc = &self.discs[id];
+            if plan.solve[id] {
+                if id >= modes.len() {
+                    modes.resize(id + 1, None);
+                }
+                if modes[id].is_none() {
+                    modes[id] = cache.get(sys, disc, t).ok();
+                }
+                values.push(match &modes[id] {
+                    Some(mm) => {
+                        evaluate(sys, mm, disc, t, x, h, &mut solved);
+                        plan.value(&solved, disc)
+                    }
+                    None => f64::NAN, // as the table: a mode that cannot be factored
+                });
+                continue;
+            }
+            let ws = &mut before;
+            match &sliced {
+                Some((blocks, taps)) => {
+                    (ws.t, ws.horizon) = (t, h);
+                    ws.phi.copy_from_slice(&x[..n]);
+                    ws.w.copy_from_slice(&x[n..2 * n]);
+                    for (input, value) in sys.inputs.iter().zip(&disc.inputs) {
+                        ws.signals[input.slot] = *value;
+                    }
+                    sys.signals.eval_some(blocks, t, h, &mut ws.signals);
+                    if *taps {
+                        let lay = crate::engine::eval::Layout::of(sys);
+                        (sys.thermal).tap(&x[lay.temps()..lay.loss()], &mut ws.signals);
+                    }
+                }
+                None => kinematics(sys, disc, t, x, h, ws),
+            }
+            for &k in &plan.reads.laws {
+                ws.law_tau[k] = sys.laws[k].law.tau(&ws.law_ctx(sys, disc, k));
+            }
+            for &k in &plan.reads.elements {
+                let (e, st) = (&sys.switching[k], &disc.switching[k]);
+                let kin = Kinematics {
+                    phi: &ws.phi,
+                    w: &ws.w,
+                    signals: &ws.signals,
+                };
+                let v = &mut ws.elements[k];
+                e.forces(st, &kin, v, &mut f);
+                let none = Solved {
+                    a: &zeros,
+                    permanent: None,
+                    lock: None,
+                    held: false,
+                };
+                e.solved(st, &none, v);
+            }
+            values.push(plan.value(ws, disc));
+        }
+    }
+}

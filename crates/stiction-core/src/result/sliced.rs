@@ -8,11 +8,11 @@
 
 use super::output_expr::{compile, value, Flat};
 use super::SimResult;
-use crate::engine::eval::{evaluate, kinematics, DiscreteState, Workspace};
+use crate::engine::eval::{evaluate, kinematics, DiscreteState, Layout, Workspace};
 use crate::engine::kkt::ModeMatrix;
 use crate::engine::ModeCache;
 use crate::signals::Stage;
-use crate::switching::element::{is_discrete, Kinematics, Solved};
+use crate::switching::element::{is_discrete, BeforeSolve, Kinematics, Solved};
 use crate::system::outputs::EnergyVar;
 use crate::system::{Out, System};
 use std::rc::Rc;
@@ -74,7 +74,8 @@ fn needs_solve(out: &Out, sys: &System, disc: &DiscreteState) -> bool {
         Out::LawTau(k, _) | Out::LawLoss(k) => !no_massless || !massive(&sys.laws[*k].rel.terms),
         Out::Switch(k, var) => {
             let (e, st) = (&sys.switching[*k], &disc.switching[*k]);
-            !is_discrete(*var) && !(no_massless && e.before_solve(st, *var))
+            let before = no_massless && e.before_solve(st, *var) != BeforeSolve::Never;
+            !(is_discrete(*var) || before)
         }
         Out::Signal(slot) => match stage(sys, *slot) {
             Stage::Time => false,
@@ -84,6 +85,35 @@ fn needs_solve(out: &Out, sys: &System, disc: &DiscreteState) -> bool {
         Out::Scaled(inner, _) => needs_solve(inner, sys, disc),
         Out::Formula(f) => f.leaves.iter().any(|leaf| needs_solve(leaf, sys, disc)),
         _ => false,
+    }
+}
+
+/// How the rows of one discrete state compute an output.
+#[derive(Debug, Clone, Copy)]
+enum Kind {
+    /// This value in every row: one element's variable that its state fixes.
+    Fixed(f64),
+    /// Before the solve; `solved`: with the elements' `solved` after their `forces`.
+    Before { solved: bool },
+    /// The row evaluated as the table evaluates it.
+    Solve,
+}
+
+/// How the rows of `disc` compute `out`, compiled to `flat`.
+fn kind(out: &Out, flat: Flat, sys: &System, disc: &DiscreteState) -> Kind {
+    if needs_solve(out, sys, disc) {
+        return Kind::Solve;
+    }
+    let Flat::Switch(k, var, s) = flat else {
+        return Kind::Before { solved: true };
+    };
+    let (e, st) = (&sys.switching[k], &disc.switching[k]);
+    match e.before_solve(st, var) {
+        // the recorder's `s * variable`, whose value the state fixes
+        BeforeSolve::Constant(c) => Kind::Fixed(s * c),
+        _ if is_discrete(var) => Kind::Fixed(s * e.variable(st, &Default::default(), var)),
+        BeforeSolve::Forces => Kind::Before { solved: false },
+        _ => Kind::Before { solved: true },
     }
 }
 
@@ -147,8 +177,8 @@ struct Plan<'a> {
     flat: Flat,
     general: Vec<Out>,
     reads: Reads,
-    /// Per discrete state met: whether its rows need the solve.
-    solve: Vec<bool>,
+    /// How the rows of each discrete state compute it.
+    kinds: Vec<Kind>,
 }
 
 impl<'a> Plan<'a> {
@@ -163,13 +193,13 @@ impl<'a> Plan<'a> {
         }
         let mut general = Vec::new();
         let flat = compile(out, 1.0, &mut general);
-        let solve = discs.iter().map(|d| needs_solve(out, sys, d)).collect();
+        let kinds = discs.iter().map(|d| kind(out, flat, sys, d)).collect();
         Some(Self {
             sys,
             flat,
             general,
             reads: r,
-            solve,
+            kinds,
         })
     }
 
@@ -201,9 +231,8 @@ impl SimResult {
             let Some(plan) = Plan::new(sys, c, &self.discs) else {
                 return false;
             };
-            solved += (tr.disc[first..end].iter())
-                .filter(|&&d| plan.solve[d as usize])
-                .count();
+            let solve = |d: &&u32| matches!(plan.kinds[**d as usize], Kind::Solve);
+            solved += tr.disc[first..end].iter().filter(solve).count();
         }
         solved as f64 <= SOLVED_SHARE * tr.rows() as f64
     }
@@ -233,65 +262,99 @@ impl SimResult {
         let sliced = (plan.reads.slots.as_deref())
             .filter(|_| states_only)
             .and_then(|slots| slice(sys, slots));
+        // a general output reads the workspace's angles and speeds; one element's variable
+        // reads the states in place
+        let general = matches!(plan.flat, Flat::General(..));
         let zeros = vec![0.0; n];
+        let none = Solved {
+            a: &zeros,
+            permanent: None,
+            lock: None,
+            held: false,
+        };
         let mut f = vec![0.0; n]; // the elements' forces, never read
         for r in rows {
             let (id, t, x, h) = (tr.disc[r] as usize, tr.t[r], tr.x(r), tr.horizon[r]);
             let disc = &self.discs[id];
-            if plan.solve[id] {
-                if id >= modes.len() {
-                    modes.resize(id + 1, None);
+            let with_solved = match plan.kinds[id] {
+                Kind::Fixed(v) => {
+                    values.push(v);
+                    continue;
                 }
-                if modes[id].is_none() {
-                    modes[id] = cache.get(sys, disc, t).ok();
+                Kind::Solve => {
+                    values.push(self.solved_row(plan, (&mut cache, &mut modes), r, &mut solved));
+                    continue;
                 }
-                values.push(match &modes[id] {
-                    Some(mm) => {
-                        evaluate(sys, mm, disc, t, x, h, &mut solved);
-                        plan.value(&solved, disc)
-                    }
-                    None => f64::NAN, // as the table: a mode that cannot be factored
-                });
-                continue;
-            }
+                Kind::Before { solved } => solved,
+            };
             let ws = &mut before;
-            match &sliced {
+            let in_place = match &sliced {
                 Some((blocks, taps)) => {
                     (ws.t, ws.horizon) = (t, h);
-                    ws.phi.copy_from_slice(&x[..n]);
-                    ws.w.copy_from_slice(&x[n..2 * n]);
                     for (input, value) in sys.inputs.iter().zip(&disc.inputs) {
                         ws.signals[input.slot] = *value;
                     }
                     sys.signals.eval_some(blocks, t, h, &mut ws.signals);
                     if *taps {
-                        let lay = crate::engine::eval::Layout::of(sys);
+                        let lay = Layout::of(sys);
                         (sys.thermal).tap(&x[lay.temps()..lay.loss()], &mut ws.signals);
                     }
+                    if general {
+                        ws.phi.copy_from_slice(&x[..n]);
+                        ws.w.copy_from_slice(&x[n..2 * n]);
+                    }
+                    true
                 }
-                None => kinematics(sys, disc, t, x, h, ws),
-            }
+                None => {
+                    kinematics(sys, disc, t, x, h, ws);
+                    false
+                }
+            };
             for &k in &plan.reads.laws {
                 ws.law_tau[k] = sys.laws[k].law.tau(&ws.law_ctx(sys, disc, k));
             }
+            let (phi, w) = match in_place {
+                true => (&x[..n], &x[n..2 * n]),
+                false => (&ws.phi[..], &ws.w[..]),
+            };
+            let kin = Kinematics {
+                phi,
+                w,
+                signals: &ws.signals,
+            };
             for &k in &plan.reads.elements {
-                let (e, st) = (&sys.switching[k], &disc.switching[k]);
-                let kin = Kinematics {
-                    phi: &ws.phi,
-                    w: &ws.w,
-                    signals: &ws.signals,
-                };
-                let v = &mut ws.elements[k];
+                let (e, st, v) = (&sys.switching[k], &disc.switching[k], &mut ws.elements[k]);
                 e.forces(st, &kin, v, &mut f);
-                let none = Solved {
-                    a: &zeros,
-                    permanent: None,
-                    lock: None,
-                    held: false,
-                };
-                e.solved(st, &none, v);
+                if with_solved {
+                    e.solved(st, &none, v);
+                }
             }
             values.push(plan.value(ws, disc));
         }
+    }
+
+    /// Row `r` evaluated as the table evaluates it (its mode factored once), and the plan's
+    /// value there; NaN where the mode cannot be factored, as in the table.
+    fn solved_row(
+        &self,
+        plan: &Plan,
+        (cache, modes): (&mut ModeCache, &mut Vec<Option<Rc<ModeMatrix>>>),
+        r: usize,
+        ws: &mut Workspace,
+    ) -> f64 {
+        let tr = &self.trajectory;
+        let (id, t) = (tr.disc[r] as usize, tr.t[r]);
+        let disc = &self.discs[id];
+        if id >= modes.len() {
+            modes.resize(id + 1, None);
+        }
+        if modes[id].is_none() {
+            modes[id] = cache.get(plan.sys, disc, t).ok();
+        }
+        let Some(mm) = &modes[id] else {
+            return f64::NAN;
+        };
+        evaluate(plan.sys, mm, disc, t, tr.x(r), tr.horizon[r], ws);
+        plan.value(ws, disc)
     }
 }

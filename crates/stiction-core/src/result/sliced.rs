@@ -12,7 +12,7 @@ use crate::engine::eval::{evaluate, kinematics, DiscreteState, Layout, Workspace
 use crate::engine::kkt::ModeMatrix;
 use crate::engine::ModeCache;
 use crate::signals::Stage;
-use crate::switching::element::{is_discrete, BeforeSolve, Kinematics, Solved};
+use crate::switching::element::{common_variable, is_discrete, BeforeSolve, Kinematics, Solved};
 use crate::system::outputs::EnergyVar;
 use crate::system::{Out, System};
 use std::rc::Rc;
@@ -210,13 +210,52 @@ impl<'a> Plan<'a> {
             Flat::Phi(node, s, offset) => s * ws.phi[node] + offset,
             Flat::W(node, s) => s * ws.w[node],
             Flat::A(node, s) => s * ws.a[node],
+            // a continuous variable is `common_variable`'s (the trait's rule), as the table
+            // reads it, without a virtual call; `kind` fixed the discrete ones
             Flat::Switch(k, var, s) => {
-                s * sys.switching[k].variable(&disc.switching[k], &ws.elements[k], var)
+                s * common_variable(&disc.switching[k], &ws.elements[k], var)
             }
             Flat::Signal(slot, s) => s * ws.signals[slot],
             Flat::LawTau(k, s) => s * ws.law_tau[k],
             Flat::Flange(..) => f64::NAN, // not alone (`reads`)
             Flat::General(i, s) => s * row_value(&self.general[i], sys, ws, disc),
+        }
+    }
+}
+
+/// What computing the rows of a plan keeps from one row to the next.
+struct Rows {
+    /// The rows before the solve have their own workspace: `kinematics` keeps the signals of
+    /// the last instant it evaluated, and the slices write only some of them.
+    before: Workspace,
+    solved: Workspace,
+    cache: ModeCache,
+    modes: Vec<Option<Rc<ModeMatrix>>>,
+    /// The blocks the rows before the solve evaluate, and whether they read a temperature tap
+    /// (None: `kinematics`, every signal).
+    sliced: Option<(Vec<usize>, bool)>,
+    /// A general output reads the workspace's angles and speeds; one element's variable reads
+    /// the states in place.
+    general: bool,
+    zeros: Vec<f64>,
+    /// The elements' forces, never read.
+    f: Vec<f64>,
+}
+
+impl Rows {
+    fn new(sys: &System, plan: &Plan) -> Self {
+        let states_only = !sys.prescribes() && sys.followers.is_empty();
+        Self {
+            before: Workspace::new(sys),
+            solved: Workspace::new(sys),
+            cache: ModeCache::default(),
+            modes: Vec::new(),
+            sliced: (plan.reads.slots.as_deref())
+                .filter(|_| states_only)
+                .and_then(|slots| slice(sys, slots)),
+            general: matches!(plan.flat, Flat::General(..)),
+            zeros: vec![0.0; sys.nodes],
+            f: vec![0.0; sys.nodes],
         }
     }
 }
@@ -239,56 +278,48 @@ impl SimResult {
 
     /// Output `c` over every row (for `sliced` ones): the rows that need the solve evaluated
     /// as the table evaluates them, the others from their states, the signals they read and
-    /// the laws and elements they read computed before the solve.
+    /// the laws and elements they read computed before the solve. On this thread: shared out
+    /// over the pool as the table's stretches are, CoupledClutches' clutch torque took longer
+    /// under load (min 118 against 111 µs), a pool thread waking too late to take a share.
     pub(super) fn sliced_column(&self, c: usize) -> Vec<f64> {
-        let mut values = Vec::with_capacity(self.rows());
+        let mut values = vec![f64::NAN; self.rows()];
         for (first, end, sys) in self.segments() {
-            match Plan::new(sys, c, &self.discs) {
-                Some(plan) => self.sliced_rows(&plan, first..end, &mut values),
-                None => values.resize(end, f64::NAN), // not sliced: no value, not a panic
+            // not sliced (`sliced` says which are): NaN, not a panic
+            if let Some(plan) = Plan::new(sys, c, &self.discs) {
+                let mut rows = Rows::new(sys, &plan);
+                self.sliced_rows(&plan, &mut rows, first, &mut values[first..end]);
             }
         }
         values
     }
 
-    fn sliced_rows(&self, plan: &Plan, rows: std::ops::Range<usize>, values: &mut Vec<f64>) {
+    /// Writes `out`, the values of rows `from..`.
+    fn sliced_rows(&self, plan: &Plan, rows: &mut Rows, from: usize, out: &mut [f64]) {
         let (tr, sys) = (&self.trajectory, plan.sys);
         let n = sys.nodes;
-        // the rows before the solve have their own workspace: `kinematics` keeps the signals
-        // of the last instant it evaluated, and the slices write only some of them
-        let (mut before, mut solved) = (Workspace::new(sys), Workspace::new(sys));
-        let (mut cache, mut modes) = (ModeCache::default(), Vec::<Option<Rc<ModeMatrix>>>::new());
-        let states_only = !sys.prescribes() && sys.followers.is_empty();
-        let sliced = (plan.reads.slots.as_deref())
-            .filter(|_| states_only)
-            .and_then(|slots| slice(sys, slots));
-        // a general output reads the workspace's angles and speeds; one element's variable
-        // reads the states in place
-        let general = matches!(plan.flat, Flat::General(..));
-        let zeros = vec![0.0; n];
         let none = Solved {
-            a: &zeros,
+            a: &rows.zeros,
             permanent: None,
             lock: None,
             held: false,
         };
-        let mut f = vec![0.0; n]; // the elements' forces, never read
-        for r in rows {
+        for (r, value) in (from..).zip(out.iter_mut()) {
             let (id, t, x, h) = (tr.disc[r] as usize, tr.t[r], tr.x(r), tr.horizon[r]);
             let disc = &self.discs[id];
             let with_solved = match plan.kinds[id] {
                 Kind::Fixed(v) => {
-                    values.push(v);
+                    *value = v;
                     continue;
                 }
                 Kind::Solve => {
-                    values.push(self.solved_row(plan, (&mut cache, &mut modes), r, &mut solved));
+                    let modes = (&mut rows.cache, &mut rows.modes);
+                    *value = self.solved_row(plan, modes, r, &mut rows.solved);
                     continue;
                 }
                 Kind::Before { solved } => solved,
             };
-            let ws = &mut before;
-            let in_place = match &sliced {
+            let ws = &mut rows.before;
+            let in_place = match &rows.sliced {
                 Some((blocks, taps)) => {
                     (ws.t, ws.horizon) = (t, h);
                     for (input, value) in sys.inputs.iter().zip(&disc.inputs) {
@@ -299,7 +330,7 @@ impl SimResult {
                         let lay = Layout::of(sys);
                         (sys.thermal).tap(&x[lay.temps()..lay.loss()], &mut ws.signals);
                     }
-                    if general {
+                    if rows.general {
                         ws.phi.copy_from_slice(&x[..n]);
                         ws.w.copy_from_slice(&x[n..2 * n]);
                     }
@@ -324,12 +355,12 @@ impl SimResult {
             };
             for &k in &plan.reads.elements {
                 let (e, st, v) = (&sys.switching[k], &disc.switching[k], &mut ws.elements[k]);
-                e.forces(st, &kin, v, &mut f);
+                e.forces(st, &kin, v, &mut rows.f);
                 if with_solved {
                     e.solved(st, &none, v);
                 }
             }
-            values.push(plan.value(ws, disc));
+            *value = plan.value(ws, disc);
         }
     }
 

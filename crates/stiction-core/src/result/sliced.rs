@@ -17,12 +17,18 @@ use crate::system::outputs::EnergyVar;
 use crate::system::{Out, System};
 use std::rc::Rc;
 
-/// Rows that need the solve, at most this fraction of all rows. Such a row is a whole
-/// evaluation (CoupledClutches: ~2 000 instructions, against ~400 for a sliding clutch's torque
-/// and ~3 600 per row for the table of all 106 variables): a column that needs the solve in most
-/// rows costs half the table, and the table, once computed, serves every other variable too.
-/// At a quarter, a column costs at most about a quarter of the table.
+/// The rows that need the solve, at most this fraction of the table's cost counted in
+/// evaluations. Such a row is a whole evaluation (CoupledClutches: ~2 000 instructions, against
+/// ~400 for a sliding clutch's torque); a row of the table is one plus about
+/// `1 / VARIABLES_PER_EVALUATION` of one per variable (CoupledClutches, 106 variables: ~3 600
+/// instructions a row; the 100-ladder, 2 800: 25 µs against 1.5 µs). A column that needs the
+/// solve in most rows of a small model costs half its table, which once computed serves every
+/// other variable too; in a large one a twentieth (the 100-ladder's brake torque: 1.8 against
+/// 30-58 ms).
 const SOLVED_SHARE: f64 = 0.25;
+
+/// Variables of a table row that cost about one evaluation (see `SOLVED_SHARE`).
+const VARIABLES_PER_EVALUATION: f64 = 150.0;
 
 /// What an output reads before the solve (in the rows that do not need it).
 #[derive(Default)]
@@ -265,7 +271,7 @@ impl Rows {
 
 impl SimResult {
     /// Whether output `c` is computed alone from part of each row: every row's system can,
-    /// and at most `SOLVED_SHARE` of the rows need their mode solve.
+    /// and the rows that need their mode solve cost at most `SOLVED_SHARE` of the table.
     pub(super) fn sliced(&self, c: usize) -> bool {
         let tr = &self.trajectory;
         let mut solved = 0usize;
@@ -276,7 +282,8 @@ impl SimResult {
             let solve = |d: &&u32| matches!(plan.kinds[**d as usize], Kind::Solve);
             solved += tr.disc[first..end].iter().filter(solve).count();
         }
-        solved as f64 <= SOLVED_SHARE * tr.rows() as f64
+        let table_row = 1.0 + self.names.len() as f64 / VARIABLES_PER_EVALUATION;
+        solved as f64 <= SOLVED_SHARE * table_row * tr.rows() as f64
     }
 
     /// Output `c` over every row (for `sliced` ones): the rows that need the solve evaluated

@@ -1,8 +1,9 @@
 //! Runs a model file N times and prints the median wall time: `cargo run --release --example
 //! run_model -- MODEL.toml [N] [--no-table]`. For profiling the core without Python in the way
 //! (`--no-table` leaves out computing every variable, to profile the run alone; `--all` runs
-//! recording every variable as it goes, `run_recording_all`). The model is compiled once and
-//! run N times, as `Model.simulate` does from Python.
+//! recording every variable as it goes, `run_recording_all`; `--column NAME` reads variable
+//! NAME of each result in place of every variable). The model is compiled once and run N
+//! times, as `Model.simulate` does from Python.
 
 use std::time::Instant;
 
@@ -17,6 +18,7 @@ fn main() {
     let mode = args.next();
     let with_table = mode.as_deref() != Some("--no-table");
     let recording_all = mode.as_deref() == Some("--all");
+    let column = (mode.as_deref() == Some("--column")).then(|| args.next().expect("a name"));
     let text = std::fs::read_to_string(&path).expect("readable model file");
     let dir = std::path::Path::new(&path)
         .parent()
@@ -36,7 +38,9 @@ fn main() {
         run.push(t0.elapsed().as_secs_f64() * 1e3);
         wall.push(r.stats.wall_ms);
         let t1 = Instant::now();
-        if with_table {
+        if let Some(name) = &column {
+            std::hint::black_box(r.column(name).expect("a variable of the model"));
+        } else if with_table {
             std::hint::black_box(r.table().expect("every variable fits in memory"));
         }
         table.push(t1.elapsed().as_secs_f64() * 1e3);

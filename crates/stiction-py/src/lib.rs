@@ -172,9 +172,9 @@ impl RawResult {
         Ok(PyArray1::from_vec(py, values))
     }
 
-    /// Whether `column(name)` computes variable `name` alone, without the mode solve of each
-    /// row (an angle, a speed, a mode, a flag, the kinetic energy); any other is a column of
-    /// `table()`. KeyError for an unknown name.
+    /// Whether `column(name)` computes variable `name` alone, not as a column of `table()`:
+    /// an angle, a speed, a mode, a flag, the kinetic energy, or one that needs the mode solve
+    /// in few rows (a clutch's torque: only while locked). KeyError for an unknown name.
     fn is_direct(&self, name: &str) -> PyResult<bool> {
         (self.result.is_alone(name)).ok_or_else(|| PyKeyError::new_err(name.to_string()))
     }

@@ -263,7 +263,8 @@ class Result:
                     return self.data[:, self._index[name]]
                 except UsageError:
                     pass  # every variable at once does not fit in memory: this one alone
-            # an angle, speed, mode, flag or the kinetic energy: from the states, no table
+            # an angle, speed, mode, flag, the kinetic energy, or a variable that needs the
+            # mode solve in few rows (a clutch's torque): computed alone, no table
             self._columns[name] = np.asarray(self._source.column(name), dtype=np.float64)
             return self._columns[name]
         except KeyError:

@@ -13,6 +13,7 @@ pub mod metric;
 mod output_expr;
 mod probe;
 mod recorder;
+mod sliced;
 mod table;
 
 use std::sync::{Arc, Mutex, OnceLock};
@@ -219,6 +220,10 @@ impl SimResult {
                 // the kinematics of each row, not every variable of every row
                 return Some(self.kinematic_column(c - 1));
             }
+            if self.sliced(c - 1) {
+                // the part of each row it reads; the mode solve only where it needs it
+                return Some(self.sliced_column(c - 1));
+            }
         }
         let Ok(table) = self.table() else {
             // too large for every variable at once: this one alone
@@ -247,12 +252,13 @@ impl SimResult {
         Some(compile(&self.system.outputs[c - 1].1, 1.0, &mut general).is_direct())
     }
 
-    /// Whether `column(name)` computes variable `name` alone, without the mode solve of each
-    /// row: a direct one, or one of the kinematics (the kinetic energy, an angle or speed
-    /// between shafts); None for an unknown name.
+    /// Whether `column(name)` computes variable `name` alone, not as a column of the table
+    /// of every variable: a direct one, one of the kinematics (the kinetic energy, an angle or
+    /// speed between shafts), or one that needs the mode solve in few rows (a clutch's torque:
+    /// only while locked, `sliced`); None for an unknown name.
     pub fn is_alone(&self, name: &str) -> Option<bool> {
         let c = self.names.iter().position(|n| n == name)?;
-        Some(c == 0 || self.alone(c - 1))
+        Some(c == 0 || self.alone(c - 1) || self.sliced(c - 1))
     }
 
     /// Variables that need no evaluation of the system: node angles and speeds, modes, flags.

@@ -134,6 +134,20 @@ impl SignalGraph {
             .fold(f64::INFINITY, |m, b| m.min(b.block.time_scale()))
     }
 
+    /// Some blocks of `Stage::Time` (indices into `blocks`, in their order) and no
+    /// derivatives: the outputs `eval` gives them when their inputs are among these blocks'
+    /// outputs or the model inputs (a result computing one variable alone).
+    pub fn eval_some(&self, some: &[usize], t: f64, horizon: f64, values: &mut [f64]) {
+        let mut u = [0.0; 4];
+        for &i in some {
+            let b = &self.blocks[i];
+            for (k, &slot) in b.inputs.iter().enumerate() {
+                u[k] = values[slot];
+            }
+            values[b.output] = b.block.eval(t, horizon, &u[..b.inputs.len()]);
+        }
+    }
+
     /// The blocks of `Stage::Time`.
     pub fn eval(&self, t: f64, horizon: f64, values: &mut [f64]) {
         eval_blocks(&self.blocks, t, horizon, values);

@@ -138,6 +138,19 @@ pub struct Solved<'a> {
     pub held: bool,
 }
 
+/// How a variable of a switching element is known without the linear solve in one state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum BeforeSolve {
+    /// It reads the solve.
+    Never,
+    /// This value in every row (a free clutch's torque: 0).
+    Constant(f64),
+    /// `forces` sets it.
+    Forces,
+    /// `forces` then `solved` set it, the same whatever the solve gave (`Solved`).
+    Solved,
+}
+
 /// The values of one switching element at an instant. The first group every element has; the
 /// others are filled by the elements that have them (friction: normal force and `mu`; LossyGear:
 /// the flange torques, the loss torque and efficiencies).
@@ -257,6 +270,16 @@ pub trait SwitchingElement: Send + Sync {
     fn forces(&self, st: &SwitchState, k: &Kinematics, v: &mut ElementValues, f: &mut [f64]);
     /// After the solve.
     fn solved(&self, st: &SwitchState, s: &Solved, v: &mut ElementValues);
+
+    /// Whether continuous variable `var` is known without the linear solve in state `st`, so
+    /// that a result computes it without the row's mode solve. `Never` (unknown) by default.
+    fn before_solve(&self, _st: &SwitchState, _var: SwitchVar) -> BeforeSolve {
+        BeforeSolve::Never
+    }
+    /// The signal slots `forces` reads; None (by default): unknown, any of them.
+    fn signal_slots(&self) -> Option<Vec<usize>> {
+        None
+    }
 
     // ---- its Boolean rules
     /// Whether it transmits nothing at these signals (`free`).

@@ -3,8 +3,8 @@
 //! to it (the OneWayClutch's own one-directional rules included).
 
 use super::element::{
-    angle_and_speed, slip_rate_sign, ElementValues, Kinematics, Solved, SwitchState,
-    SwitchingElement, NEVER,
+    angle_and_speed, slip_rate_sign, BeforeSolve, ElementValues, Kinematics, Solved, SwitchState,
+    SwitchVar, SwitchingElement, NEVER,
 };
 use super::fade::Fade;
 use super::logic::{self, relation_index as R, Discrete, Relations};
@@ -300,6 +300,26 @@ impl SwitchingElement for FrictionElem {
         let power = v.tau * v.w;
         v.loss = if stuck_one_way { 0.0 } else { power };
         v.withheld = power - v.loss;
+    }
+
+    /// Everything `forces` computes; the torque (0 while free) and the loss (`solved`'s
+    /// product) too unless locked: its torque is then the lock row's multiplier. `a` and `sa`
+    /// read the solve.
+    fn before_solve(&self, st: &SwitchState, var: SwitchVar) -> BeforeSolve {
+        use SwitchVar as V;
+        match var {
+            V::Tau if st.free && !st.locked => BeforeSolve::Constant(0.0),
+            V::Phi | V::W | V::Fn | V::Mu | V::Tau0 | V::Tau0Max => BeforeSolve::Forces,
+            V::Tau if !st.locked => BeforeSolve::Forces,
+            V::LossPower if !st.locked => BeforeSolve::Solved,
+            _ => BeforeSolve::Never,
+        }
+    }
+
+    /// The normal force's input and the fade's temperature.
+    fn signal_slots(&self) -> Option<Vec<usize>> {
+        let temperature = self.fade.as_ref().and_then(|f| f.temperature);
+        Some(self.input.into_iter().chain(temperature).collect())
     }
 
     fn is_free(&self, signals: &[f64]) -> bool {

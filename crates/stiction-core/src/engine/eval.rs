@@ -259,12 +259,35 @@ pub fn evaluate(
     horizon: f64,
     ws: &mut Workspace,
 ) {
+    evaluate_switching(sys, mm, disc, t, x, horizon, ws);
+    heat_and_energy(sys, disc, x, ws);
+}
+
+/// What `evaluate` computes short of the heat flows, the energies and the wear rates: all
+/// that the crossing indicators, their speed rates and the event iteration's relations read
+/// (angles, speeds, signals, torques, the mode's solve, the elements' values, the worn
+/// volumes). The crossing scan, the searches that locate a crossing and the event iteration
+/// evaluate more often than the integrator and read nothing else; the heat network's solve
+/// and the energy audit were a tenth of each of their evaluations. The same arithmetic as
+/// `evaluate` on what it computes, so everything read is the same bits.
+pub fn evaluate_switching(
+    sys: &System,
+    mm: &ModeMatrix,
+    disc: &DiscreteState,
+    t: f64,
+    x: &[f64],
+    horizon: f64,
+    ws: &mut Workspace,
+) {
     ws.rhs_evals += 1;
     kinematics(sys, disc, t, x, horizon, ws);
     accelerations(sys, mm, disc, ws);
     // the assembly checks that no force law, switching element or prescribed motion reads these
     measure(&sys.signals.solved, ws);
-    heat_and_energy(sys, disc, x, ws);
+    if !sys.wear.is_empty() {
+        // the pads' limit indicators read the worn volumes
+        ws.wear.copy_from_slice(&x[Layout::of(sys).wear()..]);
+    }
 }
 
 /// The torques of laws and switching elements, the mode's linear solve, and what the switching

@@ -7,7 +7,7 @@
 use std::collections::HashMap;
 use std::rc::Rc;
 
-use crate::engine::eval::{evaluate, kinematics, DiscreteState, Workspace};
+use crate::engine::eval::{evaluate_switching, kinematics, DiscreteState, Workspace};
 use crate::engine::kkt::ModeMatrix;
 use crate::engine::mode_solver::ModeSolver;
 use crate::error::SimError;
@@ -262,7 +262,7 @@ fn switching_relations_at(
     ws: &mut Workspace,
 ) -> Result<(), SimError> {
     let mm = cache.get(sys, disc, at.t)?;
-    evaluate(sys, &mm, disc, at.t, at.x, at.horizon, ws);
+    evaluate_switching(sys, &mm, disc, at.t, at.x, at.horizon, ws);
     let now = updated(sys, &relations_of(disc), ws, false);
     for (st, rel) in disc.switching.iter_mut().zip(now) {
         st.rel = rel;
@@ -378,7 +378,7 @@ fn reevaluated(
     let (sys, at) = (ctx.sys, ctx.at);
     let trial = implied_state(ctx, rels);
     let mm = cache.get(sys, &trial, at.t)?;
-    evaluate(sys, &mm, &trial, at.t, at.x, at.horizon, ws);
+    evaluate_switching(sys, &mm, &trial, at.t, at.x, at.horizon, ws);
     Ok((trial, updated(sys, rels, ws, at.initial)))
 }
 

@@ -67,7 +67,7 @@ impl Stepper {
     {
         self.probed = true;
         self.load(solver, t)?;
-        self.evaluate_here(t, true);
+        self.probe_here(t);
         Ok(())
     }
 

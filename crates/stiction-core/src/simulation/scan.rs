@@ -131,7 +131,7 @@ impl Stepper {
     {
         let t = self.samples.t[k];
         self.load(solver, t)?;
-        self.evaluate_here(t, true);
+        self.probe_here(t);
         self.keep_sample(k);
         Ok(())
     }
@@ -189,7 +189,7 @@ impl Stepper {
             }
             let probe = if k == 0 { t_prev + h } else { samples.t[k] - h };
             self.load(solver, probe)?;
-            self.evaluate_here(probe, true);
+            self.probe_here(probe);
             let (z, dz) = samples.at_mut(k);
             for ((rate, &at), &other) in dz.iter_mut().zip(z.iter()).zip(&self.z) {
                 if rate.is_nan() {

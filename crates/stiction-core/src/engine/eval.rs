@@ -85,6 +85,10 @@ pub struct Workspace {
     wear_rates: Vec<f64>,
     rhs: Vec<f64>,
     pub rhs_evals: usize,
+    /// The count of evaluations (`rhs_evals`) at which the event iteration left the
+    /// workspace holding `evaluate_switching` of the discrete state it settled on, at the
+    /// event's state (`iterate`): the right row's evaluation then needs only the rest.
+    pub settled_at: Option<usize>,
 }
 
 impl Workspace {
@@ -117,6 +121,7 @@ impl Workspace {
             wear_rates: vec![0.0; sys.wear.len()],
             rhs: Vec::new(),
             rhs_evals: 0,
+            settled_at: None,
         }
     }
 
@@ -475,6 +480,13 @@ fn refresh(sys: &System, disc: &DiscreteState, ws: &mut Workspace, f: &mut [f64]
 
 /// Bound on the steps of `massless_speeds`.
 const MASSLESS_ITERATIONS: usize = 16;
+
+/// What `evaluate` computes beyond `evaluate_switching`, when the workspace holds
+/// `evaluate_switching` at (t, x) in `disc` already: together, `evaluate`'s workspace bit for
+/// bit (the event iteration's last evaluation is the settled state's, at the event's state).
+pub fn complete_evaluation(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Workspace) {
+    heat_and_energy(sys, disc, x, ws);
+}
 
 /// Heat flows into the heat network, the energy audit and its rates.
 fn heat_and_energy(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Workspace) {

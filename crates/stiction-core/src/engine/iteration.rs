@@ -201,7 +201,7 @@ pub fn iterate(
             carried: disc,
             at,
         };
-        let solved = solve_mixed(&ctx, cache, relations_of(disc), ws)?;
+        let (solved, evaluated_last) = solve_mixed(&ctx, cache, relations_of(disc), ws)?;
         let new = next_pre(sys, &solved, &pre, &free);
         let settled = new == pre;
         // With pre() = the new values, `locked` uses pre(mode) = mode, as between events.
@@ -215,6 +215,9 @@ pub fn iterate(
             };
         }
         if settled || at.initial {
+            // the settled state is the last one evaluated (checked, not assumed)
+            let held = evaluated_last && !at.initial && *disc == solved;
+            ws.settled_at = held.then_some(ws.rhs_evals);
             return Ok(mode_changes(sys, &before, &new, at.t));
         }
     }
@@ -321,25 +324,27 @@ struct Mixed<'a> {
 /// both starting makes both turn back) are settled by the first starting alone. Only when that
 /// cycles as well do two elements hold the same motion, each alone breaking away while each
 /// alone holds: starting is then the consistent answer (the union of the cycling relations).
+/// Also whether the state returned is the one `ws` was evaluated for last.
 fn solve_mixed(
     ctx: &Mixed,
     cache: &mut ModeCache,
     current: RelationValues,
     ws: &mut Workspace,
-) -> Result<DiscreteState, SimError> {
+) -> Result<(DiscreteState, bool), SimError> {
     let locked_start = nothing_starts(ctx.sys, &current);
     let mut from = |rels, update| fixed_point(ctx, cache, rels, ws, update, Vec::new());
+    // a consistent fixed point returns the state it has just evaluated
     if let Settled::Consistent(state) = from(current, Update::All)? {
-        return Ok(state);
+        return Ok((state, true));
     }
     let cycle = match from(locked_start.clone(), Update::All)? {
-        Settled::Consistent(state) => return Ok(state),
+        Settled::Consistent(state) => return Ok((state, true)),
         Settled::Cycles(cycle) => cycle,
     };
     if let Settled::Consistent(state) = from(locked_start, Update::First)? {
-        return Ok(state);
+        return Ok((state, true));
     }
-    started_union(ctx, cache, cycle, ws)
+    Ok((started_union(ctx, cache, cycle, ws)?, false))
 }
 
 /// How a pass of the fixed point applies the relations it re-evaluated.

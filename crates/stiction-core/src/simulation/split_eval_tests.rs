@@ -8,7 +8,7 @@ use super::Simulation;
 use crate::assembly::CompiledModel;
 use crate::engine::eval::{complete_evaluation, evaluate, evaluate_switching, Workspace};
 use crate::engine::{indicator_count, indicators};
-use crate::ModelSpec;
+use crate::model::ModelSpec;
 
 fn bits(v: &[f64]) -> Vec<u64> {
     v.iter().map(|x| x.to_bits()).collect()

@@ -19,7 +19,7 @@ use super::integrator::{integrator_error, Eqn, StepBudget, V};
 use super::samples::StepSamples;
 use super::watch::Watch;
 use super::{Observer, Phase};
-use crate::engine::eval::{evaluate, evaluate_switching, DiscreteState};
+use crate::engine::eval::{evaluate, DiscreteState};
 use crate::engine::{indicator_count, indicator_label, indicators, wear_indicator, ModeCache};
 use crate::error::SimError;
 use crate::result::{EventRecord, RowView, Stats, Trajectory};
@@ -241,23 +241,6 @@ impl Stepper {
             indicators(&self.sys, disc, ws, &mut self.z);
         }
         guard.evaluated_at(t, &self.x);
-    }
-
-    /// The indicators at (t, self.x) in the current discrete state, into `z`, from an
-    /// evaluation short of the heat flows and energies (`evaluate_switching`): the crossing
-    /// scan's samples and the searches' probes read nothing else. Not noted as evaluated there
-    /// (`holds`): the workspace does not hold the derivative.
-    pub fn probe_here(&mut self, t: f64) {
-        let mut guard = self.phase.borrow_mut();
-        let Phase {
-            disc,
-            mm,
-            ws,
-            horizon,
-            ..
-        } = &mut *guard;
-        evaluate_switching(&self.sys, mm, disc, t, &self.x, *horizon, ws);
-        indicators(&self.sys, disc, ws, &mut self.z);
     }
 
     /// Shows the observer the start row (recorded at initialization, before it was set).

@@ -85,6 +85,10 @@ pub struct Workspace {
     wear_rates: Vec<f64>,
     rhs: Vec<f64>,
     pub rhs_evals: usize,
+    /// The count of evaluations (`rhs_evals`) at which the event iteration left the
+    /// workspace holding `evaluate_switching` of the discrete state it settled on, at the
+    /// event's state (`iterate`): the right row's evaluation then needs only the rest.
+    pub settled_at: Option<usize>,
 }
 
 impl Workspace {
@@ -117,6 +121,7 @@ impl Workspace {
             wear_rates: vec![0.0; sys.wear.len()],
             rhs: Vec::new(),
             rhs_evals: 0,
+            settled_at: None,
         }
     }
 
@@ -259,12 +264,35 @@ pub fn evaluate(
     horizon: f64,
     ws: &mut Workspace,
 ) {
+    evaluate_switching(sys, mm, disc, t, x, horizon, ws);
+    heat_and_energy(sys, disc, x, ws);
+}
+
+/// What `evaluate` computes short of the heat flows, the energies and the wear rates: all
+/// that the crossing indicators, their speed rates and the event iteration's relations read
+/// (angles, speeds, signals, torques, the mode's solve, the elements' values, the worn
+/// volumes). The crossing scan, the searches that locate a crossing and the event iteration
+/// evaluate more often than the integrator and read nothing else; the heat network's solve
+/// and the energy audit were a tenth of each of their evaluations. The same arithmetic as
+/// `evaluate` on what it computes, so everything read is the same bits.
+pub fn evaluate_switching(
+    sys: &System,
+    mm: &ModeMatrix,
+    disc: &DiscreteState,
+    t: f64,
+    x: &[f64],
+    horizon: f64,
+    ws: &mut Workspace,
+) {
     ws.rhs_evals += 1;
     kinematics(sys, disc, t, x, horizon, ws);
     accelerations(sys, mm, disc, ws);
     // the assembly checks that no force law, switching element or prescribed motion reads these
     measure(&sys.signals.solved, ws);
-    heat_and_energy(sys, disc, x, ws);
+    if !sys.wear.is_empty() {
+        // the pads' limit indicators read the worn volumes
+        ws.wear.copy_from_slice(&x[Layout::of(sys).wear()..]);
+    }
 }
 
 /// The torques of laws and switching elements, the mode's linear solve, and what the switching
@@ -452,6 +480,13 @@ fn refresh(sys: &System, disc: &DiscreteState, ws: &mut Workspace, f: &mut [f64]
 
 /// Bound on the steps of `massless_speeds`.
 const MASSLESS_ITERATIONS: usize = 16;
+
+/// What `evaluate` computes beyond `evaluate_switching`, when the workspace holds
+/// `evaluate_switching` at (t, x) in `disc` already: together, `evaluate`'s workspace bit for
+/// bit (the event iteration's last evaluation is the settled state's, at the event's state).
+pub fn complete_evaluation(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Workspace) {
+    heat_and_energy(sys, disc, x, ws);
+}
 
 /// Heat flows into the heat network, the energy audit and its rates.
 fn heat_and_energy(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Workspace) {

@@ -7,7 +7,7 @@
 use std::collections::HashMap;
 use std::rc::Rc;
 
-use crate::engine::eval::{evaluate, kinematics, DiscreteState, Workspace};
+use crate::engine::eval::{evaluate_switching, kinematics, DiscreteState, Workspace};
 use crate::engine::kkt::ModeMatrix;
 use crate::engine::mode_solver::ModeSolver;
 use crate::error::SimError;
@@ -201,7 +201,7 @@ pub fn iterate(
             carried: disc,
             at,
         };
-        let solved = solve_mixed(&ctx, cache, relations_of(disc), ws)?;
+        let (solved, evaluated_last) = solve_mixed(&ctx, cache, relations_of(disc), ws)?;
         let new = next_pre(sys, &solved, &pre, &free);
         let settled = new == pre;
         // With pre() = the new values, `locked` uses pre(mode) = mode, as between events.
@@ -215,6 +215,9 @@ pub fn iterate(
             };
         }
         if settled || at.initial {
+            // the settled state is the last one evaluated (checked, not assumed)
+            let held = evaluated_last && !at.initial && *disc == solved;
+            ws.settled_at = held.then_some(ws.rhs_evals);
             return Ok(mode_changes(sys, &before, &new, at.t));
         }
     }
@@ -262,7 +265,7 @@ fn switching_relations_at(
     ws: &mut Workspace,
 ) -> Result<(), SimError> {
     let mm = cache.get(sys, disc, at.t)?;
-    evaluate(sys, &mm, disc, at.t, at.x, at.horizon, ws);
+    evaluate_switching(sys, &mm, disc, at.t, at.x, at.horizon, ws);
     let now = updated(sys, &relations_of(disc), ws, false);
     for (st, rel) in disc.switching.iter_mut().zip(now) {
         st.rel = rel;
@@ -321,25 +324,27 @@ struct Mixed<'a> {
 /// both starting makes both turn back) are settled by the first starting alone. Only when that
 /// cycles as well do two elements hold the same motion, each alone breaking away while each
 /// alone holds: starting is then the consistent answer (the union of the cycling relations).
+/// Also whether the state returned is the one `ws` was evaluated for last.
 fn solve_mixed(
     ctx: &Mixed,
     cache: &mut ModeCache,
     current: RelationValues,
     ws: &mut Workspace,
-) -> Result<DiscreteState, SimError> {
+) -> Result<(DiscreteState, bool), SimError> {
     let locked_start = nothing_starts(ctx.sys, &current);
     let mut from = |rels, update| fixed_point(ctx, cache, rels, ws, update, Vec::new());
+    // a consistent fixed point returns the state it has just evaluated
     if let Settled::Consistent(state) = from(current, Update::All)? {
-        return Ok(state);
+        return Ok((state, true));
     }
     let cycle = match from(locked_start.clone(), Update::All)? {
-        Settled::Consistent(state) => return Ok(state),
+        Settled::Consistent(state) => return Ok((state, true)),
         Settled::Cycles(cycle) => cycle,
     };
     if let Settled::Consistent(state) = from(locked_start, Update::First)? {
-        return Ok(state);
+        return Ok((state, true));
     }
-    started_union(ctx, cache, cycle, ws)
+    Ok((started_union(ctx, cache, cycle, ws)?, false))
 }
 
 /// How a pass of the fixed point applies the relations it re-evaluated.
@@ -378,7 +383,7 @@ fn reevaluated(
     let (sys, at) = (ctx.sys, ctx.at);
     let trial = implied_state(ctx, rels);
     let mm = cache.get(sys, &trial, at.t)?;
-    evaluate(sys, &mm, &trial, at.t, at.x, at.horizon, ws);
+    evaluate_switching(sys, &mm, &trial, at.t, at.x, at.horizon, ws);
     Ok((trial, updated(sys, rels, ws, at.initial)))
 }
 

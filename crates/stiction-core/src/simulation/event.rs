@@ -6,8 +6,8 @@ use diffsol::{NonLinearOp, OdeEquations, OdeSolverMethod, Vector};
 use super::integrator::{integrator_error, Eqn};
 use super::stepper::{EventKind, Stepper};
 use super::Phase;
-use crate::engine::eval::derivative;
-use crate::engine::{iterate, speed_rates, EventPoint};
+use crate::engine::eval::{complete_evaluation, derivative};
+use crate::engine::{indicators, iterate, speed_rates, EventPoint};
 use crate::error::SimError;
 use crate::result::EventRecord;
 
@@ -71,13 +71,31 @@ impl Stepper {
             EventKind::Time => self.stats.time_events += 1,
             EventKind::Input(..) | EventKind::Parameter => self.stats.input_events += 1,
         }
-        self.evaluate_here(t, true);
+        self.evaluate_right_row(t);
         self.z_prev.copy_from_slice(&self.z);
         // the rates in the new mode, so that a speed rising from the event and falling back
         // within the first step is searched too (a freewheel released for half a millisecond)
         let guard = self.phase.borrow();
         speed_rates(&self.sys, &guard.disc, &guard.ws, &mut self.dz);
         Ok(())
+    }
+
+    /// `evaluate_here(t, true)` at the event's right row: when the event iteration left the
+    /// workspace holding `evaluate_switching` of the settled state at this very state (nothing
+    /// evaluated since, and the right row's projection changed no speed: no shaft without
+    /// inertia, no prescribed motion), only the heat flows and energies are added to it.
+    fn evaluate_right_row(&mut self, t: f64) {
+        let mut guard = self.phase.borrow_mut();
+        let Phase { disc, mm, ws, .. } = &mut *guard;
+        let held = ws.settled_at == Some(ws.rhs_evals) && mm.massless.is_none() && !self.prescribes;
+        if !held {
+            drop(guard);
+            self.evaluate_here(t, true);
+            return;
+        }
+        complete_evaluation(&self.sys, disc, &self.x, ws);
+        indicators(&self.sys, disc, ws, &mut self.z);
+        guard.evaluated_at(t, &self.x);
     }
 
     /// The state resets the switching elements ask for at a state event (a hard stop reached:

@@ -152,7 +152,7 @@ impl Stepper {
             for (k, t) in ks.zip(ts.iter_mut()) {
                 *t = experiment.grid_time(k);
             }
-            poly.eval_rows(ts, t_step_end, xs);
+            poly.eval_rows(ts, t_step_end, xs)
         });
         self.last_row = self.grid_time(rows.end - 1);
         self.grid_k = rows.end;
@@ -180,7 +180,7 @@ impl Stepper {
         ts.extend(rows.clone().map(|k| self.grid_time(k)));
         xs.clear();
         xs.resize(ts.len() * n, 0.0);
-        self.poly.eval_rows(&ts, t_step_end, &mut xs);
+        self.poly.eval_rows(&ts, t_step_end, &mut xs[..]);
         let phase = self.phase.borrow();
         if let Some(observer) = self.observer.as_mut() {
             for (&t, x) in ts.iter().zip(xs.chunks_exact(n)) {

@@ -9,7 +9,9 @@ use diffsol::OdeSolverMethod;
 use super::integrator::Eqn;
 use super::samples::{hermite_top, Hump, FD_STEP};
 use super::stepper::Stepper;
-use crate::engine::speed_rates;
+use super::Phase;
+use crate::engine::eval::evaluate_switching;
+use crate::engine::{indicators, speed_rates};
 use crate::error::SimError;
 use crate::switching::element::{INDICATORS, NEVER};
 
@@ -59,6 +61,23 @@ impl Stepper {
         Ok(z.unwrap_or(NEVER))
     }
 
+    /// The indicators at (t, self.x) in the current discrete state, into `z`, from an
+    /// evaluation short of the heat flows and energies (`evaluate_switching`): the crossing
+    /// scan's samples and the searches' probes read nothing else. Not noted as evaluated there
+    /// (`holds`): the workspace does not hold the derivative.
+    pub fn probe_here(&mut self, t: f64) {
+        let mut guard = self.phase.borrow_mut();
+        let Phase {
+            disc,
+            mm,
+            ws,
+            horizon,
+            ..
+        } = &mut *guard;
+        evaluate_switching(&self.sys, mm, disc, t, &self.x, *horizon, ws);
+        indicators(&self.sys, disc, ws, &mut self.z);
+    }
+
     /// Every indicator at time t on the dense output of the last step, in `z` (a probe away
     /// from the samples the scan keeps).
     pub(super) fn indicators_at<'a, S>(&mut self, solver: &S, t: f64) -> Result<(), SimError>
@@ -67,7 +86,7 @@ impl Stepper {
     {
         self.probed = true;
         self.load(solver, t)?;
-        self.evaluate_here(t, true);
+        self.probe_here(t);
         Ok(())
     }
 

@@ -22,6 +22,8 @@ mod reset;
 mod samples;
 mod saved;
 mod scan;
+#[cfg(test)]
+mod split_eval_tests;
 mod state_bytes;
 mod stepper;
 mod tune;

@@ -57,10 +57,8 @@ impl Stepper {
             self.z_back.copy_from_slice(self.samples.at(MIDDLE).0);
             None
         } else {
-            if self.needs_differences() {
-                self.difference_rates(solver, t_prev, t_now)?;
-            }
-            self.search_samples(solver, candidates)?
+            let differences = self.needs_differences();
+            self.search_samples(solver, candidates, differences)?
         };
         if found.is_none() {
             let (z, dz) = self.samples.at(SAMPLES);
@@ -131,7 +129,7 @@ impl Stepper {
     {
         let t = self.samples.t[k];
         self.load(solver, t)?;
-        self.evaluate_here(t, true);
+        self.probe_here(t);
         self.keep_sample(k);
         Ok(())
     }
@@ -169,50 +167,56 @@ impl Stepper {
         })
     }
 
-    /// Backward-difference rates at every sample (forward at the step's start, which the dense
-    /// output does not reach behind) for the indicators without an analytic one.
+    /// The backward-difference rates at sample `k` (forward at the step's start, which the
+    /// dense output does not reach behind) for the indicators without an analytic one. Taken
+    /// when the search first reads the sample (`search_samples`): the samples after an
+    /// interval holding a crossing are never read, and each difference is an evaluation.
     // Alike in shape only (the signature of every method over the solver), not in logic.
-    fn difference_rates<'a, S>(
-        &mut self,
-        solver: &S,
-        t_prev: f64,
-        t_now: f64,
-    ) -> Result<(), SimError>
+    fn difference_rate<'a, S>(&mut self, solver: &S, k: usize) -> Result<(), SimError>
     where
         S: OdeSolverMethod<'a, Eqn>,
     {
+        if !self.samples.at(k).1.iter().any(|r| r.is_nan()) {
+            return Ok(());
+        }
+        let (t_prev, t_now) = (self.samples.t[0], self.samples.t[SAMPLES]);
         let h = FD_STEP * (t_now - t_prev);
-        let mut samples = std::mem::take(&mut self.samples);
-        for k in 0..=SAMPLES {
-            if !samples.at(k).1.iter().any(|r| r.is_nan()) {
-                continue;
-            }
-            let probe = if k == 0 { t_prev + h } else { samples.t[k] - h };
-            self.load(solver, probe)?;
-            self.evaluate_here(probe, true);
-            let (z, dz) = samples.at_mut(k);
-            for ((rate, &at), &other) in dz.iter_mut().zip(z.iter()).zip(&self.z) {
-                if rate.is_nan() {
-                    *rate = if k == 0 { other - at } else { at - other } / h;
-                }
+        let probe = if k == 0 {
+            t_prev + h
+        } else {
+            self.samples.t[k] - h
+        };
+        self.load(solver, probe)?;
+        self.probe_here(probe);
+        let (z, dz) = self.samples.at_mut(k);
+        for ((rate, &at), &other) in dz.iter_mut().zip(z.iter()).zip(&self.z) {
+            if rate.is_nan() {
+                *rate = if k == 0 { other - at } else { at - other } / h;
             }
         }
-        self.samples = samples;
         Ok(())
     }
 
     /// The intervals between the samples in order: the first crossing, or the top of a hump
-    /// that rises above zero between samples.
+    /// that rises above zero between samples. With `differences`, each sample gets its
+    /// difference rates before its first interval is searched (`difference_rate`).
     fn search_samples<'a, S>(
         &mut self,
         solver: &S,
         candidates: &mut Vec<(usize, f64, f64)>,
+        differences: bool,
     ) -> Result<Option<(f64, usize)>, SimError>
     where
         S: OdeSolverMethod<'a, Eqn>,
     {
+        if differences {
+            self.difference_rate(solver, 0)?;
+        }
         for k in 1..=SAMPLES {
             let (a, b) = (self.samples.t[k - 1], self.samples.t[k]);
+            if differences {
+                self.difference_rate(solver, k)?;
+            }
             self.take_interval(k);
             // A speed indicator that rises above zero and falls back between the two samples
             // ends the bracket at its peak, so it competes with every crossing before it (a

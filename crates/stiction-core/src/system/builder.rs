@@ -441,7 +441,7 @@ impl Builder {
         InitEq {
             rel,
             value,
-            variable: format!("{}.{variable}", self.name()),
+            variable: dotted(self.name(), variable),
             constraint: false,
             signal: None,
         }
@@ -471,7 +471,7 @@ impl Builder {
 
     /// Reports a variable under `component.name`.
     pub fn output(&mut self, name: &str, out: Out) {
-        let full = format!("{}.{name}", self.name());
+        let full = dotted(self.name(), name);
         self.sys.outputs.push((full, out));
     }
 
@@ -481,11 +481,11 @@ impl Builder {
     pub fn flange(&mut self, port: &str, node: NodeRef, tau: Option<Out>) -> ModelResult<()> {
         let i = self.port_index(port)?;
         let d = self.domain[i];
-        let position = format!("{port}.{}", d.position());
+        let position = dotted(port, d.position());
         let mut at = Rel::of(&[(node, 1.0)]);
         at.offset += self.offset[i];
         self.output(&position, Out::Angle(at));
-        self.output(&format!("{port}.{}", d.force()), Out::FlangeTau(i));
+        self.output(&dotted(port, d.force()), Out::FlangeTau(i));
         if let Some(tau) = tau {
             self.flanges.known(i, tau);
         }
@@ -502,4 +502,14 @@ impl Builder {
         self.flanges.group(idx, total);
         Ok(())
     }
+}
+
+/// `a.b`, allocated once at its length: a sweep builds every variant's hundred output names,
+/// and `format!` took a tenth of the build.
+fn dotted(a: &str, b: &str) -> String {
+    let mut s = String::with_capacity(a.len() + 1 + b.len());
+    s.push_str(a);
+    s.push('.');
+    s.push_str(b);
+    s
 }

@@ -226,6 +226,15 @@ impl<'a> Params<'a> {
     }
 
     /// Whether the constructor runs in catalogue mode (nothing is range-checked).
+    /// Marks parameters read without reading them (outside the catalogue, where nothing else
+    /// of a declaration is kept): the names an unknown parameter's message lists as known.
+    pub fn declared(&self, decls: &[&'static str]) {
+        for decl in decls {
+            let name = crate::model::parse_decl(decl).0;
+            self.used.borrow_mut().insert(name.to_string());
+        }
+    }
+
     pub fn in_catalogue(&self) -> bool {
         self.schema()
     }

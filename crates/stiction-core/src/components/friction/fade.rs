@@ -77,15 +77,19 @@ pub(crate) fn read_fade(
     peak: f64,
     translational: bool,
 ) -> ModelResult<Option<Fade>> {
+    let table_decl = if translational { MU_TABLE_V } else { MU_TABLE };
+    let given = ["mu_T", "peak_T", "mu_fn", "mu_table"];
+    if !p.in_catalogue() && !given.iter().any(|n| p.has(n)) {
+        // no fade: the default tables are not built (a sweep creates its clutches anew for
+        // every variant), only declared
+        p.declared(&[MU_T, PEAK_T, MU_FN, table_decl]);
+        return Ok(None);
+    }
     let mu_t = factor_table(p, MU_T, 293.15)?;
     let peak_t = factor_table(p, PEAK_T, 293.15)?;
     let mu_fn = factor_table(p, MU_FN, 0.0)?;
-    let table = mu_table(p, if translational { MU_TABLE_V } else { MU_TABLE })?;
-    if p.in_catalogue()
-        || !["mu_T", "peak_T", "mu_fn", "mu_table"]
-            .iter()
-            .any(|n| p.has(n))
-    {
+    let table = mu_table(p, table_decl)?;
+    if p.in_catalogue() {
         return Ok(None);
     }
     for other in ["mu_pos", "mu_T"] {

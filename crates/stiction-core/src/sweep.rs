@@ -349,6 +349,46 @@ mod tests {
         Probe::new(cm.system(), &plan.probed()).unwrap()
     }
 
+    /// Rows given as blocks (`Accumulator::rows_in`, what a sweep's grid rows take) give
+    /// every metric the bits they give one by one (`row_in`, what a single run's rows take),
+    /// whatever the blocks: extremes inside a block, at its ends, blocks of one row.
+    #[test]
+    fn a_block_of_rows_gives_each_metric_what_single_rows_give() {
+        let names: Vec<String> = ["time", "J1.w"].map(String::from).to_vec();
+        let disc = DiscreteState {
+            switching: Vec::new(),
+            relations: Vec::new(),
+            inputs: Vec::new(),
+        };
+        let ts: Vec<f64> = (0..40).map(|i| 0.025 * i as f64).collect();
+        let vs: Vec<f64> = (0..40)
+            .map(|i| 3.1 * (0.37 * i as f64).sin() + 0.1)
+            .collect();
+        for text in [
+            "max(J1.w)",
+            "min(J1.w)",
+            "final(J1.w)",
+            "integral(J1.w)",
+            "mean(J1.w)",
+            "time_of(J1.w > 2)",
+        ] {
+            let metric = Metric::parse(text, &names, &[]).unwrap();
+            let mut one = Accumulator::new(&metric);
+            (ts.iter().zip(&vs)).for_each(|(&t, &v)| one.row_in(t, v, &disc));
+            for size in 1..=7 {
+                let mut blocks = Accumulator::new(&metric);
+                for (t, v) in ts.chunks(size).zip(vs.chunks(size)) {
+                    blocks.rows_in(t, v, &disc);
+                }
+                assert_eq!(
+                    blocks.value().to_bits(),
+                    one.value().to_bits(),
+                    "{text}, {size}"
+                );
+            }
+        }
+    }
+
     /// The path `metrics_read_from_the_states_alone_equal_single_runs` (tests/sweep.rs) checks
     /// is the one taken: speeds and modes read two states; a torque needs every state.
     #[test]

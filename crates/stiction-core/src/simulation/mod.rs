@@ -16,6 +16,7 @@ mod guard;
 mod initial_state;
 mod integrator;
 mod locate;
+mod observer;
 mod record_all;
 mod redrive;
 mod reset;
@@ -35,6 +36,7 @@ use diffsol::OdeSolverMethod;
 
 use initial_state::initialization_log;
 pub use initial_state::{check_model, initial_state, initial_state_and_guesses};
+pub use observer::Observer;
 pub use record_all::run_recording_all;
 pub use saved::{InputChange, SimState};
 pub use state_bytes::{ByteReader, ByteWriter, ReadResult, STATE_BYTES_VERSION};
@@ -52,7 +54,7 @@ use crate::engine::{iterate, EventPoint, ModeCache};
 use crate::error::{ModelError, SimError};
 use crate::linalg::LinearSolver;
 use crate::model::ModelSpec;
-use crate::result::{row_values, EventRecord, RowView, SimResult};
+use crate::result::{row_values, SimResult};
 use crate::system::System;
 
 /// Assembles and simulates a model with its `[experiment]` settings.
@@ -120,35 +122,6 @@ impl Phase {
     fn evaluated_at(&mut self, t: f64, x: &[f64]) {
         (self.rhs_t, self.rhs_stamp) = (t, self.ws.rhs_evals);
         self.rhs_x.copy_from_slice(x);
-    }
-}
-
-/// Receives every output row (grid points and both sides of each event) and every mode change
-/// as the run produces them: streaming metrics and result writers plug in here.
-pub trait Observer {
-    fn row(&mut self, row: &RowView);
-    fn event(&mut self, _event: &EventRecord) {}
-
-    /// The states this observer reads of a grid row, when it reads no others (a sweep's
-    /// metrics over angles and speeds): the grid rows inside a step then evaluate those alone
-    /// on the step's quartic, the others left unevaluated (`grid_rows`). None: every state.
-    fn states_read(&self) -> Option<&[usize]> {
-        None
-    }
-
-    /// The grid rows inside one step, `n` states a row in `xs` (only `states_read` evaluated
-    /// when it says which), all in one discrete state: row by row unless the observer takes a
-    /// block at once.
-    fn grid_rows(&mut self, ts: &[f64], xs: &[f64], disc: &DiscreteState, horizon: f64) {
-        let n = xs.len().checked_div(ts.len()).unwrap_or(0);
-        for (i, &t) in ts.iter().enumerate() {
-            self.row(&RowView {
-                t,
-                x: &xs[i * n..(i + 1) * n],
-                disc,
-                horizon,
-            });
-        }
     }
 }
 

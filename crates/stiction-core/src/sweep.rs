@@ -12,6 +12,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 
 use crate::assembly::CompiledModel;
+use crate::engine::eval::DiscreteState;
 use crate::error::ModelResult;
 use crate::model::Experiment;
 use crate::result::{Accumulator, EventRecord, Metric, Probe, RowView};
@@ -161,7 +162,8 @@ fn run(
     let mut sim = Simulation::new(sys).map_err(|e| e.to_string())?;
     sim.set_recording(false);
     sim.share_cancel(cancel);
-    sim.set_observer(Box::new(Shared(watch.clone())));
+    let states = watch.borrow().probe.states_read();
+    sim.set_observer(Box::new(Shared(watch.clone(), states)));
     sim.run().map_err(|e| e.to_string())?;
     drop(sim);
     let watch = Rc::try_unwrap(watch)
@@ -180,6 +182,8 @@ struct Watch {
     grid: Grid,
     trajectories: Vec<Vec<f64>>,
     error: Option<String>,
+    /// One metric's variable over a block of rows (`metric_rows`).
+    column: Vec<f64>,
 }
 
 impl Watch {
@@ -197,6 +201,7 @@ impl Watch {
             grid,
             probe,
             error: None,
+            column: Vec::new(),
         }
     }
 
@@ -207,34 +212,84 @@ impl Watch {
         let metrics = self.accumulators.iter().map(Accumulator::value).collect();
         Ok((metrics, self.trajectories))
     }
-}
 
-/// The observer handed to the `Simulation`; the sweep reads the `Watch` after the run.
-struct Shared(Rc<RefCell<Watch>>);
+    /// Rows `ts` (states `xs`, `n` a row) in one discrete state into the metrics, when every
+    /// variable is read from the state alone and no trajectory is kept: each metric takes
+    /// its column of the block in the rows' order, as `row` would give them to it one by one
+    /// (the metrics are independent, so the same bits).
+    fn metric_rows(&mut self, ts: &[f64], xs: &[f64], n: usize, disc: &DiscreteState) {
+        let Watch {
+            probe,
+            metric_column,
+            accumulators,
+            column,
+            ..
+        } = self;
+        for (acc, c) in accumulators.iter_mut().zip(metric_column.iter()) {
+            let Some(c) = *c else { continue };
+            column.clear();
+            probe.direct_column(c, (xs, n, ts.len()), disc, column);
+            acc.rows_in(ts, column, disc);
+        }
+    }
 
-impl Observer for Shared {
+    /// One row: the probed variables into the metrics, and onto the output grid.
     fn row(&mut self, row: &RowView) {
-        let mut guard = self.0.borrow_mut();
-        let w = &mut *guard;
-        if w.error.is_some() {
+        if self.error.is_some() {
             return;
         }
-        let values = match w.probe.values(row) {
+        let values = match self.probe.values(row) {
             Ok(values) => values,
             Err(e) => {
-                w.error = Some(e.to_string());
+                self.error = Some(e.to_string());
                 return;
             }
         };
-        for (acc, column) in w.accumulators.iter_mut().zip(&w.metric_column) {
+        for (acc, column) in self.accumulators.iter_mut().zip(&self.metric_column) {
             if let Some(c) = column {
                 acc.row_in(row.t, values[*c], row.disc);
             }
         }
-        if let Some(k) = w.grid.point(row.t) {
-            for (traj, &c) in w.trajectories.iter_mut().zip(&w.output_column) {
+        if self.trajectories.is_empty() {
+            return;
+        }
+        if let Some(k) = self.grid.point(row.t) {
+            for (traj, &c) in self.trajectories.iter_mut().zip(&self.output_column) {
                 traj[k] = values[c];
             }
+        }
+    }
+}
+
+/// The observer handed to the `Simulation`; the sweep reads the `Watch` after the run. With
+/// the states its variables are read from, when they need no others (`Probe::states_read`).
+struct Shared(Rc<RefCell<Watch>>, Option<Vec<usize>>);
+
+impl Observer for Shared {
+    fn row(&mut self, row: &RowView) {
+        self.0.borrow_mut().row(row);
+    }
+
+    fn states_read(&self) -> Option<&[usize]> {
+        self.1.as_deref()
+    }
+
+    /// The rows of a step under one borrow of the `Watch`: metrics over variables read from
+    /// the state alone take them one metric at a time (`Watch::metric_rows`).
+    fn grid_rows(&mut self, ts: &[f64], xs: &[f64], disc: &DiscreteState, horizon: f64) {
+        let mut watch = self.0.borrow_mut();
+        let n = xs.len().checked_div(ts.len()).unwrap_or(0);
+        if watch.error.is_none() && watch.probe.is_direct() && watch.trajectories.is_empty() {
+            watch.metric_rows(ts, xs, n, disc);
+            return;
+        }
+        for (i, &t) in ts.iter().enumerate() {
+            watch.row(&RowView {
+                t,
+                x: &xs[i * n..(i + 1) * n],
+                disc,
+                horizon,
+            });
         }
     }
 
@@ -277,5 +332,77 @@ impl Grid {
         let on_grid =
             self.next < self.points() && (self.experiment.grid_time(self.next) - t).abs() <= eps;
         on_grid.then_some(self.next)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::ModelSpec;
+
+    const COUPLED: &str = include_str!("../../../examples/msl/CoupledClutches.toml");
+
+    fn probe_of(metrics: &[&str]) -> Probe {
+        let cm = CompiledModel::new(ModelSpec::from_toml(COUPLED, ".").unwrap()).unwrap();
+        let metrics: Vec<String> = metrics.iter().map(|m| m.to_string()).collect();
+        let plan = Plan::new(&cm, &metrics, &[]).unwrap();
+        Probe::new(cm.system(), &plan.probed()).unwrap()
+    }
+
+    /// Rows given as blocks (`Accumulator::rows_in`, what a sweep's grid rows take) give
+    /// every metric the bits they give one by one (`row_in`, what a single run's rows take),
+    /// whatever the blocks: extremes inside a block, at its ends, blocks of one row.
+    #[test]
+    fn a_block_of_rows_gives_each_metric_what_single_rows_give() {
+        let names: Vec<String> = ["time", "J1.w"].map(String::from).to_vec();
+        let disc = DiscreteState {
+            switching: Vec::new(),
+            relations: Vec::new(),
+            inputs: Vec::new(),
+        };
+        let ts: Vec<f64> = (0..40).map(|i| 0.025 * i as f64).collect();
+        let vs: Vec<f64> = (0..40)
+            .map(|i| 3.1 * (0.37 * i as f64).sin() + 0.1)
+            .collect();
+        for text in [
+            "max(J1.w)",
+            "min(J1.w)",
+            "final(J1.w)",
+            "integral(J1.w)",
+            "mean(J1.w)",
+            "time_of(J1.w > 2)",
+        ] {
+            let metric = Metric::parse(text, &names, &[]).unwrap();
+            let mut one = Accumulator::new(&metric);
+            (ts.iter().zip(&vs)).for_each(|(&t, &v)| one.row_in(t, v, &disc));
+            for size in 1..=7 {
+                let mut blocks = Accumulator::new(&metric);
+                for (t, v) in ts.chunks(size).zip(vs.chunks(size)) {
+                    blocks.rows_in(t, v, &disc);
+                }
+                assert_eq!(
+                    blocks.value().to_bits(),
+                    one.value().to_bits(),
+                    "{text}, {size}"
+                );
+            }
+        }
+    }
+
+    /// The path `metrics_read_from_the_states_alone_equal_single_runs` (tests/sweep.rs) checks
+    /// is the one taken: speeds and modes read two states; a torque needs every state.
+    #[test]
+    fn metrics_over_speeds_read_their_states_alone() {
+        let probe = probe_of(&[
+            "max(J1.w)",
+            "max(J4.w)",
+            "time_of(clutch3.locked)",
+            "events()",
+        ]);
+        assert!(probe.is_direct());
+        assert_eq!(probe.states_read().map(|s| s.len()), Some(2));
+        let probe = probe_of(&["max(J1.w)", "max(clutch1.tau)"]);
+        assert!(!probe.is_direct());
+        assert_eq!(probe.states_read(), None);
     }
 }

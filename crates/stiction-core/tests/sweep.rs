@@ -102,6 +102,59 @@ fn sweep_metrics_and_trajectories_equal_single_runs_whatever_the_threads() {
     assert_ne!(one[0].metrics[0], one[1].metrics[0]);
 }
 
+/// Metrics over angles, speeds and modes alone read a few states of each grid row, a block
+/// of rows at a time (`Observer::states_read`, `Watch::metric_rows`): still the single run's
+/// values to the last bit, with and without a trajectory kept (which takes the rows one by
+/// one), on the sweep parameters (`J1.J` among them).
+#[test]
+fn metrics_read_from_the_states_alone_equal_single_runs() {
+    const DIRECT: &[&str] = &[
+        "max(J1.w)",
+        "max(J4.w)",
+        "min(J2.w)",
+        "final(J3.phi)",
+        "integral(J4.w)",
+        "mean(J1.phi)",
+        "time_of(J1.w < 5)",
+        "time_of(clutch3.locked)",
+        "max(clutch2.locked)",
+        "events()",
+    ];
+    let cm = compiled(COUPLED);
+    let metrics: Vec<String> = DIRECT.iter().map(|m| m.to_string()).collect();
+    let names = ["clutch1.fn_max", "clutch2.fn_max", "J1.J"];
+    let vs: Vec<Vec<Override>> = [[40.0, 59.0, 0.9], [64.0, 40.0, 1.09], [20.0, 20.0, 1.0]]
+        .iter()
+        .map(|v| {
+            (names.iter().zip(v))
+                .map(|(n, x)| (n.to_string(), toml::Value::Float(*x)))
+                .collect()
+        })
+        .collect();
+    let cancel = CancelHandle::new();
+    let exp = &cm.spec().experiment;
+    let grid: Vec<f64> = (0..=exp.grid_len()).map(|k| exp.grid_time(k)).collect();
+    for outputs in [vec![], vec!["J3.w".to_string()]] {
+        let plan = Plan::new(&cm, &metrics, &outputs).unwrap();
+        let swept = run_variants(&cm, &vs, &plan, Some(2), &cancel);
+        for (k, overrides) in vs.iter().enumerate() {
+            assert!(swept[k].error.is_none(), "{:?}", swept[k].error);
+            let r = single(&cm, overrides);
+            for (m, text) in DIRECT.iter().enumerate() {
+                let (a, expected) = (swept[k].metrics[m], r.metric(text).unwrap());
+                assert!(
+                    a.to_bits() == expected.to_bits() || (a.is_nan() && expected.is_nan()),
+                    "variant {k} {text} (outputs {outputs:?}): sweep {a}, single run {expected}"
+                );
+            }
+            if !outputs.is_empty() {
+                assert_eq!(swept[k].trajectories[0], on_grid(&r, "J3.w", &grid));
+            }
+        }
+        assert_ne!(swept[0].metrics[4], swept[1].metrics[4]);
+    }
+}
+
 #[test]
 fn a_failing_variant_reports_its_error_and_the_others_run() {
     let cm = compiled(FLYWHEEL);

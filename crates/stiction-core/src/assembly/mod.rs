@@ -164,7 +164,8 @@ fn in_written_order(
         .collect();
     let position = |name: &String| at.get(name.as_str()).copied().unwrap_or(usize::MAX);
     let mut order: Vec<usize> = (0..names.len()).collect();
-    order.sort_by_key(|&ci| position(&names[ci]));
+    // each key hashed once, not twice a comparison (a sweep builds a system per variant)
+    order.sort_by_cached_key(|&ci| position(&names[ci]));
     let mut taken: Vec<Option<(String, Out)>> =
         std::mem::take(outputs).into_iter().map(Some).collect();
     for ci in order {

@@ -222,6 +222,7 @@ impl Accumulator {
     }
 
     /// The metric's variable at the next row.
+    #[inline]
     pub fn row(&mut self, t: f64, v: f64) {
         match self.kind {
             MetricKind::Max => self.acc = self.acc.max(v),
@@ -247,7 +248,7 @@ impl Accumulator {
     /// The metric's variable at the next row, in the discrete state `disc`: a speed held by a
     /// locked element reads 0 (`Metric::held`), and so does the row just before its lock at
     /// the same instant (the event's left row, the slip already past the event band).
-    #[inline]
+    #[inline(always)]
     pub fn row_in(&mut self, t: f64, v: f64, disc: &DiscreteState) {
         let MetricKind::TimeOf(cmp, value) = self.kind else {
             return self.row(t, v);
@@ -272,6 +273,34 @@ impl Accumulator {
             self.first_t = t;
         }
         self.last = Some((t, v));
+    }
+
+    /// `row_in` for rows `ts` (values `vs`) in one discrete state: the grid rows of a step,
+    /// one loop a metric (its kind's branch taken once by the branch predictor, not re-read
+    /// between metrics).
+    #[inline(never)]
+    pub fn rows_in(&mut self, ts: &[f64], vs: &[f64], disc: &DiscreteState) {
+        let rows = ts.len().min(vs.len());
+        let (ts, vs) = (&ts[..rows], &vs[..rows]);
+        let (Some(&t_end), Some(&v_end)) = (ts.last(), vs.last()) else {
+            return;
+        };
+        // what `row` does row by row for these kinds: the same `max`/`min` in the same order
+        match self.kind {
+            MetricKind::Max => self.acc = vs.iter().fold(self.acc, |a, &v| a.max(v)),
+            MetricKind::Min => self.acc = vs.iter().fold(self.acc, |a, &v| a.min(v)),
+            MetricKind::Final | MetricKind::Events(_) => {}
+            _ => {
+                for (&t, &v) in ts.iter().zip(vs) {
+                    self.row_in(t, v, disc);
+                }
+                return;
+            }
+        }
+        if self.last.is_none() {
+            self.first_t = ts[0];
+        }
+        self.last = Some((t_end, v_end));
     }
 
     /// A mode change of `component` after initialization.

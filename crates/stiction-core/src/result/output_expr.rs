@@ -31,7 +31,39 @@ impl Flat {
         }
     }
 
+    /// The state a direct one reads (`direct`): an angle's or a speed's; None for a mode or
+    /// flag (read from the discrete state) and for the others (not direct).
+    pub(super) fn state_read(&self, sys: &System) -> Option<usize> {
+        match *self {
+            Flat::Phi(node, ..) => Some(node),
+            Flat::W(node, _) => Some(sys.nodes + node),
+            _ => None,
+        }
+    }
+
+    /// `direct` at `rows` rows of states `xs` (`n` a row), appended to `out`: an angle or a
+    /// speed read with `direct`'s very arithmetic, one state a row.
+    pub(super) fn direct_rows(
+        &self,
+        sys: &System,
+        (xs, n, rows): (&[f64], usize, usize),
+        disc: &DiscreteState,
+        out: &mut Vec<f64>,
+    ) {
+        match *self {
+            Flat::Phi(node, s, offset) => {
+                out.extend((0..rows).map(|i| s * xs[i * n + node] + offset))
+            }
+            Flat::W(node, s) => {
+                let j = sys.nodes + node;
+                out.extend((0..rows).map(|i| s * xs[i * n + j]));
+            }
+            _ => out.extend((0..rows).map(|i| self.direct(sys, &xs[i * n..(i + 1) * n], disc))),
+        }
+    }
+
     /// Its value from the state alone (for `is_direct` ones).
+    #[inline]
     pub(super) fn direct(&self, sys: &System, x: &[f64], disc: &DiscreteState) -> f64 {
         match *self {
             Flat::Phi(node, s, offset) => s * x[node] + offset,

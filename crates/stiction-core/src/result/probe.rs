@@ -28,6 +28,10 @@ pub struct Probe {
     cache: ModeCache,
     /// The mode last evaluated, to skip the cache's lookup while the mode stays.
     mode: Option<Rc<ModeMatrix>>,
+    /// Every variable read from the state alone (`Flat::is_direct`): known once, not per row.
+    direct: bool,
+    /// The values of the last row read from the state alone, one per variable.
+    read: Vec<f64>,
 }
 
 impl Probe {
@@ -42,8 +46,11 @@ impl Probe {
                     .ok_or_else(|| SimError::Usage(format!("unknown variable '{name}'")))
             })
             .collect::<Result<Vec<usize>, _>>()?;
+        let recorder = Recorder::select(&sys, &columns, 1);
         Ok(Self {
-            recorder: Recorder::select(&sys, &columns, 1),
+            direct: !recorder.needs_evaluation(),
+            read: vec![0.0; columns.len()],
+            recorder,
             ws: Workspace::new(&sys),
             cache: ModeCache::default(),
             mode: None,
@@ -51,21 +58,55 @@ impl Probe {
         })
     }
 
+    /// The states the variables are read from, when they are all read from the state alone
+    /// (angles, speeds, modes): a row needs no others. None when one needs an evaluation.
+    pub fn states_read(&self) -> Option<Vec<usize>> {
+        if !self.direct {
+            return None;
+        }
+        let mut states: Vec<usize> = Vec::new();
+        for j in self
+            .recorder
+            .flat
+            .iter()
+            .filter_map(|f| f.state_read(&self.sys))
+        {
+            if !states.contains(&j) {
+                states.push(j);
+            }
+        }
+        Some(states)
+    }
+
+    /// Whether every variable is read from the state alone (`states_read`, `direct_value`).
+    pub fn is_direct(&self) -> bool {
+        self.direct
+    }
+
+    /// Variable `column` (in the order named) at `rows` rows of states `xs` (`n` a row) in
+    /// the discrete state `disc`, appended to `out`, when `is_direct`: what `values` gives
+    /// for it, row by row, without the others.
+    pub fn direct_column(
+        &self,
+        column: usize,
+        (xs, n, rows): (&[f64], usize, usize),
+        disc: &DiscreteState,
+        out: &mut Vec<f64>,
+    ) {
+        self.recorder.flat[column].direct_rows(&self.sys, (xs, n, rows), disc, out);
+    }
+
     /// The variables at `row`, in the order they were named.
     pub fn values(&mut self, row: &RowView) -> Result<&[f64], SimError> {
-        self.recorder.data.clear();
         let sys = &*self.sys;
-        if !self.recorder.needs_evaluation() {
-            let x = row.x;
-            let values = self
-                .recorder
-                .flat
-                .iter()
-                .map(|f| f.direct(sys, x, row.disc));
-            self.recorder.data.push(row.t);
-            self.recorder.data.extend(values);
-            return Ok(&self.recorder.data[1..]);
+        if self.direct {
+            // a sweep's metrics over speeds read thousands of rows a run: no row kept
+            for (v, f) in self.read.iter_mut().zip(&self.recorder.flat) {
+                *v = f.direct(sys, row.x, row.disc);
+            }
+            return Ok(&self.read);
         }
+        self.recorder.data.clear();
         let mm = match &self.mode {
             Some(mm) if same_mode(sys, mm, row.disc) => mm.clone(),
             _ => {

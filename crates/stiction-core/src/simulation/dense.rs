@@ -167,6 +167,26 @@ impl StepPoly {
         written
     }
 
+    /// `eval_rows` for the states `states` alone (the others in `out` left as they were):
+    /// each the very expression `eval_with` computes for it, so the same bits.
+    #[inline(never)]
+    pub fn eval_rows_of(&self, times: &[f64], end: f64, out: &mut [f64], states: &[usize]) {
+        let [a, b, c, d, e] = self.coefficients();
+        for (&t, row) in times.iter().zip(out.chunks_exact_mut(self.n)) {
+            let t = t.min(end);
+            if t == self.t1 {
+                for &j in states {
+                    row[j] = self.y1[j];
+                }
+                continue;
+            }
+            let th = (t - self.t0) / self.dt;
+            for &j in states {
+                row[j] = a[j] + th * (b[j] + th * (c[j] + th * (d[j] + th * e[j])));
+            }
+        }
+    }
+
     /// The coefficients of θ⁰…θ⁴, each `n` values.
     fn coefficients(&self) -> [&[f64]; DEGREE + 1] {
         let n = self.n;

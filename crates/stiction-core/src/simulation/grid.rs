@@ -4,7 +4,6 @@ use diffsol::{OdeSolverMethod, Vector, VectorCommon};
 
 use super::integrator::{integrator_error, Eqn, V};
 use super::stepper::Stepper;
-use super::RowView;
 use crate::error::SimError;
 
 impl Stepper {
@@ -170,7 +169,10 @@ impl Stepper {
     /// What `record_here` does for the grid rows `rows` when they go to the observer alone
     /// (`observed_alone`): the states evaluated as one block inside the step's quartic, as
     /// `push_plain_rows` does (the same arithmetic: the rows are those of a recorded run bit
-    /// for bit), then shown row by row; `x` left at the last row, as loading each would.
+    /// for bit), then shown as one block; `x` left at the last row, as loading each would.
+    /// An observer that reads a few states (`Observer::states_read`) has those alone
+    /// evaluated: a sweep's metrics over two speeds read a quarter of CoupledClutches' states,
+    /// at every one of its 3000 grid rows.
     // Out of line: a recorded run's `emit_grid` stays as small as it was.
     #[inline(never)]
     fn observe_rows(&mut self, rows: std::ops::Range<usize>, t_step_end: f64) {
@@ -178,24 +180,28 @@ impl Stepper {
         let (mut ts, mut xs) = std::mem::take(&mut self.observed);
         ts.clear();
         ts.extend(rows.clone().map(|k| self.grid_time(k)));
-        xs.clear();
-        xs.resize(ts.len() * n, 0.0);
-        self.poly.eval_rows(&ts, t_step_end, &mut xs[..]);
-        let phase = self.phase.borrow();
-        if let Some(observer) = self.observer.as_mut() {
-            for (&t, x) in ts.iter().zip(xs.chunks_exact(n)) {
-                let (disc, horizon) = (&phase.disc, phase.horizon);
-                observer.row(&RowView {
-                    t,
-                    x,
-                    disc,
-                    horizon,
-                });
+        // no zeroing: every value read is written below (the unread states are never read)
+        let len = ts.len() * n;
+        if xs.len() < len {
+            xs.resize(len, 0.0);
+        }
+        let states = self.observer.as_ref().and_then(|o| o.states_read());
+        match states {
+            Some(states) => self
+                .poly
+                .eval_rows_of(&ts, t_step_end, &mut xs[..len], states),
+            None => {
+                self.poly.eval_rows(&ts, t_step_end, &mut xs[..len]);
             }
         }
+        let phase = self.phase.borrow();
+        if let Some(observer) = self.observer.as_mut() {
+            observer.grid_rows(&ts, &xs[..len], &phase.disc, phase.horizon);
+        }
         drop(phase);
-        if let (Some(&t), Some(x)) = (ts.last(), xs.rchunks_exact(n).next()) {
-            self.x.copy_from_slice(x);
+        if let Some(&t) = ts.last() {
+            // the whole state at the last row (the block may hold some states only)
+            self.poly.eval(t.min(t_step_end), &mut self.x);
             self.last_row = t;
         }
         self.grid_k = rows.end;

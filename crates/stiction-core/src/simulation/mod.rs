@@ -16,6 +16,7 @@ mod guard;
 mod initial_state;
 mod integrator;
 mod locate;
+mod observer;
 mod record_all;
 mod redrive;
 mod reset;
@@ -37,6 +38,7 @@ use diffsol::OdeSolverMethod;
 
 use initial_state::initialization_log;
 pub use initial_state::{check_model, initial_state, initial_state_and_guesses};
+pub use observer::Observer;
 pub use record_all::run_recording_all;
 pub use saved::{InputChange, SimState};
 pub use state_bytes::{ByteReader, ByteWriter, ReadResult, STATE_BYTES_VERSION};
@@ -54,7 +56,7 @@ use crate::engine::{iterate, EventPoint, ModeCache};
 use crate::error::{ModelError, SimError};
 use crate::linalg::LinearSolver;
 use crate::model::ModelSpec;
-use crate::result::{row_values, EventRecord, RowView, SimResult};
+use crate::result::{row_values, SimResult};
 use crate::system::System;
 
 /// Assembles and simulates a model with its `[experiment]` settings.
@@ -123,13 +125,6 @@ impl Phase {
         (self.rhs_t, self.rhs_stamp) = (t, self.ws.rhs_evals);
         self.rhs_x.copy_from_slice(x);
     }
-}
-
-/// Receives every output row (grid points and both sides of each event) and every mode change
-/// as the run produces them: streaming metrics and result writers plug in here.
-pub trait Observer {
-    fn row(&mut self, row: &RowView);
-    fn event(&mut self, _event: &EventRecord) {}
 }
 
 /// Cancels a running simulation from another thread; the run stops after its current step

@@ -77,14 +77,12 @@ pub(crate) fn read_fade(
     peak: f64,
     translational: bool,
 ) -> ModelResult<Option<Fade>> {
-    let mu_table_decl = if translational { MU_TABLE_V } else { MU_TABLE };
-    if !p.in_catalogue()
-        && !["mu_T", "peak_T", "mu_fn", "mu_table"]
-            .iter()
-            .any(|n| p.has(n))
-    {
-        // no fade (most clutches): its parameters known, their default tables not made
-        for decl in [MU_T, PEAK_T, MU_FN, mu_table_decl] {
+    let table_decl = if translational { MU_TABLE_V } else { MU_TABLE };
+    let given = ["mu_T", "peak_T", "mu_fn", "mu_table"];
+    if !p.in_catalogue() && !given.iter().any(|n| p.has(n)) {
+        // no fade: the default tables are not built (a sweep creates its clutches anew for
+        // every variant), only declared
+        for decl in [MU_T, PEAK_T, MU_FN, table_decl] {
             p.mark_used(decl);
         }
         return Ok(None);
@@ -92,12 +90,8 @@ pub(crate) fn read_fade(
     let mu_t = factor_table(p, MU_T, 293.15)?;
     let peak_t = factor_table(p, PEAK_T, 293.15)?;
     let mu_fn = factor_table(p, MU_FN, 0.0)?;
-    let table = mu_table(p, mu_table_decl)?;
-    if p.in_catalogue()
-        || !["mu_T", "peak_T", "mu_fn", "mu_table"]
-            .iter()
-            .any(|n| p.has(n))
-    {
+    let table = mu_table(p, table_decl)?;
+    if p.in_catalogue() {
         return Ok(None);
     }
     for other in ["mu_pos", "mu_T"] {

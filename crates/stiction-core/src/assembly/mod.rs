@@ -14,7 +14,7 @@ pub use topology::Topology;
 
 use crate::components::{self, Component};
 use crate::error::{ModelError, ModelResult};
-use crate::model::{check_prefixes, split_last, DerivedSpec, Experiment, ModelSpec};
+use crate::model::{check_prefixes, split_last, DerivedSpec, Experiment, ModelSpec, PortRef};
 use crate::signals::SignalGraph;
 use crate::system::flange::FlangeBuilder;
 use crate::system::outputs::EnergyVar;
@@ -52,10 +52,23 @@ pub fn canonical_owned(spec: ModelSpec) -> ModelSpec {
             std::mem::swap(a, b);
         }
     }
+    // ordered as the pair of "component.port" texts, compared without writing them out (a
+    // stable sort, as the cached-key one of those texts was)
     out.connections
-        .sort_by_cached_key(|(a, b)| (a.to_string(), b.to_string()));
+        .sort_by(|(a, b), (c, d)| dotted_cmp(a, c).then_with(|| dotted_cmp(b, d)));
     out.connections.dedup();
     out
+}
+
+/// The order of `a.to_string()` and `b.to_string()` ("component.port"), byte by byte as strings
+/// compare, without allocating them.
+fn dotted_cmp(a: &PortRef, b: &PortRef) -> std::cmp::Ordering {
+    fn text(p: &PortRef) -> impl Iterator<Item = u8> + '_ {
+        (p.component.bytes())
+            .chain(std::iter::once(b'.'))
+            .chain(p.port.bytes())
+    }
+    text(a).cmp(text(b))
 }
 
 /// Creates every component from its parameters (each validated), checking the names.
@@ -64,7 +77,8 @@ pub fn create_components(spec: &ModelSpec) -> ModelResult<Vec<Arc<dyn Component>
     let mut names: Vec<&str> = Vec::with_capacity(spec.components.len());
     // a set, not a search of the names so far: a ladder of 1000 elements (2 750 components)
     // spent a third of its compile comparing names
-    let mut seen = std::collections::HashSet::with_capacity(spec.components.len());
+    let mut seen =
+        rustc_hash::FxHashSet::with_capacity_and_hasher(spec.components.len(), Default::default());
     for c in &spec.components {
         // `system.…` names the system-wide results: no component's path starts there
         if RESERVED.contains(&c.name.split('.').next().unwrap_or_default()) {
@@ -158,7 +172,7 @@ fn in_written_order(
     if written.is_empty() {
         return;
     }
-    let at: std::collections::HashMap<&str, usize> = (written.iter().enumerate())
+    let at: rustc_hash::FxHashMap<&str, usize> = (written.iter().enumerate())
         .map(|(k, w)| (w.as_str(), k))
         .rev()
         .collect();
@@ -382,4 +396,32 @@ fn finish_thermal(b: &mut Builder) -> ModelResult<()> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::dotted_cmp;
+    use crate::model::PortRef;
+
+    #[test]
+    fn ports_order_as_their_dotted_texts_do() {
+        let names = ["J1", "J1x", "J1-", "a.b", "a", "", "J10", "Ä"];
+        let ports: Vec<PortRef> = (names.iter())
+            .flat_map(|c| {
+                ["flange_a", "b.c", "", "y"].map(|p| PortRef {
+                    component: c.to_string(),
+                    port: p.to_string(),
+                })
+            })
+            .collect();
+        for a in &ports {
+            for b in &ports {
+                assert_eq!(
+                    dotted_cmp(a, b),
+                    a.to_string().cmp(&b.to_string()),
+                    "{a} {b}"
+                );
+            }
+        }
+    }
 }

@@ -3,7 +3,7 @@
 //! conditional ports and the connections — not on parameter values — so a compiled model keeps
 //! it while parameters change.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 use std::sync::Arc;
 
 use crate::components::{Component, Domain, PortKind, Ports};
@@ -127,7 +127,7 @@ impl Topology {
     fn declare(spec: &ModelSpec, comps: &[Arc<dyn Component>]) -> Self {
         let port_decls: Vec<Ports> = comps.iter().map(|c| c.ports()).collect();
         let mut ports = Vec::new();
-        let mut index = HashMap::new();
+        let mut index = HashMap::default();
         for (ci, decl) in port_decls.iter().enumerate() {
             for name in decl.all() {
                 let kind = decl.kind_of(name).expect("declared");
@@ -177,10 +177,11 @@ impl Topology {
         }
     }
 
-    /// The index of a port written `component.port`; `what` names the connection for errors.
-    fn port_of(&self, r: &PortRef, what: &str) -> ModelResult<usize> {
+    /// The index of a port written `component.port`; `what` names the connection for errors
+    /// (written only for one: a model's hundreds of connections are written out for nothing).
+    fn port_of(&self, r: &PortRef, what: impl Fn() -> String) -> ModelResult<usize> {
         let error = |message: String| ModelError::Connection {
-            connection: what.to_string(),
+            connection: what(),
             message,
         };
         let Some(&ci) = self.component_of.get(&r.component) else {
@@ -218,8 +219,8 @@ impl Topology {
             signal_source: vec![None; n],
         };
         for (a, b) in &spec.connections {
-            let conn = format!("{a} — {b}");
-            let (ia, ib) = (self.port_of(a, &conn)?, self.port_of(b, &conn)?);
+            let conn = || format!("{a} — {b}");
+            let (ia, ib) = (self.port_of(a, conn)?, self.port_of(b, conn)?);
             let (ka, kb) = (self.ports[ia].kind, self.ports[ib].kind);
             let message = match (ka, kb) {
                 (PortKind::Mechanical, PortKind::Mechanical)
@@ -252,7 +253,7 @@ impl Topology {
             };
             if let Some(message) = message {
                 return Err(ModelError::Connection {
-                    connection: conn,
+                    connection: conn(),
                     message,
                 });
             }
@@ -313,7 +314,7 @@ impl Topology {
     /// coordinate is its root port's, each port sits at its offset from it (`mech_offset`).
     fn mechanical_nodes(&mut self, sets: &mut Sets) -> ModelResult<()> {
         // per set held by a Fixed: the root's coordinate, and who holds it
-        let mut ground_of: HashMap<usize, (f64, usize)> = HashMap::new();
+        let mut ground_of: HashMap<usize, (f64, usize)> = HashMap::default();
         for (ci, decl) in self.port_decls.iter().enumerate() {
             for (p, phi0) in &decl.ground {
                 let i = self.index[&(ci, *p)];
@@ -335,7 +336,7 @@ impl Topology {
                 ground_of.insert(root, (at, ci));
             }
         }
-        let mut node_of_root: HashMap<usize, usize> = HashMap::new();
+        let mut node_of_root: HashMap<usize, usize> = HashMap::default();
         self.mech_node = vec![None; self.ports.len()];
         self.mech_offset = vec![0.0; self.ports.len()];
         for (i, p) in self.ports.iter().enumerate() {
@@ -366,7 +367,7 @@ impl Topology {
     /// its motion: said here, by port, not as a singular system in the middle of a run.
     fn check_connected(&self, sets: &mut Sets) -> ModelResult<()> {
         // per rigid set: the first component with a port in it, and whether there are others
-        let mut owners: HashMap<usize, (usize, bool)> = HashMap::new();
+        let mut owners: HashMap<usize, (usize, bool)> = HashMap::default();
         for (i, p) in self.ports.iter().enumerate() {
             if p.kind != PortKind::Mechanical {
                 continue;
@@ -425,7 +426,7 @@ impl Topology {
     fn model_inputs(&mut self, spec: &ModelSpec) -> ModelResult<()> {
         for input in &spec.inputs {
             let what = format!("input {}", input.port);
-            let i = self.port_of(&input.port, &what)?;
+            let i = self.port_of(&input.port, || what.clone())?;
             let err = |message: String| ModelError::Connection {
                 connection: what.clone(),
                 message,
@@ -456,7 +457,7 @@ impl Topology {
     // Not merged with the mechanical nodes above: those also join rigid pairs, fix grounds and
     // resolve supports; heat nodes only number the sets.
     fn heat_nodes(&mut self, sets: &mut Sets) {
-        let mut heat_of_root: HashMap<usize, usize> = HashMap::new();
+        let mut heat_of_root: HashMap<usize, usize> = HashMap::default();
         self.heat_node = vec![None; self.ports.len()];
         for (i, p) in self.ports.iter().enumerate() {
             if p.kind != PortKind::Heat {

@@ -133,9 +133,31 @@ pub fn parse_decl(decl: &str) -> (&str, &str, &str) {
     }
 }
 
+/// The name of a declaration alone, `parse_decl(decl).0` without scanning the rest (a compile
+/// reads thousands of declarations and needs only their names).
+pub fn decl_name(decl: &str) -> &str {
+    let decl = decl.trim_start();
+    decl.split(char::is_whitespace).next().unwrap_or(decl)
+}
+
 #[cfg(test)]
 mod tests {
-    use super::parse_decl;
+    use super::{decl_name, parse_decl};
+
+    #[test]
+    fn a_declarations_name_alone_is_the_name_parse_decl_gives() {
+        for decl in [
+            "J [kg.m2] Moment of inertia",
+            "  useSupport Enable the support",
+            "peak",
+            " peak ",
+            "mu_pos [rad/s, 1] mu at w, mu_pos[1,2]",
+            "tau\tTorque",
+            "",
+        ] {
+            assert_eq!(decl_name(decl), parse_decl(decl).0, "{decl:?}");
+        }
+    }
 
     #[test]
     fn declarations_split_into_name_unit_and_description() {

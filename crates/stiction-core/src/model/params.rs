@@ -8,10 +8,9 @@
 //! classes, their docstrings and stubs, `stiction describe` and docs/components.md.
 
 use std::cell::RefCell;
-use std::collections::BTreeSet;
 use std::path::Path;
 
-use super::decl::{parse_decl, ParamInfo, ParamKind};
+use super::decl::{decl_name, parse_decl, ParamInfo, ParamKind};
 use crate::error::{ModelError, ModelResult};
 use crate::model::ComponentSpec;
 
@@ -74,8 +73,9 @@ pub struct Params<'a> {
     spec: &'a ComponentSpec,
     /// Folder that relative file names are resolved against.
     pub base_dir: &'a Path,
-    // the names declared (`&'static`: the declarations are constants, no copy per component)
-    used: RefCell<BTreeSet<&'static str>>,
+    // the names declared (`&'static`: the declarations are constants, no copy per component;
+    // a Vec: a component declares a dozen or so, and a set's nodes cost more than the scan)
+    used: RefCell<Vec<&'static str>>,
     /// Catalogue mode records each declaration; required values default to 1 and nothing is
     /// range-checked. `Some(on)`: Booleans not given default to `on` (to show conditional ports).
     catalogue: Option<bool>,
@@ -87,7 +87,7 @@ impl<'a> Params<'a> {
         Self {
             spec,
             base_dir,
-            used: RefCell::new(BTreeSet::new()),
+            used: RefCell::new(Vec::new()),
             catalogue: None,
             infos: RefCell::new(Vec::new()),
         }
@@ -118,8 +118,14 @@ impl<'a> Params<'a> {
         kind: ParamKind,
         default: Option<toml::Value>,
     ) -> &'static str {
+        if !self.schema() {
+            // only the name is needed outside the catalogue: no scan of the description
+            let name = decl_name(decl);
+            self.used.borrow_mut().push(name);
+            return name;
+        }
         let (name, unit, description) = parse_decl(decl);
-        if self.schema() && !self.infos.borrow().iter().any(|i| i.name == name) {
+        if !self.infos.borrow().iter().any(|i| i.name == name) {
             self.infos.borrow_mut().push(ParamInfo {
                 name: name.to_string(),
                 kind,
@@ -130,7 +136,7 @@ impl<'a> Params<'a> {
                 range: None,
             });
         }
-        self.used.borrow_mut().insert(name);
+        self.used.borrow_mut().push(name);
         name
     }
 
@@ -138,7 +144,7 @@ impl<'a> Params<'a> {
     /// family of parameters a component skips when none of them is given.
     pub fn mark_used(&self, decl: &'static str) {
         debug_assert!(!self.schema(), "the catalogue reads every declaration");
-        self.used.borrow_mut().insert(parse_decl(decl).0);
+        self.used.borrow_mut().push(decl_name(decl));
     }
 
     /// Records the valid range of a parameter (catalogue mode) for a check done by hand.
@@ -197,7 +203,9 @@ impl<'a> Params<'a> {
     }
 
     pub fn at_least(&self, name: &str, value: f64, min: f64) -> ModelResult<f64> {
-        self.range(name, &format!(">= {min}"));
+        if self.schema() {
+            self.range(name, &format!(">= {min}"));
+        }
         if value < min && !self.schema() {
             return Err(self.error(name, format!("must be >= {min}, got {value}")));
         }
@@ -214,8 +222,8 @@ impl<'a> Params<'a> {
         min: f64,
         what: &str,
     ) -> ModelResult<()> {
-        self.range(name, &format!("{what} >= {min}"));
         if self.schema() {
+            self.range(name, &format!("{what} >= {min}"));
             return Ok(());
         }
         for row in rows {
@@ -489,8 +497,11 @@ impl<'a> Params<'a> {
     pub fn finish(&self, known_extra: &[&str]) -> ModelResult<()> {
         let used = self.used.borrow();
         for key in self.spec.params.keys() {
-            if !used.contains(key.as_str()) && !known_extra.contains(&key.as_str()) {
-                let mut known: Vec<&str> = used.iter().copied().collect();
+            if !used.contains(&key.as_str()) && !known_extra.contains(&key.as_str()) {
+                // sorted and each once, as the set it was listed from had them
+                let mut known: Vec<&str> = used.clone();
+                known.sort_unstable();
+                known.dedup();
                 known.extend_from_slice(known_extra);
                 return Err(self.error(
                     key,

@@ -2,7 +2,7 @@
 //! slots, heat nodes) and the calls that add masses, force laws, constraints, switching
 //! elements, start values and output variables. The assembly (`crate::assembly`) drives it.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 use super::flange::FlangeBuilder;
 use super::{Constraint, ForceLaw, InitEq, LawElem, NodeRef, Out, Prescribed, Rel, System};

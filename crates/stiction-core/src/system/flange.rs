@@ -6,7 +6,7 @@
 //! into small independent blocks (equations sharing an unknown); the pseudo-inverse of the whole
 //! is that of each block, which keeps assembly and each result row linear in the model's size.
 
-use std::collections::{HashMap, HashSet};
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
 use nalgebra::DMatrix;
 
@@ -32,7 +32,7 @@ impl FlangeBuilder {
         let mech: Vec<usize> = (0..cut_root.len())
             .filter(|&i| cut_root[i].is_some())
             .collect();
-        let mut sets: HashMap<usize, Vec<usize>> = HashMap::new();
+        let mut sets: HashMap<usize, Vec<usize>> = HashMap::default();
         for &p in &mech {
             sets.entry(cut_root[p].expect("mechanical"))
                 .or_default()
@@ -242,7 +242,7 @@ fn blocks(rows: &[Vec<usize>], ncols: usize) -> Vec<Block> {
             }
         }
     }
-    let mut index: HashMap<usize, usize> = HashMap::new();
+    let mut index: HashMap<usize, usize> = HashMap::default();
     let mut out: Vec<Block> = Vec::new();
     for r in 0..rows.len() {
         let root = find(&mut parent, r);

@@ -52,3 +52,19 @@ def test_bench_saves_and_compares_in_one_command(tmp_path) -> None:
     assert second.exit_code == 0, second.output
     assert "Friction.median_ms" in second.output and "figures worse beyond the noise" in second.output
     assert set(read_figures(again)) == set(saved)
+
+
+def test_the_ladder_splits_its_time_outside_the_run() -> None:
+    """The figures of the ladder read through Python: the engine's own parse and compile is part
+    of the load and not Python's; Python's share is what is left outside the run."""
+    from stiction.cli.bench_floor import ladder_figures
+
+    f = ladder_figures(8, 3, "system.kineticEnergy")
+    load, simulate, engine, core = (f[f"ladder8.{k}_ms"] for k in ("load", "simulate", "engine_load", "core"))
+    total = f["ladder8.total_ms"]
+    assert min(load, simulate, engine, core) > 0 and total == pytest.approx(load + simulate)
+    outside, python = f["ladder8.outside_run_share"], f["ladder8.python_share"]
+    assert outside == pytest.approx((total - core) / total)
+    assert python == pytest.approx(max(0.0, total - core - engine) / total)
+    assert 0 <= python < outside < 1
+    assert f["ladder8.system.kineticEnergy_ms"] > 0

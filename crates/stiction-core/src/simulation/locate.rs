@@ -9,9 +9,8 @@ use diffsol::OdeSolverMethod;
 use super::integrator::Eqn;
 use super::samples::{hermite_top, Hump, FD_STEP};
 use super::stepper::Stepper;
-use super::Phase;
 use crate::engine::eval::evaluate_switching;
-use crate::engine::{indicators, speed_rates};
+use crate::engine::speed_rates;
 use crate::error::SimError;
 use crate::switching::element::{INDICATORS, NEVER};
 
@@ -66,16 +65,7 @@ impl Stepper {
     /// scan's samples and the searches' probes read nothing else. Not noted as evaluated there
     /// (`holds`): the workspace does not hold the derivative.
     pub fn probe_here(&mut self, t: f64) {
-        let mut guard = self.phase.borrow_mut();
-        let Phase {
-            disc,
-            mm,
-            ws,
-            horizon,
-            ..
-        } = &mut *guard;
-        evaluate_switching(&self.sys, mm, disc, t, &self.x, *horizon, ws);
-        indicators(&self.sys, disc, ws, &mut self.z);
+        self.evaluate_with(evaluate_switching, t, true);
     }
 
     /// Every indicator at time t on the dense output of the last step, in `z` (a probe away

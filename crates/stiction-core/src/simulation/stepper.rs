@@ -19,11 +19,16 @@ use super::integrator::{integrator_error, Eqn, StepBudget, V};
 use super::samples::StepSamples;
 use super::watch::Watch;
 use super::{Observer, Phase};
-use crate::engine::eval::{evaluate, DiscreteState};
+use crate::engine::eval::{evaluate, DiscreteState, Workspace};
+use crate::engine::kkt::ModeMatrix;
 use crate::engine::{indicator_count, indicator_label, indicators, wear_indicator, ModeCache};
 use crate::error::SimError;
 use crate::result::{EventRecord, RowView, Stats, Trajectory};
 use crate::system::System;
+
+/// An evaluation of the system at one instant: `evaluate`, or `evaluate_switching`.
+pub(super) type Evaluation =
+    fn(&System, &ModeMatrix, &DiscreteState, f64, &[f64], f64, &mut Workspace);
 
 /// The most state events and steps a run may take (a runaway, not a model, needs more).
 const MAX_STEPS: usize = 5_000_000;
@@ -228,6 +233,14 @@ impl Stepper {
 
     /// Evaluates at (t, self.x) in the current discrete state; fills `z` if asked.
     pub fn evaluate_here(&mut self, t: f64, with_indicators: bool) {
+        self.evaluate_with(evaluate, t, with_indicators);
+        self.phase.borrow_mut().evaluated_at(t, &self.x);
+    }
+
+    /// `eval` (`evaluate`, or `evaluate_switching` for a probe) at (t, self.x) in the current
+    /// discrete state; fills `z` if asked. Not noted as evaluated: the caller says whether the
+    /// workspace then holds the derivative.
+    pub(super) fn evaluate_with(&mut self, eval: Evaluation, t: f64, with_indicators: bool) {
         let mut guard = self.phase.borrow_mut();
         let Phase {
             disc,
@@ -236,11 +249,10 @@ impl Stepper {
             horizon,
             ..
         } = &mut *guard;
-        evaluate(&self.sys, mm, disc, t, &self.x, *horizon, ws);
+        eval(&self.sys, mm, disc, t, &self.x, *horizon, ws);
         if with_indicators {
             indicators(&self.sys, disc, ws, &mut self.z);
         }
-        guard.evaluated_at(t, &self.x);
     }
 
     /// Shows the observer the start row (recorded at initialization, before it was set).

@@ -112,6 +112,15 @@ def test_a_drag_holds_the_speed_and_heats_by_the_closed_form() -> None:
         assert row.mu_mean == pytest.approx(MU, rel=1e-6)
 
 
+def test_a_drag_longer_than_the_longest_stop_runs_its_whole_duration() -> None:
+    """The run's StopTime counts a drag's duration, not the rig's longest stop (120 s)."""
+    v, p, duration = 2.0, 1.0, 300.0
+    drag = f'\n[[section]]\nname = "long drag"\nkind = "drags"\nv_initial = {v}\npressure = {p}\nduration = {duration}\n'
+    (row,) = dyno(brake_model(cooling=False), loads_schedule(RIG + drag), progress=False).stops.itertuples()
+    assert row.time == duration
+    assert row.energy == pytest.approx(MU * CGEO * p * FN_PER_BAR * v * duration, rel=1e-6)
+
+
 def test_a_target_deceleration_and_the_wear_column() -> None:
     """With mu_nominal the brake's mu, the controller's first clamp force meets the
     deceleration exactly and it measures that mu in every sample, so the clamp force stays

@@ -157,6 +157,18 @@ def test_a_pad_worn_out_mid_schedule_ends_the_run_cleanly(tmp_path) -> None:
     assert (out / "worn_out.txt").read_text(encoding="utf-8") == report.summary() + "\n"
 
 
+def test_a_pad_worn_out_in_the_first_controlled_stop_leaves_the_table_empty() -> None:
+    """A 200 rad/s stop (40 kJ) wears 40 mm of the 30 mm the pad has to its limit: the
+    schedule's first stop, under deceleration control, wears it out; no row, the control
+    columns still there."""
+    text = RIG + f"mu_nominal = {MU0}\n"
+    text += '\n[[section]]\nname = "decel"\nrepeat = 2\nv_initial = 200.0\ndecel = 20.0\ninterval = 0.0\n'
+    report = dyno(worn_brake(), loads_schedule(text), progress=False)
+    assert not report.completed and len(report) == 0
+    assert (report.worn_out["index"], report.worn_out["section"], report.worn_out["stop"]) == (1, "decel", 1)
+    assert {"decel", "missed"} <= set(report.stops.columns)
+
+
 @pytest.fixture(scope="module")
 def example_report() -> st.DynoReport:
     """The J2522-like schedule on the example disc brake (about 0.3 s)."""

@@ -19,7 +19,7 @@ from stiction.cli.options import FILE, friendly_errors, load_model
     type=click.Path(file_okay=False, path_type=Path),
     default=Path("dyno-report"),
     show_default=True,
-    help="Folder for stops.parquet, stops.csv, samples.parquet and dyno.png.",
+    help="Folder for stops.parquet, stops.csv, samples.parquet and dyno.png (and worn_out.txt when the pad wore out).",
 )
 @click.option("--no-plots", is_flag=True, help="Write the tables only.")
 @click.option("--quiet", is_flag=True, help="No progress bar.")

@@ -58,8 +58,7 @@ def dyno(
         A schedule that cannot run on the model, naming the section and the line.
     """
     if not isinstance(model, Model):
-        path = os.fspath(model)
-        model = Model.from_modelica(path) if path.endswith(".mo") else Model.load(path)
+        model = Model.load(model)  # a .mo file too
     if not isinstance(schedule, Schedule):
         schedule = load_schedule(schedule)
     stops, samples, timing, worn_out = run_schedule(rig_model(model, schedule), schedule, progress)

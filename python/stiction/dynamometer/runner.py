@@ -39,10 +39,15 @@ class _Run:
 
     def __init__(self, rigged: Rigged, schedule: Schedule) -> None:
         self.r, self.schedule, self.rig = rigged, schedule, schedule.rig
-        # StopTime: the longest the schedule can take (chatter is judged against the span)
+        # StopTime: the longest the schedule can take (chatter is judged against the span); a
+        # drag lasts its duration, which may be longer than a stop may
         horizon = 1.0 + sum(
             s.repeat
-            * (self.rig.max_stop + (s.interval or 0.0) + (self.rig.max_cooling if s.IBT is not None else 0.0))
+            * (
+                max(self.rig.max_stop, s.duration or 0.0)
+                + (s.interval or 0.0)
+                + (self.rig.max_cooling if s.IBT is not None else 0.0)
+            )
             for s in schedule.sections
         )
         self.sim: Simulation = rigged.model.simulation(StopTime=horizon, Interval=horizon)
@@ -291,7 +296,8 @@ def run_schedule(
     table = pd.DataFrame(rows, columns=None if rows else ["index", "section", "kind"])
     if any(s.decel is not None and s.kind == "stops" for s in schedule.sections):
         table["decel"] = table["decel"].astype(float) if "decel" in table else math.nan
-        table["missed"] = table["missed"].astype(bool)
+        # no stop ended (the pad wore out in the first): the columns, empty
+        table["missed"] = table["missed"].astype(bool) if "missed" in table else False
     else:  # a pressure-only schedule's table is as it was before the controller
         table = table.drop(columns=[c for c in CONTROL_COLUMNS if c in table])
     table["section"] = table["section"].astype("string")

@@ -16,7 +16,7 @@ use crate::engine::eval::DiscreteState;
 use crate::error::ModelResult;
 use crate::model::Experiment;
 use crate::result::{Accumulator, EventRecord, Metric, Probe, RowView};
-use crate::simulation::{CancelHandle, Observer, Simulation};
+use crate::simulation::{each_row, CancelHandle, Observer, Simulation};
 
 /// An override: a parameter, start value or experiment setting by name, and its value.
 pub type Override = (String, toml::Value);
@@ -278,19 +278,12 @@ impl Observer for Shared {
     /// the state alone take them one metric at a time (`Watch::metric_rows`).
     fn grid_rows(&mut self, ts: &[f64], xs: &[f64], disc: &DiscreteState, horizon: f64) {
         let mut watch = self.0.borrow_mut();
-        let n = xs.len().checked_div(ts.len()).unwrap_or(0);
         if watch.error.is_none() && watch.probe.is_direct() && watch.trajectories.is_empty() {
+            let n = xs.len().checked_div(ts.len()).unwrap_or(0);
             watch.metric_rows(ts, xs, n, disc);
             return;
         }
-        for (i, &t) in ts.iter().enumerate() {
-            watch.row(&RowView {
-                t,
-                x: &xs[i * n..(i + 1) * n],
-                disc,
-                horizon,
-            });
-        }
+        each_row(ts, xs, disc, horizon, |row| watch.row(row));
     }
 
     fn event(&mut self, event: &EventRecord) {

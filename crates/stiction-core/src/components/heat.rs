@@ -68,24 +68,16 @@ impl Component for Conductor {
         let (pa, pb) = self.ports;
         let a = b.heat_node(pa)?;
         let c = b.heat_node(pb)?;
-        let link = match self.g {
-            Law::Constant(g) => b.add_heat_link(Link {
-                a,
-                b: c,
-                g: Conductance::Constant(g),
-            }),
+        let g = match self.g {
+            Law::Constant(g) => Conductance::Constant(g),
             Law::Input => {
                 let slot = b.signal_in("Gc")?;
                 b.output("Gc", Out::Signal(slot));
-                let g = Conductance::Signal(slot);
-                b.add_heat_link(Link { a, b: c, g })
+                Conductance::Signal(slot)
             }
-            Law::Radiation(gr) => b.add_radiation_link(Link {
-                a,
-                b: c,
-                g: Conductance::Radiation(gr),
-            }),
+            Law::Radiation(gr) => Conductance::Radiation(gr),
         };
+        let link = b.add_heat_link(Link { a, b: c, g });
         b.output("Q_flow", Out::HeatLinkFlow(link, 1.0));
         b.output("dT", Out::HeatDiff(a, c));
         b.output(&format!("{pa}.T"), Out::HeatT(a));

@@ -481,15 +481,11 @@ fn refresh(sys: &System, disc: &DiscreteState, ws: &mut Workspace, f: &mut [f64]
 /// Bound on the steps of `massless_speeds`.
 const MASSLESS_ITERATIONS: usize = 16;
 
-/// What `evaluate` computes beyond `evaluate_switching`, when the workspace holds
-/// `evaluate_switching` at (t, x) in `disc` already: together, `evaluate`'s workspace bit for
-/// bit (the event iteration's last evaluation is the settled state's, at the event's state).
-pub fn complete_evaluation(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Workspace) {
-    heat_and_energy(sys, disc, x, ws);
-}
-
-/// Heat flows into the heat network, the energy audit and its rates.
-fn heat_and_energy(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Workspace) {
+/// What `evaluate` computes beyond `evaluate_switching` (the heat flows into the heat network,
+/// the energy audit and the rates), when the workspace holds `evaluate_switching` at (t, x) in
+/// `disc` already: together, `evaluate`'s workspace bit for bit (the event iteration's last
+/// evaluation is the settled state's, at the event's state).
+pub fn heat_and_energy(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Workspace) {
     let lay = Layout::of(sys);
     ws.heat_in.iter_mut().for_each(|q| *q = 0.0);
     let (mut loss, mut work, mut potential) = (0.0, 0.0, 0.0);
@@ -532,7 +528,7 @@ fn heat_and_energy(sys: &System, disc: &DiscreteState, x: &[f64], ws: &mut Works
         .sum();
     ws.energy = [kinetic, potential, x[lay.loss()], x[lay.work()]];
     if !sys.wear.is_empty() {
-        ws.wear.copy_from_slice(&x[lay.wear()..]);
+        // the worn volumes are `evaluate_switching`'s copy of the state's
         let (states, rates) = (&disc.switching, &mut ws.wear_rates);
         crate::wear::rates(&sys.wear, states, &ws.elements, &ws.signals, rates);
     }

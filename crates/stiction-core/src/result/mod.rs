@@ -6,7 +6,6 @@
 //! the energy audit. `table/` is the parallel engine that computes every variable of every row
 //! (the row recorder's values, bit for bit); `io/` writes result files (CSV, .mat).
 
-mod alone;
 mod audit;
 pub mod io;
 pub mod metric;
@@ -230,13 +229,10 @@ impl SimResult {
             if let Some(values) = self.direct_column(flat) {
                 return Some(values);
             }
-            if self.alone(c - 1) {
-                // the kinematics of each row, not every variable of every row
-                return Some(self.kinematic_column(c - 1));
-            }
-            if self.sliced(c - 1) {
-                // the part of each row it reads; the mode solve only where it needs it
-                return Some(self.sliced_column(c - 1));
+            // the part of each row it reads (an angle, a speed or the kinetic energy: the
+            // states alone); the mode solve only where it needs it
+            if let Some(values) = self.sliced_column(c - 1) {
+                return Some(values);
             }
         }
         let Ok(table) = self.table() else {
@@ -272,7 +268,7 @@ impl SimResult {
     /// only while locked, `sliced`); None for an unknown name.
     pub fn is_alone(&self, name: &str) -> Option<bool> {
         let c = self.names.iter().position(|n| n == name)?;
-        Some(c == 0 || self.alone(c - 1) || self.sliced(c - 1))
+        Some(c == 0 || self.is_direct(name) == Some(true) || self.sliced(c - 1))
     }
 
     /// Variables that need no evaluation of the system: node angles and speeds, modes, flags.

@@ -72,11 +72,12 @@ fn reads(out: &Out, sys: &System, r: &mut Reads) -> bool {
 }
 
 /// Whether the rows of discrete state `disc` need the solve for `out` (`reads` took it).
-fn needs_solve(out: &Out, sys: &System, disc: &DiscreteState) -> bool {
+/// `no_massless`: every shaft has inertia (taken once per output, not per discrete state: the
+/// 1000-ladder has a thousand of each).
+fn needs_solve(out: &Out, sys: &System, disc: &DiscreteState, no_massless: bool) -> bool {
     // a shaft without inertia moves with the solve (`massless_speeds`), and with it whatever
     // reads its speed: laws, elements, sensors
     let massive = |terms: &[(usize, f64)]| terms.iter().all(|&(n, _)| sys.mass[n] > 0.0);
-    let no_massless = sys.mass.iter().all(|&m| m > 0.0);
     match out {
         Out::Angle(rel) | Out::Speed(rel) => !massive(&rel.terms),
         Out::Accel(_) | Out::ConstraintTau(..) => true,
@@ -91,8 +92,8 @@ fn needs_solve(out: &Out, sys: &System, disc: &DiscreteState) -> bool {
             Stage::State => !no_massless,
             Stage::Solved => true,
         },
-        Out::Scaled(inner, _) => needs_solve(inner, sys, disc),
-        Out::Formula(f) => f.leaves.iter().any(|leaf| needs_solve(leaf, sys, disc)),
+        Out::Scaled(inner, _) => needs_solve(inner, sys, disc, no_massless),
+        Out::Formula(f) => (f.leaves.iter()).any(|leaf| needs_solve(leaf, sys, disc, no_massless)),
         _ => false,
     }
 }
@@ -109,8 +110,8 @@ enum Kind {
 }
 
 /// How the rows of `disc` compute `out`, compiled to `flat`.
-fn kind(out: &Out, flat: Flat, sys: &System, disc: &DiscreteState) -> Kind {
-    if needs_solve(out, sys, disc) {
+fn kind(out: &Out, flat: Flat, sys: &System, disc: &DiscreteState, no_massless: bool) -> Kind {
+    if needs_solve(out, sys, disc, no_massless) {
         return Kind::Solve;
     }
     let Flat::Switch(k, var, s) = flat else {
@@ -202,7 +203,10 @@ impl<'a> Plan<'a> {
         }
         let mut general = Vec::new();
         let flat = compile(out, 1.0, &mut general);
-        let kinds = discs.iter().map(|d| kind(out, flat, sys, d)).collect();
+        let no_massless = sys.mass.iter().all(|&m| m > 0.0);
+        let kinds = (discs.iter())
+            .map(|d| kind(out, flat, sys, d, no_massless))
+            .collect();
         Some(Self {
             sys,
             flat,
@@ -270,37 +274,42 @@ impl Rows {
 }
 
 impl SimResult {
-    /// Whether output `c` is computed alone from part of each row: every row's system can,
-    /// and the rows that need their mode solve cost at most `SOLVED_SHARE` of the table.
+    /// Whether output `c` is computed alone from part of each row (`sliced_column`).
     pub(super) fn sliced(&self, c: usize) -> bool {
-        let tr = &self.trajectory;
-        let mut solved = 0usize;
-        for (first, end, sys) in self.segments() {
-            let Some(plan) = Plan::new(sys, c, &self.discs) else {
-                return false;
-            };
-            let solve = |d: &&u32| matches!(plan.kinds[**d as usize], Kind::Solve);
-            solved += tr.disc[first..end].iter().filter(solve).count();
-        }
-        let table_row = 1.0 + self.names.len() as f64 / VARIABLES_PER_EVALUATION;
-        solved as f64 <= SOLVED_SHARE * table_row * tr.rows() as f64
+        self.sliced_plans(c).is_some()
     }
 
-    /// Output `c` over every row (for `sliced` ones): the rows that need the solve evaluated
-    /// as the table evaluates them, the others from their states, the signals they read and
-    /// the laws and elements they read computed before the solve. On this thread: shared out
-    /// over the pool as the table's stretches are, CoupledClutches' clutch torque took longer
-    /// under load (min 118 against 111 µs), a pool thread waking too late to take a share.
-    pub(super) fn sliced_column(&self, c: usize) -> Vec<f64> {
-        let mut values = vec![f64::NAN; self.rows()];
+    /// How output `c` is computed alone in each system's rows (first row, end, plan), when
+    /// every row's system can and the rows that need their mode solve cost at most
+    /// `SOLVED_SHARE` of the table.
+    fn sliced_plans(&self, c: usize) -> Option<Vec<(usize, usize, Plan<'_>)>> {
+        let tr = &self.trajectory;
+        let mut solved = 0usize;
+        let mut plans = Vec::new();
         for (first, end, sys) in self.segments() {
-            // not sliced (`sliced` says which are): NaN, not a panic
-            if let Some(plan) = Plan::new(sys, c, &self.discs) {
-                let mut rows = Rows::new(sys, &plan);
-                self.sliced_rows(&plan, &mut rows, first, &mut values[first..end]);
-            }
+            let plan = Plan::new(sys, c, &self.discs)?;
+            let solve = |d: &&u32| matches!(plan.kinds[**d as usize], Kind::Solve);
+            solved += tr.disc[first..end].iter().filter(solve).count();
+            plans.push((first, end, plan));
         }
-        values
+        let table_row = 1.0 + self.names.len() as f64 / VARIABLES_PER_EVALUATION;
+        (solved as f64 <= SOLVED_SHARE * table_row * tr.rows() as f64).then_some(plans)
+    }
+
+    /// Output `c` over every row when it is `sliced` (None otherwise): the rows that need the
+    /// solve evaluated as the table evaluates them, the others from their states, the signals
+    /// they read and the laws and elements they read computed before the solve. On this
+    /// thread: shared out over the pool as the table's stretches are, CoupledClutches' clutch
+    /// torque took longer (97 against 88-90 µs idle, 118 against 111 under load), a pool
+    /// thread waking too late to take a share.
+    pub(super) fn sliced_column(&self, c: usize) -> Option<Vec<f64>> {
+        let plans = self.sliced_plans(c)?;
+        let mut values = vec![f64::NAN; self.rows()];
+        for (first, end, plan) in &plans {
+            let mut rows = Rows::new(plan.sys, plan);
+            self.sliced_rows(plan, &mut rows, *first, &mut values[*first..*end]);
+        }
+        Some(values)
     }
 
     /// Writes `out`, the values of rows `from..`.

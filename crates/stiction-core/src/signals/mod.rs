@@ -138,14 +138,8 @@ impl SignalGraph {
     /// derivatives: the outputs `eval` gives them when their inputs are among these blocks'
     /// outputs or the model inputs (a result computing one variable alone).
     pub fn eval_some(&self, some: &[usize], t: f64, horizon: f64, values: &mut [f64]) {
-        let mut u = [0.0; 4];
-        for &i in some {
-            let b = &self.blocks[i];
-            for (k, &slot) in b.inputs.iter().enumerate() {
-                u[k] = values[slot];
-            }
-            values[b.output] = b.block.eval(t, horizon, &u[..b.inputs.len()]);
-        }
+        let blocks = some.iter().map(|&i| &self.blocks[i]);
+        eval_blocks(blocks, t, horizon, values);
     }
 
     /// The blocks of `Stage::Time`.
@@ -157,7 +151,12 @@ impl SignalGraph {
     }
 }
 
-fn eval_blocks(blocks: &[BlockElem], t: f64, horizon: f64, values: &mut [f64]) {
+fn eval_blocks<'a>(
+    blocks: impl IntoIterator<Item = &'a BlockElem>,
+    t: f64,
+    horizon: f64,
+    values: &mut [f64],
+) {
     let mut u = [0.0; 4];
     for b in blocks {
         for (k, &slot) in b.inputs.iter().enumerate() {

@@ -140,6 +140,7 @@ impl StepPoly {
     /// instead of two (a run's grid is tens of thousands of rows: the largest single cost of
     /// HeatLosses' run). The same IEEE products and sums lane by lane (no fused multiply-add:
     /// Rust never contracts `a + th * b`), so the rows are the same bits.
+    #[inline(never)]
     pub fn eval_rows<T: Slot>(&self, times: &[f64], end: f64, out: &mut [T]) -> usize {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx") {

@@ -6,7 +6,7 @@ use diffsol::{NonLinearOp, OdeEquations, OdeSolverMethod, Vector};
 use super::integrator::{integrator_error, Eqn};
 use super::stepper::{EventKind, Stepper};
 use super::Phase;
-use crate::engine::eval::{complete_evaluation, derivative};
+use crate::engine::eval::{derivative, heat_and_energy};
 use crate::engine::{indicators, iterate, speed_rates, EventPoint};
 use crate::error::SimError;
 use crate::result::EventRecord;
@@ -93,7 +93,7 @@ impl Stepper {
             self.evaluate_here(t, true);
             return;
         }
-        complete_evaluation(&self.sys, disc, &self.x, ws);
+        heat_and_energy(&self.sys, disc, &self.x, ws);
         indicators(&self.sys, disc, ws, &mut self.z);
         guard.evaluated_at(t, &self.x);
     }

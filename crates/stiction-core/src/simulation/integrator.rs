@@ -12,7 +12,7 @@ use diffsol::{
 use self_cell::self_cell;
 
 use super::Phase;
-use crate::engine::eval::{derivative, evaluate};
+use crate::engine::eval::{derivative, evaluate, Layout};
 use crate::error::SimError;
 use crate::system::System;
 
@@ -276,7 +276,7 @@ pub fn absolute_tolerance(sys: &System, tolerance: f64) -> Vec<f64> {
         );
     }
     // a worn volume is on its own scale (cubic millimetres and less)
-    let worn = sys.state_len() - sys.wear.len();
+    let worn = Layout::of(sys).wear();
     for (k, wear) in sys.wear.iter().enumerate() {
         tighten(&mut atol, sys, worn + k, tolerance * wear.nominal);
     }

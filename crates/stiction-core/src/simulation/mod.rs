@@ -38,7 +38,7 @@ use diffsol::OdeSolverMethod;
 
 use initial_state::initialization_log;
 pub use initial_state::{check_model, initial_state, initial_state_and_guesses};
-pub use observer::Observer;
+pub use observer::{each_row, Observer};
 pub use record_all::run_recording_all;
 pub use saved::{InputChange, SimState};
 pub use state_bytes::{ByteReader, ByteWriter, ReadResult, STATE_BYTES_VERSION};

@@ -21,14 +21,26 @@ pub trait Observer {
     /// when it says which), all in one discrete state: row by row unless the observer takes a
     /// block at once.
     fn grid_rows(&mut self, ts: &[f64], xs: &[f64], disc: &DiscreteState, horizon: f64) {
-        let n = xs.len().checked_div(ts.len()).unwrap_or(0);
-        for (i, &t) in ts.iter().enumerate() {
-            self.row(&RowView {
-                t,
-                x: &xs[i * n..(i + 1) * n],
-                disc,
-                horizon,
-            });
-        }
+        each_row(ts, xs, disc, horizon, |row| self.row(row));
+    }
+}
+
+/// The rows of a block of grid rows (`n` states a row in `xs`, `n` = its length over the
+/// times'), one `RowView` each, in order.
+pub fn each_row(
+    ts: &[f64],
+    xs: &[f64],
+    disc: &DiscreteState,
+    horizon: f64,
+    mut f: impl FnMut(&RowView),
+) {
+    let n = xs.len().checked_div(ts.len()).unwrap_or(0);
+    for (i, &t) in ts.iter().enumerate() {
+        f(&RowView {
+            t,
+            x: &xs[i * n..(i + 1) * n],
+            disc,
+            horizon,
+        });
     }
 }

@@ -12,9 +12,9 @@ use super::integrator::{with_solver, Eqn};
 use super::stepper::{EventKind, Stepper};
 use super::watch::{first_crossing, Watch};
 use super::Simulation;
-use crate::engine::eval::{evaluate, Layout, Workspace};
+use crate::engine::eval::Layout;
 use crate::error::SimError;
-use crate::result::row_values;
+use crate::result::{Probe, RowView};
 
 impl Simulation {
     /// Sets the speed of inertia (or mass) `mass` to `w` at the current time, as an event:
@@ -61,12 +61,11 @@ impl Simulation {
         }
         let sys = self.stepper.sys.clone();
         self.stepper.watch = Some(Watch {
-            column,
+            x: vec![0.0; sys.state_len()],
+            probe: Probe::new(sys, &[name.to_string()])?,
             level,
             side: side.signum(),
             hit: None,
-            ws: Workspace::new(&sys),
-            x: vec![0.0; sys.state_len()],
         });
         let stop_at_events = std::mem::replace(&mut self.stepper.stop_at_events, true);
         let outcome = self.watch_until(column, level, side.signum(), t_max);
@@ -196,17 +195,13 @@ impl Stepper {
         watch.x = x;
         r?;
         let phase = self.phase.borrow();
-        let ws = &mut watch.ws;
-        evaluate(
-            &self.sys,
-            &phase.mm,
-            &phase.disc,
+        let row = RowView {
             t,
-            &watch.x,
-            phase.horizon,
-            ws,
-        );
-        let v = row_values(&self.sys, ws, &phase.disc)[watch.column + 1];
+            x: &watch.x,
+            disc: &phase.disc,
+            horizon: phase.horizon,
+        };
+        let v = watch.probe.values(&row)?[0];
         Ok((v - watch.level) * watch.side)
     }
 }

@@ -1,12 +1,12 @@
 //! The evaluation split for the crossing searches and the event iteration
-//! (`evaluate_switching`, completed by `complete_evaluation`) against the whole `evaluate`, and
+//! (`evaluate_switching`, completed by `heat_and_energy`) against the whole `evaluate`, and
 //! the grid rows' quartic (its AVX build where the CPU has it) against the single-row one.
 
 use std::mem::MaybeUninit;
 
 use super::Simulation;
 use crate::assembly::CompiledModel;
-use crate::engine::eval::{complete_evaluation, evaluate, evaluate_switching, Workspace};
+use crate::engine::eval::{evaluate, evaluate_switching, heat_and_energy, Workspace};
 use crate::engine::{indicator_count, indicators};
 use crate::model::ModelSpec;
 
@@ -72,7 +72,7 @@ fn switching_evaluation_completed_is_the_whole_evaluation() {
         evaluate_switching(&sys, mm, disc, t, &x, horizon, &mut split);
         indicators(&sys, disc, &split, &mut z_split);
         assert_eq!(bits(&z_whole), bits(&z_split), "indicators at t = {t}");
-        complete_evaluation(&sys, disc, &x, &mut split);
+        heat_and_energy(&sys, disc, &x, &mut split);
         assert_eq!(read(&whole), read(&split), "workspace at t = {t}");
         let all = |ws: &Workspace| format!("{:?}", ws.elements);
         assert_eq!(all(&whole), all(&split), "element values at t = {t}");

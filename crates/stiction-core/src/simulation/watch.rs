@@ -1,18 +1,17 @@
 //! A level a run waits for (`Simulation::advance_until`, `redrive.rs`), and the search for its
 //! crossing inside a step: regula falsi with the Illinois modification on the dense output.
 
-use crate::engine::eval::Workspace;
 use crate::error::SimError;
+use crate::result::Probe;
 
-/// Output `column` minus `level`, times `side`, falls to 0 or below: the crossing. `hit` is
-/// the instant found. Its own workspace and state buffer, so that the search leaves the run's
-/// evaluations alone.
+/// The variable `probe` reads, minus `level`, times `side`, falls to 0 or below: the crossing.
+/// `hit` is the instant found. Its own probe (workspace, or the state alone for a speed) and
+/// state buffer, so that the search leaves the run's evaluations alone.
 pub(super) struct Watch {
-    pub(super) column: usize,
+    pub(super) probe: Probe,
     pub(super) level: f64,
     pub(super) side: f64,
     pub(super) hit: Option<f64>,
-    pub(super) ws: Workspace,
     pub(super) x: Vec<f64>,
 }
 

@@ -379,17 +379,16 @@ impl Builder {
         }
     }
 
+    /// A heat link; a radiation link is recorded with its component too: the assembly refuses
+    /// it by name where it touches a node whose temperature is algebraic.
     pub fn add_heat_link(&mut self, link: Link) -> usize {
+        let radiation = link.is_radiation();
         self.sys.thermal.links.push(link);
-        self.sys.thermal.links.len() - 1
-    }
-
-    /// A radiation link, recorded with its component: the assembly refuses it by name where
-    /// it touches a node whose temperature is algebraic.
-    pub fn add_radiation_link(&mut self, link: Link) -> usize {
-        let k = self.add_heat_link(link);
-        let owner = self.name().to_string();
-        self.sys.thermal.radiation.push((k, owner));
+        let k = self.sys.thermal.links.len() - 1;
+        if radiation {
+            let owner = self.name().to_string();
+            self.sys.thermal.radiation.push((k, owner));
+        }
         k
     }
 

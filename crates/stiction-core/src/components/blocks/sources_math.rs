@@ -55,7 +55,7 @@ impl<B: Block + Clone + 'static> Component for BlockComponent<B> {
     }
 }
 
-fn boxed<B: Block + Clone + 'static>(
+pub(super) fn boxed<B: Block + Clone + 'static>(
     inputs: &'static [&'static str],
     block: B,
     events: Vec<f64>,

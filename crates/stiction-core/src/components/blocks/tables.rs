@@ -11,7 +11,8 @@ use crate::model::Params;
 use crate::signals::{Block, Jet};
 use crate::system::{Builder, Out};
 
-use super::timetable::Y;
+use super::sources_math::boxed;
+use super::timetable::{output_columns, Y};
 
 #[derive(Clone)]
 struct Lookup(Table1D);
@@ -54,18 +55,12 @@ const TABLE: &str = "table [1] Table matrix (grid = first column, strictly incre
 pub fn combi_table_1ds(p: &Params) -> ModelResult<Box<dyn Component>> {
     let width = p.matrix_width("table").unwrap_or(2).max(2);
     let rows = p.matrix(TABLE, width, &[&[0.0, 0.0]])?;
-    let all: Vec<f64> = (2..=width).map(|c| c as f64).collect();
-    let columns = p.vector(
+    let columns = output_columns(
+        p,
+        width,
         "columns [1] Columns of table to be interpolated, 1-based (column 1 is the grid); \
          default all the others",
-        &all,
     )?;
-    if columns.is_empty() || columns.len() > Y.len() {
-        return Err(p.error(
-            "columns",
-            format!("give 1 to {} columns, got {}", Y.len(), columns.len()),
-        ));
-    }
     p.choice(
         "smoothness Smoothness of table interpolation: LinearSegments (the only one stiction \
          has)",
@@ -80,14 +75,8 @@ pub fn combi_table_1ds(p: &Params) -> ModelResult<Box<dyn Component>> {
         "LastTwoPoints",
     )?;
     let mut outputs = Vec::with_capacity(columns.len());
-    for &c in &columns {
-        if c.fract() != 0.0 || c < 2.0 || c > width as f64 {
-            return Err(p.error(
-                "columns",
-                format!("column {c} is not a value column of the table (2 to {width})"),
-            ));
-        }
-        let table = Table1D::from_rows(p, "table", &rows, c as usize - 1)?;
+    for c in columns {
+        let table = Table1D::from_rows(p, "table", &rows, c)?;
         outputs.push(if extrapolation == "HoldLastPoint" {
             table.holding()
         } else {
@@ -111,27 +100,6 @@ impl Block for Abs {
     }
 }
 
-struct AbsBlock;
-
-impl Component for AbsBlock {
-    fn ports(&self) -> Ports {
-        Ports {
-            signal_in: vec!["u"],
-            signal_out: vec!["y"],
-            ..Ports::default()
-        }
-    }
-
-    fn build(&self, b: &mut Builder) -> ModelResult<()> {
-        let u = b.signal_in("u")?;
-        let y = b.signal_out("y")?;
-        b.output("u", Out::Signal(u));
-        b.output("y", Out::Signal(y));
-        b.add_block(Box::new(Abs), vec![u], y);
-        Ok(())
-    }
-}
-
 pub fn abs(p: &Params) -> ModelResult<Box<dyn Component>> {
     // The output is |u| either way; an event at u = 0 would only restart the integrator at
     // the kink.
@@ -140,5 +108,5 @@ pub fn abs(p: &Params) -> ModelResult<Box<dyn Component>> {
          way, without an event)",
         false,
     )?;
-    Ok(Box::new(AbsBlock))
+    boxed(&["u"], Abs, vec![])
 }

@@ -149,7 +149,7 @@ pub fn time_table(p: &Params) -> ModelResult<Box<dyn Component>> {
         &["LastTwoPoints", "HoldLastPoint"],
         "LastTwoPoints",
     )?;
-    let columns = output_columns(p, rows[0].len())?;
+    let columns = output_columns(p, rows[0].len(), TIME_COLUMNS)?;
     let offsets = p.vector(
         "offset [1] Offsets of the outputs: one per column, or one for all",
         &[0.0],
@@ -199,15 +199,19 @@ fn check_times(p: &Params, which: &str, rows: &[Vec<f64>]) -> ModelResult<()> {
     Ok(())
 }
 
+/// `columns` of a TimeTable.
+const TIME_COLUMNS: &str = "columns [1] Columns of the table to output, 1-based (column 1 is \
+     time); default all the others";
+
 /// The 0-based table columns of the outputs, from MSL's 1-based `columns` (default: all but
-/// the first, time).
-fn output_columns(p: &Params, width: usize) -> ModelResult<Vec<usize>> {
+/// the first, time or the grid), declared as `decl` says.
+pub(super) fn output_columns(
+    p: &Params,
+    width: usize,
+    decl: &'static str,
+) -> ModelResult<Vec<usize>> {
     let all: Vec<f64> = (2..=width).map(|c| c as f64).collect();
-    let columns = p.vector(
-        "columns [1] Columns of the table to output, 1-based (column 1 is time); default all \
-         the others",
-        &all,
-    )?;
+    let columns = p.vector(decl, &all)?;
     if columns.is_empty() || columns.len() > Y.len() {
         return Err(p.error(
             "columns",

@@ -141,13 +141,7 @@ impl Layout {
             Out::Signal(slot) => self.array(sys, Array::Signals, *slot),
             Out::FlangeTau(p) => self.port(sys, *p),
             Out::HeatT(node) => self.array(sys, Array::Temps, *node),
-            Out::HeatDiff(a, b) => {
-                let (a, b) = (
-                    self.array(sys, Array::Temps, *a),
-                    self.array(sys, Array::Temps, *b),
-                );
-                self.derived(Key::Diff(a, b), Op::Diff { dst: 0, a, b })
-            }
+            Out::HeatDiff(a, b) => self.temperature_difference(sys, *a, *b),
             Out::HeatNodeInflow(node, s) => self.scaled_read(sys, Array::HeatNet, *node, *s),
             Out::Energy(var) => self.array(sys, Array::Energy, energy_index(*var)),
             Out::Const(c) => self.constant(*c),
@@ -177,18 +171,17 @@ impl Layout {
     /// `(s·G)·(T_a − T_b)`, the product `s·G` made once when the conductance is a constant.
     fn link_flow(&mut self, sys: &System, k: usize, s: f64) -> u32 {
         let link = &sys.thermal.links[k];
-        let (a, b) = (
-            self.array(sys, Array::Temps, link.a),
-            self.array(sys, Array::Temps, link.b),
-        );
-        let diff = self.derived(Key::Diff(a, b), Op::Diff { dst: 0, a, b });
         match link.g {
-            Conductance::Constant(g) => self.scale(diff, s * g),
-            // returned above (before the difference)
+            Conductance::Constant(g) => {
+                let diff = self.temperature_difference(sys, link.a, link.b);
+                self.scale(diff, s * g)
+            }
+            // not a conductance times the difference: at the row itself
             Conductance::Radiation(_) => {
                 self.eval(Key::Eval(2, k, s.to_bits()), &Out::HeatLinkFlow(k, s))
             }
             Conductance::Signal(slot) => {
+                let diff = self.temperature_difference(sys, link.a, link.b);
                 let g = self.scaled_read(sys, Array::Signals, slot, s);
                 self.derived(
                     Key::Mul(g, diff),
@@ -200,6 +193,15 @@ impl Layout {
                 )
             }
         }
+    }
+
+    /// `T_a − T_b` of heat nodes `a` and `b`.
+    fn temperature_difference(&mut self, sys: &System, a: usize, b: usize) -> u32 {
+        let (a, b) = (
+            self.array(sys, Array::Temps, a),
+            self.array(sys, Array::Temps, b),
+        );
+        self.derived(Key::Diff(a, b), Op::Diff { dst: 0, a, b })
     }
 
     /// `value(out)` computed at each row.

@@ -20,7 +20,7 @@ __all__ = [
     "check_signal",
     "experiment",
     "initialization",
-    "parse_model",
+    "load_model",
     "parse_toml",
     "simulate",
     "time_event_sources",
@@ -119,10 +119,14 @@ def parse_toml(text: str) -> dict[str, Any] | None:
 
 @final
 class ParsedModel:
-    """A model file's engine description from ``parse_model``; one compile takes it."""
+    """A model file's engine description from ``load_model``; one compile takes it."""
 
-def parse_model(text: str, base_dir: str, name: str) -> tuple[dict[str, Any] | None, ParsedModel | None]:
-    """``parse_toml`` and, from the same parse, the engine's description (None if refused)."""
+def load_model(
+    text: str, base_dir: str, name: str
+) -> tuple[tuple[str | None, int, int, CompiledModel] | None, dict[str, Any] | None, ParsedModel | None]:
+    """A model file parsed once: a plain one compiled (its own name, counts of components and
+    connections, the compile), or ``parse_toml``'s document and, from the same parse, the
+    engine's description (None if refused, or with top-level parameters or declarations)."""
 
 def check(model_toml: str, base_dir: str = ".", motion: bool = True) -> None:
     """Validate a model without running it (with ``motion``: also that every shaft's motion is
@@ -232,11 +236,7 @@ class CompiledModel:
     def __new__(cls, model_toml: str, base_dir: str = ".") -> CompiledModel: ...
     @staticmethod
     def from_parsed(parsed: ParsedModel) -> CompiledModel | None:
-        """The model ``parse_model`` read (None when a compile took it already)."""
-    @staticmethod
-    def load_plain(text: str, base_dir: str, name: str) -> tuple[str | None, int, int, CompiledModel] | None:
-        """A plain model file compiled as it stands: its own name, its counts of components
-        and connections, the compile; None for any other file or one the engine refuses."""
+        """The model ``load_model`` read (None when a compile took it already)."""
     def parameter_names(self) -> list[str]:
         """Every name a variant may set: ``component.parameter``, then the experiment settings."""
     def grid(self) -> list[float]:

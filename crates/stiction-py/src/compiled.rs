@@ -13,6 +13,7 @@ use stiction_core::{run_recording_all, CancelHandle};
 use stiction_core::{run_variants, Outcome, Override, Plan};
 use stiction_core::{ModelSpec, Simulation};
 
+use crate::toml_doc::{named_spec, plain_counts, table_to_py, ParsedModel};
 use crate::{advance_interruptibly, guarded, model_err, py_error, RawResult};
 
 /// `run_recording_all` with the GIL released, checking for signals about every 50 ms between
@@ -137,6 +138,69 @@ type SweepArrays<'py> = (
     Bound<'py, PyArray1<f64>>,
 );
 
+/// What `load_model` gives: a plain file compiled (own name, counts of components and
+/// connections, the compile), or the Python document and the engine's description of it.
+type Loaded<'py> = (
+    Option<(Option<String>, usize, usize, PyCompiled)>,
+    Option<Bound<'py, PyAny>>,
+    Option<ParsedModel>,
+);
+
+/// A model file's text, parsed once for both readers. A plain file (`plain_counts`) that the
+/// engine compiles comes back compiled, `(Some(…), None, None)`, without a Python object made
+/// (a ladder of 100 inertias loaded and run unchanged: 2.5 ms of 4). Any other comes back as
+/// `(None, doc, parsed)`: the objects `parse_toml` gives and, from the same parse, the engine's
+/// description of the model for a compile (named `name` when the file names none), None when
+/// the engine refuses it or when top-level `parameters` or `declarations` make the Python
+/// model's engine text other than the file. `(None, None, None)` for text that is not TOML.
+#[pyfunction]
+pub fn load_model<'py>(
+    py: Python<'py>,
+    text: &str,
+    base_dir: &str,
+    name: &str,
+) -> PyResult<Loaded<'py>> {
+    let parsed = py.detach(|| {
+        let table = text.parse::<toml::Table>().ok()?;
+        let plain = PyCompiled::plain(&table, base_dir, name);
+        Some((table, plain))
+    });
+    let Some((table, plain)) = parsed else {
+        return Ok((None, None, None));
+    };
+    if plain.is_some() {
+        return Ok((plain, None, None));
+    }
+    let doc = table_to_py(py, &table)?;
+    let as_written = !table.contains_key("parameters") && !table.contains_key("declarations");
+    let parsed = (doc.is_some() && as_written)
+        .then(|| named_spec(&table, base_dir, name))
+        .flatten()
+        .map(ParsedModel::new);
+    Ok((None, doc, parsed))
+}
+
+impl PyCompiled {
+    /// A model file's table compiled as it stands, when it is plain (`toml_doc::plain_counts`):
+    /// its own name if it has one, its counts of components and connections, and the compile.
+    /// None for any other file and for one the engine refuses: the caller builds the Python
+    /// model, whose checks give their messages.
+    pub(crate) fn plain(
+        doc: &toml::Table,
+        base_dir: &str,
+        name: &str,
+    ) -> Option<(Option<String>, usize, usize, Self)> {
+        let counts = plain_counts(doc)?;
+        let spec = named_spec(doc, base_dir, name)?;
+        let own = doc
+            .get("name")
+            .and_then(toml::Value::as_str)
+            .map(str::to_string);
+        let compiled = CompiledModel::new(spec).ok()?;
+        Some((own, counts.0, counts.1, Self(compiled)))
+    }
+}
+
 #[pymethods]
 impl PyCompiled {
     #[new]
@@ -147,40 +211,9 @@ impl PyCompiled {
         Ok(Self(compiled))
     }
 
-    /// A model file compiled as it stands, when it is plain (`toml_doc::plain_counts`): its
-    /// own name if it has one, its counts of components and connections, and the compile.
-    /// None for any other file and for one the engine refuses: the caller builds the Python
-    /// model, whose checks give their messages. A loaded file run unchanged makes no Python
-    /// object of its components (a ladder of 100 inertias: 2.5 ms of 4).
+    /// The model of a file `load_model` read (None when a compile took it already).
     #[staticmethod]
-    fn load_plain(
-        py: Python<'_>,
-        text: &str,
-        base_dir: &str,
-        name: &str,
-    ) -> Option<(Option<String>, usize, usize, Self)> {
-        py.detach(|| {
-            let doc = text.parse::<toml::Table>().ok()?;
-            let counts = crate::toml_doc::plain_counts(&doc)?;
-            let mut spec = ModelSpec::from_table(&doc, base_dir).ok()?;
-            let own = doc
-                .get("name")
-                .and_then(toml::Value::as_str)
-                .map(str::to_string);
-            if own.is_none() {
-                spec.name = name.to_string();
-            }
-            let compiled = CompiledModel::new(spec).ok()?;
-            Some((own, counts.0, counts.1, Self(compiled)))
-        })
-    }
-
-    /// The model of a file `parse_model` read (None when a compile took it already).
-    #[staticmethod]
-    fn from_parsed(
-        py: Python<'_>,
-        parsed: &crate::toml_doc::ParsedModel,
-    ) -> PyResult<Option<Self>> {
+    fn from_parsed(py: Python<'_>, parsed: &ParsedModel) -> PyResult<Option<Self>> {
         let Some(spec) = parsed.take() else {
             return Ok(None);
         };

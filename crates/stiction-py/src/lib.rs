@@ -517,7 +517,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add_function(wrap_pyfunction!(toml_doc::parse_toml, m)?)?;
-    m.add_function(wrap_pyfunction!(toml_doc::parse_model, m)?)?;
+    m.add_function(wrap_pyfunction!(compiled::load_model, m)?)?;
     m.add_class::<toml_doc::ParsedModel>()?;
     m.add_function(wrap_pyfunction!(write_csv, m)?)?;
     m.add_function(wrap_pyfunction!(write_mat, m)?)?;

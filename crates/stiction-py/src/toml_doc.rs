@@ -8,6 +8,7 @@ use std::sync::{Mutex, PoisonError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use pyo3::IntoPyObjectExt;
+use stiction_core::ModelSpec;
 
 /// Parses TOML text into Python dicts, lists and scalars as `tomllib.loads` does (tables keep
 /// their order), tens of times faster than the pure-Python parser on a model of thousands of
@@ -22,40 +23,30 @@ pub fn parse_toml<'py>(py: Python<'py>, text: &str) -> PyResult<Option<Bound<'py
 }
 
 /// A model file's engine description, read from the same parse as the Python objects
-/// (`parse_model`); a compile takes it once (`CompiledModel.from_parsed`).
+/// (`load_model`); a compile takes it once (`CompiledModel.from_parsed`).
 #[pyclass(frozen, module = "stiction._core", name = "ParsedModel")]
-pub struct ParsedModel(Mutex<Option<stiction_core::ModelSpec>>);
+pub struct ParsedModel(Mutex<Option<ModelSpec>>);
 
 impl ParsedModel {
+    /// The description of a model, for one compile to take.
+    pub fn new(spec: ModelSpec) -> Self {
+        Self(Mutex::new(Some(spec)))
+    }
+
     /// The description, the first time only.
-    pub fn take(&self) -> Option<stiction_core::ModelSpec> {
+    pub fn take(&self) -> Option<ModelSpec> {
         self.0.lock().unwrap_or_else(PoisonError::into_inner).take()
     }
 }
 
-/// `parse_toml`, and from the same parse the engine's description of the model (named
-/// `name` when the file names none; None when the engine refuses it: its compile from the
-/// text says why, when the model runs). A model loaded and run unchanged parses its file
-/// once, not twice (a ladder of 1000 inertias: 30 ms each).
-#[pyfunction]
-pub fn parse_model<'py>(
-    py: Python<'py>,
-    text: &str,
-    base_dir: &str,
-    name: &str,
-) -> PyResult<(Option<Bound<'py, PyAny>>, Option<ParsedModel>)> {
-    let Ok(table) = text.parse::<toml::Table>() else {
-        return Ok((None, None));
-    };
-    let doc = table_to_py(py, &table)?;
-    let spec = stiction_core::ModelSpec::from_table(&table, base_dir).ok();
-    let parsed = spec.map(|mut spec| {
-        if !table.contains_key("name") {
-            spec.name = name.to_string();
-        }
-        ParsedModel(Mutex::new(Some(spec)))
-    });
-    Ok((doc, parsed))
+/// The engine's description of a model file's table, named `name` when the file names none;
+/// None when the engine refuses it.
+pub fn named_spec(table: &toml::Table, base_dir: &str, name: &str) -> Option<ModelSpec> {
+    let mut spec = ModelSpec::from_table(table, base_dir).ok()?;
+    if !table.contains_key("name") {
+        spec.name = name.to_string();
+    }
+    Some(spec)
 }
 
 /// A TOML value as the Python object `tomllib` gives (tables as dicts in their order); None
@@ -67,7 +58,10 @@ pub fn value_to_py<'py>(
     toml_to_py(py, value)
 }
 
-fn table_to_py<'py>(py: Python<'py>, table: &toml::Table) -> PyResult<Option<Bound<'py, PyAny>>> {
+pub fn table_to_py<'py>(
+    py: Python<'py>,
+    table: &toml::Table,
+) -> PyResult<Option<Bound<'py, PyAny>>> {
     let dict = PyDict::new(py);
     for (key, value) in table {
         match toml_to_py(py, value)? {

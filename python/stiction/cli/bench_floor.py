@@ -8,7 +8,7 @@ so both see the same load), one algebraic variable read alone against the run, a
 ladder of ``stiction.testing.ladder_toml`` loaded from a file and run through
 ``Model.load(...).simulate()``, with the share of that time outside the core's run and, of
 that, the share spent in Python: the engine's own parse and compile of the file
-(``_core.CompiledModel.load_plain``, timed alone alternately) is not Python's, a Rust caller
+(``_core.load_model``, timed alone alternately) is not Python's, a Rust caller
 pays it too.
 """
 
@@ -25,6 +25,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from stiction.cli.benchmarks import timed_ms
+
 __all__ = ["Comparison", "compare_figures", "floor_figures", "read_figures", "write_figures"]
 
 FORMAT = "stiction-bench/1"
@@ -33,18 +35,12 @@ FORMAT = "stiction-bench/1"
 NOISE = 0.10
 
 
-def _ms(f: Callable[[], Any]) -> float:
-    start = time.perf_counter()
-    f()
-    return (time.perf_counter() - start) * 1e3
-
-
 def _alternating(repeat: int, *calls: Callable[[], Any]) -> list[list[float]]:
     """Each call timed ``repeat`` times, in turn, so that every one sees the same load."""
     times: list[list[float]] = [[] for _ in calls]
     for _ in range(repeat):
         for k, call in enumerate(calls):
-            times[k].append(_ms(call))
+            times[k].append(timed_ms(call))
     return times
 
 
@@ -72,7 +68,7 @@ def column_figures(model: Any, name: str, repeat: int) -> dict[str, float]:
         start = time.perf_counter()
         result = model.simulate()
         runs.append((time.perf_counter() - start) * 1e3)
-        reads.append(_ms(lambda r=result: r[name]))
+        reads.append(timed_ms(lambda r=result: r[name]))
     run, read = statistics.median(runs), statistics.median(reads)
     return {"column.run_ms": run, f"column.{name}_ms": read, f"column.{name}_ratio": read / run}
 
@@ -99,9 +95,9 @@ def ladder_figures(n: int, repeat: int, column: str | None = None) -> dict[str, 
             loads.append((loaded - start) * 1e3)
             sims.append((done - loaded) * 1e3)
             cores.append(float(result.stats["wall_ms"]))
-            engine_loads.append(_ms(lambda: _core.CompiledModel.load_plain(text, tmp, path.stem)))
+            engine_loads.append(timed_ms(lambda: _core.load_model(text, tmp, path.stem)))
             if column is not None:
-                reads.append(_ms(lambda r=result: r[column]))
+                reads.append(timed_ms(lambda r=result: r[column]))
     load, sim, core, engine_load = (statistics.median(x) for x in (loads, sims, cores, engine_loads))
     total = load + sim
     figures = {
@@ -157,10 +153,6 @@ def read_figures(path: str | os.PathLike[str]) -> dict[str, float]:
     return {str(k): float(v) for k, v in doc["figures"].items()}
 
 
-# Figures where more is better (the rest are times, shares and ratios: less is better).
-_HIGHER_IS_BETTER = ("steps_per_s",)
-
-
 @dataclass(frozen=True)
 class Comparison:
     """One figure now against the same figure of a saved run."""
@@ -177,11 +169,10 @@ class Comparison:
         return self.now / self.ref
 
     def worse(self, noise: float = NOISE) -> bool:
-        """Worse than the saved run beyond ``noise`` (a fraction)."""
+        """Worse than the saved run beyond ``noise`` (a fraction): every figure is a time, a
+        share or a ratio, where less is better."""
         if math.isnan(self.ratio):
             return False
-        if self.name.endswith(_HIGHER_IS_BETTER):
-            return self.ratio < 1 / (1 + noise)
         return self.ratio > 1 + noise
 
     def line(self, noise: float = NOISE) -> str:

@@ -25,6 +25,7 @@ __all__ = [
     "bench_scale",
     "bench_solvers",
     "bench_sweep",
+    "timed_ms",
 ]
 
 
@@ -148,7 +149,7 @@ def bench_sweep(model: Model, variants: int, workers: int | None, client: Any = 
     compiled = model.compile()
     table = sample(variants, seed=1, dists=_fn_max_range(model) or {"StopTime": (0.9, 1.0)})
     metrics = [f"max({compiled.simulate().names[1]})", "events()"]
-    single = min(_timed(lambda: compiled.simulate()) for _ in range(20))
+    single = min(timed_ms(lambda: compiled.simulate()) for _ in range(20))
     options: dict[str, Any] = {"workers": workers, "client": client, "progress": False}
     sweep(compiled, table.iloc[: min(64, variants)], metrics, **options)  # warm up
     start = time.perf_counter()
@@ -176,7 +177,8 @@ def _fn_max_range(model: Model) -> dict[str, tuple[float, float]]:
     return {}
 
 
-def _timed(run: Any) -> float:
+def timed_ms(run: Any) -> float:
+    """The wall time of one call of ``run``, in milliseconds."""
     start = time.perf_counter()
     run()
     return (time.perf_counter() - start) * 1e3

@@ -6,7 +6,7 @@ Python, and to fingerprint the result, before the engine compiled the same text:
 100 inertias spent 3 ms of its 20 there, for a model run unchanged. A *plain* file (numbers
 and Booleans for parameters, nothing but ``name``, ``connect``, ``experiment`` and
 ``components``, nothing the Python checks refuse where the engine does not; see
-``_core.CompiledModel.load_plain``) is compiled at load instead, which checks it as fully:
+``_core.load_model``) is compiled at load instead, which checks it as fully:
 the ``Model`` holds the compile and the text, and its components, connections and the rest
 are made from the text the first time any of them is read (``Model.__getattr__``). A file
 that is not plain, or that the engine refuses, is built in Python at load as before, and
@@ -24,7 +24,7 @@ from stiction.model import modelfile
 if TYPE_CHECKING:
     from stiction.model.model import Model
 
-__all__ = ["LAZY_FIELDS", "LoadedFile", "load_plain"]
+__all__ = ["LAZY_FIELDS", "LoadedFile", "load_file", "named_text"]
 
 # The attributes of a ``Model`` made from the file when first read; the others (name,
 # base_dir, the caches) are set at load.
@@ -91,22 +91,25 @@ class LoadedFile:
         return parameter_values({}, {name: params for name, _, params in self.data().components})
 
 
-def load_plain(
+def load_file(
     cls: type[Model], text: str, base_dir: str | os.PathLike[str], source: str, default_name: str
-) -> Model | None:
-    """A ``cls`` of model-file ``text`` compiled now, its objects made when first read; None
-    when the file is not plain or the engine refuses it (the caller builds it in Python)."""
+) -> tuple[Model | None, dict[str, Any] | None, Any]:
+    """Model-file ``text`` parsed once (``_core.load_model``): a plain file compiled now, as a
+    ``cls`` whose objects are made when first read; for any other file (or one the engine
+    refuses), no model but the TOML document and the engine's reading of it for a compile
+    (None for text the engine does not read, or without the compiled engine: the caller's
+    ``modelfile.parse`` then parses and reports)."""
     try:
         from stiction import _core
     except ImportError:  # the pure-Python package
-        return None
+        return None, None, None
     folder = Path(base_dir)
-    loaded = _core.CompiledModel.load_plain(text, str(folder), default_name)
-    if loaded is None:
-        return None
-    own, n_components, n_connections, core = loaded
+    plain, doc, parsed = _core.load_model(text, str(folder), default_name)
+    if plain is None:
+        return None, doc, parsed
+    own, n_components, n_connections, core = plain
     name = own or default_name
-    engine_text = text if own is not None else f"name = {modelfile.dumps_scalar(name)}\n{text}"
+    engine_text = text if own is not None else named_text(name, text)
     model = cls.__new__(cls)
     model.name = name
     model.base_dir = folder
@@ -114,4 +117,9 @@ def load_plain(
     model._parsed = (engine_text, str(folder), Compiled(core))
     model._derived = None
     model._lazy = LoadedFile(text, engine_text, name, source, default_name, (n_components, n_connections))
-    return model
+    return model, None, None
+
+
+def named_text(name: str, text: str) -> str:
+    """Model-file ``text`` that names no model, named ``name`` (the engine text of a file)."""
+    return f"name = {modelfile.dumps_scalar(name)}\n{text}"

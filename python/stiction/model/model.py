@@ -28,7 +28,7 @@ from stiction.model.components import (
     table_1ds_ports,
     time_table_ports,
 )
-from stiction.model.loaded import LAZY_FIELDS, LoadedFile, load_plain
+from stiction.model.loaded import LAZY_FIELDS, LoadedFile, load_file, named_text
 from stiction.model.names import COMPONENT_NAME, IDENTIFIER, PathIndex, split_last
 from stiction.model.parameters import is_expr
 from stiction.model.runinfo import RunInfo
@@ -146,17 +146,6 @@ def numbers_read(variables: Mapping[str, str], values: Mapping[str, Any]) -> dic
         return {}
     names = {n for text in variables.values() for n in _NAME.findall(text)}
     return {k: float(v) for k, v in values.items() if k in names and isinstance(v, (int, float, bool))}
-
-
-def _parse_model(text: str, base_dir: str | os.PathLike[str], name: str) -> tuple[dict[str, Any] | None, Any]:
-    """The TOML document of model-file ``text`` and, from the same parse, the engine's reading
-    of it for a compile (None, None without the compiled engine or for text it does not read:
-    ``modelfile.parse`` then parses and reports)."""
-    try:
-        from stiction import _core
-    except ImportError:
-        return None, None
-    return _core.parse_model(text, str(base_dir), name)
 
 
 @contextlib.contextmanager
@@ -414,11 +403,11 @@ class Model:
         lazy = self.__dict__.get("_lazy")
         if lazy is None:
             return
+        untouched = self._as_loaded() is not None
         with gc_paused():  # an error here (none expected: the engine took the file) leaves it lazy
             built = type(self)._from_data(lazy.data(), self.base_dir, lazy.default_name)
         del self._lazy
         own = self.__dict__
-        untouched = LAZY_FIELDS.isdisjoint(own) and self.name == lazy.name
         for field in LAZY_FIELDS:
             own.setdefault(field, built.__dict__[field])
         key = self._text_key() if untouched else None
@@ -589,18 +578,15 @@ class Model:
         default_name: str = "model",
     ) -> Model:
         """Build a model from model-file text, checked as if built in Python."""
-        lazy = load_plain(cls, text, base_dir, source, default_name)
+        lazy, doc, parsed = load_file(cls, text, base_dir, source, default_name)
         if lazy is not None:  # compiled, and so checked; its objects are made when first read
             return lazy
         with gc_paused():
-            doc, parsed = _parse_model(text, str(Path(base_dir)), default_name)
-            if parsed is not None and doc is not None and not {"parameters", "declarations"} & doc.keys():
+            if parsed is not None:
                 # compiled while the objects are made; kept if the text is the engine text
                 from stiction.run.compiled import Precompiled
 
                 parsed = Precompiled(parsed)
-            else:
-                parsed = None
             data = modelfile.parse(text, source, doc)
             model = cls._from_data(data, base_dir, default_name)
             model._adopt_text(text, data, parsed)
@@ -618,7 +604,7 @@ class Model:
         if any(not _same_params(params, comps[name].params) for name, _, params in data.components):
             return
         if data.name is None:  # the engine text names the model
-            text = f"name = {modelfile.dumps_scalar(self.name)}\n{text}"
+            text = named_text(self.name, text)
         key = self._text_key()
         if key is not None:
             self._derived = (key, text, None)

@@ -40,7 +40,7 @@ def merge_overrides(params: Mapping[str, Any] | None, experiment: Mapping[str, A
 
 
 class Precompiled:
-    """The engine's compile of a parsed model file (``_core.parse_model``), started now on a
+    """The engine's compile of a parsed model file (``_core.load_model``), started now on a
     thread of its own: the compile releases the interpreter, so it runs while Python makes
     the model's objects (a ladder of 1000 inertias: 25 ms of compile beside 30 ms of
     objects), and the first run takes it. Its error, if any, is raised there, as a compile

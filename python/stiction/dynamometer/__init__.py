@@ -12,8 +12,16 @@ import os
 
 from stiction.dynamometer.report import DynoReport
 from stiction.dynamometer.rig import rig_model
-from stiction.dynamometer.runner import LEVELS, run_schedule
-from stiction.dynamometer.schedule import Rig, Schedule, ScheduleError, Section, load_schedule, loads_schedule
+from stiction.dynamometer.runner import run_schedule
+from stiction.dynamometer.schedule import (
+    LEVELS,
+    Rig,
+    Schedule,
+    ScheduleError,
+    Section,
+    load_schedule,
+    loads_schedule,
+)
 from stiction.model.model import Model
 
 __all__ = [

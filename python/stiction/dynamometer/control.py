@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from stiction.dynamometer.rig import Rigged
-from stiction.dynamometer.schedule import Rig, ScheduleError, Section
+from stiction.dynamometer.schedule import LEVELS, Rig, ScheduleError, Section
 
 if TYPE_CHECKING:
     from stiction.dynamometer.runner import _Run
@@ -103,8 +103,6 @@ def controlled_stop(run: _Run, s: Section, index: int, w0: float, w1: float, fn0
     """Run a stop with a target deceleration from ``w0`` to ``w1`` under the sampled
     controller, starting from clamp force ``fn0`` (applied, clipped to the limit); the samples at 10 %, 15 %, … 80 % of the
     speed drop at their exact instants as in a pressure stop."""
-    from stiction.dynamometer.runner import LEVELS
-
     sim, rig = run.sim, run.rig
     loop = _Loop(run, s, fn0)
     t0, dt = sim.time, 1.0 / rig.control_rate

@@ -23,15 +23,11 @@ from typing import Any
 from stiction import _deps
 from stiction.dynamometer.control import CONTROL_COLUMNS, controlled_stop, controller_limit
 from stiction.dynamometer.rig import DYNO_COUPLING, DYNO_SPEED, ZERO_C, Rigged
-from stiction.dynamometer.schedule import Schedule, ScheduleError, Section
+from stiction.dynamometer.schedule import LEVELS, Schedule, ScheduleError, Section
 from stiction.errors import WearLimitError
 from stiction.run.simulation import Simulation
 
-__all__ = ["LEVELS", "run_schedule"]
-
-#: The fractions of a stop's speed drop where mu and temperature are sampled; the mean mu is
-#: taken between the first (10 %) and the last (80 %).
-LEVELS = tuple(round(0.10 + 0.05 * k, 2) for k in range(15))
+__all__ = ["run_schedule"]
 
 
 class _Run:

@@ -19,7 +19,11 @@ from typing import Any
 
 from stiction.errors import ModelError
 
-__all__ = ["Rig", "Schedule", "ScheduleError", "Section", "load_schedule", "loads_schedule"]
+__all__ = ["LEVELS", "Rig", "Schedule", "ScheduleError", "Section", "load_schedule", "loads_schedule"]
+
+#: The fractions of a stop's speed drop where mu and temperature are sampled; the mean mu is
+#: taken between the first (10 %) and the last (80 %).
+LEVELS = tuple(round(0.10 + 0.05 * k, 2) for k in range(15))
 
 RIG_KEYS = {
     "brake": "the Brake component of the model",

@@ -24,7 +24,7 @@ from stiction.fitting.linear import linear_plan, solve_linear
 from stiction.fitting.params import Param, apply, parse_params, silent_reason
 from stiction.fitting.problem import STEP, Problem
 from stiction.fitting.result import FitResult
-from stiction.fitting.stats import ZERO_COLUMN, uncertainty
+from stiction.fitting.stats import silent_columns, uncertainty
 from stiction.model.model import Model
 
 __all__ = ["fit"]
@@ -141,12 +141,6 @@ def _output_error(
     )
 
 
-def _silent(jac: np.ndarray) -> np.ndarray:
-    """The columns (parameters) the outputs do not change with."""
-    norms = np.linalg.norm(jac, axis=0)
-    return norms <= ZERO_COLUMN * float(norms.max()) if norms.size else norms > 0
-
-
 def _solve(problem: Problem, x0: np.ndarray, low: np.ndarray, high: np.ndarray, loss: str) -> Any:
     """One trust-region fit from ``x0``. Parameters the outputs do not change with at ``x0`` (a
     table point the data never reach) are held first — a free direction that the trust region
@@ -172,10 +166,10 @@ def _solve(problem: Problem, x0: np.ndarray, low: np.ndarray, high: np.ndarray, 
         sol.x = embed(sol.x)
         return sol
 
-    silent = _silent(problem.jacobian(x0))
+    silent = silent_columns(problem.jacobian(x0))
     if silent.any() and not silent.all():
         sol = run(~silent, np.asarray(x0, dtype=float))
-        if _silent(problem.jacobian(sol.x))[silent].all():
+        if silent_columns(problem.jacobian(sol.x))[silent].all():
             return sol
         x0 = sol.x
     return run(np.ones(len(x0), dtype=bool), np.asarray(x0, dtype=float))

@@ -10,7 +10,7 @@ import numpy as np
 
 from stiction import _deps
 
-__all__ = ["Uncertainty", "uncertainty"]
+__all__ = ["Uncertainty", "silent_columns", "uncertainty"]
 
 #: a parameter whose column of the scaled Jacobian is this small against the largest one does
 #: not move the outputs; singular values this small against the largest make a combination the
@@ -31,12 +31,18 @@ class Uncertainty:
     dof: int
 
 
+def silent_columns(jac: np.ndarray) -> np.ndarray:
+    """Which columns (parameters) of ``jac`` the outputs do not change with: a norm at most
+    ``ZERO_COLUMN`` of the largest (all of them when every norm is 0)."""
+    norms = np.linalg.norm(jac, axis=0)
+    return norms <= ZERO_COLUMN * float(norms.max()) if norms.size else norms > 0
+
+
 def _reasons(labels: list[str], jac: np.ndarray, hints: Mapping[str, str], singular: float) -> dict[str, str]:
     norms = np.linalg.norm(jac, axis=0)
-    top = float(norms.max()) if norms.size else 0.0
     reasons: dict[str, str] = {}
-    for label, n in zip(labels, norms, strict=True):
-        if top == 0.0 or n <= ZERO_COLUMN * top:
+    for label, silent in zip(labels, silent_columns(jac), strict=True):
+        if silent:
             reasons[label] = "the fitted outputs do not change with it (zero sensitivity)"
             if label.endswith(".peak"):
                 comp = label.removesuffix(".peak")
